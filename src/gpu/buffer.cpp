@@ -1,0 +1,137 @@
+#include "gpu/buffer.h"
+
+#include <atomic>
+#include <cstring>
+#include <string>
+#include <utility>
+
+#include "gpu/vk_check.h"
+
+namespace vknerf::gpu {
+namespace {
+
+std::atomic<uint64_t> nextBufferId{1};
+
+constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                      VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                                      VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
+
+struct Raw {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+};
+
+Raw allocate(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemoryPropertyFlags want) {
+  Raw raw;
+  VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bi.size = bytes;
+  bi.usage = usage;
+  bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  check(vkCreateBuffer(ctx.device(), &bi, nullptr, &raw.buffer), "vkCreateBuffer");
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(ctx.device(), raw.buffer, &req);
+  int type = ctx.findMemoryType(req.memoryTypeBits, want);
+  if (type < 0) {
+    vkDestroyBuffer(ctx.device(), raw.buffer, nullptr);
+    throw Error("no Vulkan memory type for a buffer of " + std::to_string(bytes) + " bytes");
+  }
+  VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  ai.allocationSize = req.size;
+  ai.memoryTypeIndex = uint32_t(type);
+  VkResult r = vkAllocateMemory(ctx.device(), &ai, nullptr, &raw.memory);
+  if (r != VK_SUCCESS) {
+    vkDestroyBuffer(ctx.device(), raw.buffer, nullptr);
+    throw Error("vkAllocateMemory of " + std::to_string(bytes) + " bytes failed: " + resultName(r));
+  }
+  check(vkBindBufferMemory(ctx.device(), raw.buffer, raw.memory, 0), "vkBindBufferMemory");
+  return raw;
+}
+
+void release(Context& ctx, Raw& raw) {
+  if (raw.buffer) vkDestroyBuffer(ctx.device(), raw.buffer, nullptr);
+  if (raw.memory) vkFreeMemory(ctx.device(), raw.memory, nullptr);
+  raw = {};
+}
+
+constexpr VkMemoryPropertyFlags kHostFlags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+
+}  // namespace
+
+Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes), id_(nextBufferId++) {
+  // Vulkan forbids empty buffers; an empty array still gets a valid (unused) handle.
+  VkDeviceSize alloc = std::max<VkDeviceSize>(bytes, 16);
+  VkMemoryPropertyFlags want = ctx.unifiedMemory() ? (kHostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
+                                                    : VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  Raw raw = allocate(ctx, alloc, kUsage, want);
+  buffer_ = raw.buffer;
+  memory_ = raw.memory;
+  if (ctx.unifiedMemory()) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+}
+
+Buffer::~Buffer() {
+  if (!ctx_) return;
+  Raw raw{buffer_, memory_};
+  release(*ctx_, raw);  // unmapped implicitly by vkFreeMemory
+}
+
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  if (this != &o) {
+    if (ctx_) {
+      Raw raw{buffer_, memory_};
+      release(*ctx_, raw);
+    }
+    ctx_ = std::exchange(o.ctx_, nullptr);
+    buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
+    memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
+    size_ = std::exchange(o.size_, 0);
+    mapped_ = std::exchange(o.mapped_, nullptr);
+    id_ = std::exchange(o.id_, 0);
+  }
+  return *this;
+}
+
+void Buffer::upload(const void* src, VkDeviceSize bytes, VkDeviceSize offset) {
+  if (bytes == 0) return;
+  if (offset + bytes > size_) throw Error("Buffer::upload: " + std::to_string(offset + bytes) + " bytes into a buffer of " + std::to_string(size_));
+  if (mapped_) {
+    std::memcpy(static_cast<char*>(mapped_) + offset, src, bytes);
+    return;
+  }
+  Raw staging = allocate(*ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, kHostFlags);
+  void* p;
+  check(vkMapMemory(ctx_->device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &p), "vkMapMemory");
+  std::memcpy(p, src, bytes);
+  ctx_->runOnce([&](VkCommandBuffer cmd) {
+    VkBufferCopy region{0, offset, bytes};
+    vkCmdCopyBuffer(cmd, staging.buffer, buffer_, 1, &region);
+  });
+  release(*ctx_, staging);
+}
+
+void Buffer::download(void* dst, VkDeviceSize bytes, VkDeviceSize offset) const {
+  if (bytes == 0) return;
+  if (offset + bytes > size_) throw Error("Buffer::download: " + std::to_string(offset + bytes) + " bytes from a buffer of " + std::to_string(size_));
+  if (mapped_) {
+    std::memcpy(dst, static_cast<const char*>(mapped_) + offset, bytes);
+    return;
+  }
+  Raw staging = allocate(*ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, kHostFlags | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  ctx_->runOnce([&](VkCommandBuffer cmd) {
+    VkBufferCopy region{offset, 0, bytes};
+    vkCmdCopyBuffer(cmd, buffer_, staging.buffer, 1, &region);
+  });
+  void* p;
+  check(vkMapMemory(ctx_->device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &p), "vkMapMemory");
+  std::memcpy(dst, p, bytes);
+  release(*ctx_, staging);
+}
+
+void Buffer::zero() {
+  if (mapped_) {
+    std::memset(mapped_, 0, size_);
+    return;
+  }
+  ctx_->runOnce([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, 0); });
+}
+
+}  // namespace vknerf::gpu

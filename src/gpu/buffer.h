@@ -1,0 +1,69 @@
+#pragma once
+// A storage buffer. On unified-memory devices (lavapipe, integrated GPUs) it lives in host-visible
+// memory mapped once for its lifetime; on discrete GPUs it is device-local and transfers go
+// through a staging buffer.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "vknerf/context.h"
+
+namespace vknerf::gpu {
+
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(Context& ctx, VkDeviceSize bytes);
+  template <class T> static Buffer of(Context& ctx, std::span<const T> data) {
+    Buffer b(ctx, data.size_bytes());
+    b.upload(data);
+    return b;
+  }
+  template <class T> static Buffer of(Context& ctx, const std::vector<T>& data) { return of(ctx, std::span<const T>(data)); }
+  ~Buffer();
+  Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+  Buffer& operator=(Buffer&& o) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  uint64_t id() const { return id_; }  // unique per allocation; keys descriptor caches
+  bool valid() const { return buffer_ != VK_NULL_HANDLE; }
+  // Host pointer of a mapped (unified-memory) buffer; nullptr on discrete GPUs.
+  void* mapped() const { return mapped_; }
+
+  void upload(const void* src, VkDeviceSize bytes, VkDeviceSize offset = 0);
+  void download(void* dst, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+  template <class T> void upload(std::span<const T> data, VkDeviceSize offset = 0) { upload(data.data(), data.size_bytes(), offset); }
+  template <class T> void upload(const std::vector<T>& data, VkDeviceSize offset = 0) { upload(data.data(), data.size() * sizeof(T), offset); }
+  template <class T> std::vector<T> download(size_t count, VkDeviceSize offset = 0) const {
+    std::vector<T> out(count);
+    download(out.data(), count * sizeof(T), offset);
+    return out;
+  }
+  template <class T> std::vector<T> download() const { return download<T>(size_ / sizeof(T)); }
+  void zero();
+
+ private:
+  Context* ctx_ = nullptr;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize size_ = 0;
+  void* mapped_ = nullptr;
+  uint64_t id_ = 0;
+};
+
+// A bound range of a buffer: large arrays are split into ranges within maxStorageBufferRange.
+struct BufferRange {
+  const Buffer* buffer = nullptr;
+  VkDeviceSize offset = 0;
+  VkDeviceSize range = VK_WHOLE_SIZE;
+  BufferRange() = default;
+  BufferRange(const Buffer& b) : buffer(&b) {}  // NOLINT: a whole buffer binds implicitly
+  BufferRange(const Buffer& b, VkDeviceSize off, VkDeviceSize len) : buffer(&b), offset(off), range(len) {}
+};
+
+}  // namespace vknerf::gpu

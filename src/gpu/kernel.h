@@ -1,0 +1,73 @@
+#pragma once
+// A compute pipeline built from an embedded shader, with its descriptor layout, push constants and
+// specialization constants. Descriptor sets are created once per distinct set of bound buffers and
+// reused, so recording a training step allocates nothing after the first time.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <initializer_list>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "vknerf/context.h"
+
+namespace vknerf::gpu {
+
+std::span<const uint32_t> findShader(std::string_view name);  // generated from shaders/*.comp
+
+enum class Binding {
+  Storage,       // GLSL: layout(std430) buffer
+  TexelRgba32f,  // GLSL: layout(rgba32f) uniform readonly imageBuffer (vectorised loads on lavapipe)
+};
+
+struct KernelDesc {
+  std::string shader;                     // name of shaders/<name>.comp
+  std::vector<Binding> bindings;          // binding i of set 0
+  uint32_t pushConstantBytes = 0;
+  std::vector<uint32_t> specialization;   // constant_id i = specialization[i] (floats by bit pattern)
+};
+
+class Kernel {
+ public:
+  Kernel() = default;
+  Kernel(Context& ctx, KernelDesc desc);
+  ~Kernel();
+  Kernel(Kernel&& o) noexcept { *this = std::move(o); }
+  Kernel& operator=(Kernel&& o) noexcept;
+  Kernel(const Kernel&) = delete;
+  Kernel& operator=(const Kernel&) = delete;
+
+  VkPipeline pipeline() const { return pipeline_; }
+  VkPipelineLayout layout() const { return layout_; }
+  const KernelDesc& desc() const { return desc_; }
+  // The descriptor set binding exactly these ranges, created on first use.
+  VkDescriptorSet descriptorSet(std::span<const BufferRange> bindings);
+
+ private:
+  void destroy();
+  Context* ctx_ = nullptr;
+  KernelDesc desc_;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorPool> pools_;
+  uint32_t setsInLastPool_ = 0;
+  std::vector<VkBufferView> views_;
+  std::map<std::vector<uint64_t>, VkDescriptorSet> sets_;
+};
+
+// Workgroups needed to cover n items with groups of `local`.
+inline uint32_t groupsFor(uint64_t n, uint32_t local) { return uint32_t((n + local - 1) / local); }
+
+inline uint32_t floatBits(float f) {
+  uint32_t u;
+  static_assert(sizeof u == sizeof f);
+  __builtin_memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+}  // namespace vknerf::gpu

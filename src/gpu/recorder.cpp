@@ -1,0 +1,122 @@
+#include "gpu/recorder.h"
+
+#include "gpu/vk_check.h"
+
+namespace vknerf::gpu {
+
+Recorder::Recorder(Context& ctx, bool timestamps, uint32_t maxTimestamps) : ctx_(ctx) {
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = ctx.commandPool();
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  check(vkAllocateCommandBuffers(ctx.device(), &ai, &cmd_), "vkAllocateCommandBuffers");
+  VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  check(vkCreateFence(ctx.device(), &fi, nullptr, &fence_), "vkCreateFence");
+  if (timestamps && ctx.properties().limits.timestampComputeAndGraphics) {
+    maxTimestamps_ = maxTimestamps;
+    VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qi.queryCount = 2 * maxTimestamps;
+    check(vkCreateQueryPool(ctx.device(), &qi, nullptr, &queries_), "vkCreateQueryPool");
+  }
+}
+
+Recorder::Recorder(Context& ctx, VkCommandBuffer external) : ctx_(ctx), cmd_(external), owned_(false) {}
+
+Recorder::~Recorder() {
+  if (!owned_) return;
+  VkDevice dev = ctx_.device();
+  if (queries_) vkDestroyQueryPool(dev, queries_, nullptr);
+  vkDestroyFence(dev, fence_, nullptr);
+  vkFreeCommandBuffers(dev, ctx_.commandPool(), 1, &cmd_);
+}
+
+void Recorder::begin() {
+  if (!owned_) throw Error("Recorder::begin on a caller's command buffer");
+  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+  labels_.clear();
+  pending_ = false;
+  if (queries_) vkCmdResetQueryPool(cmd_, queries_, 0, 2 * maxTimestamps_);
+}
+
+// Each kernel reads what the previous one wrote; a full compute/transfer memory barrier between
+// consecutive commands is the simple correct rule, and it costs nothing measurable (LAVAPIPE.md).
+void Recorder::barrierIfNeeded() {
+  if (!pending_) return;
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                     VK_ACCESS_TRANSFER_WRITE_BIT;
+  const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  vkCmdPipelineBarrier(cmd_, stages, stages, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  pending_ = false;
+}
+
+void Recorder::dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+                        uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
+  if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
+  if (pushBytes != k.desc().pushConstantBytes)
+    throw Error("kernel " + k.desc().shader + " expects " + std::to_string(k.desc().pushConstantBytes) +
+                " bytes of push constants, got " + std::to_string(pushBytes));
+  VkDescriptorSet set = k.descriptorSet(std::span<const BufferRange>(bindings.begin(), bindings.size()));
+  barrierIfNeeded();
+  bool timed = queries_ && label && labels_.size() < maxTimestamps_;
+  uint32_t q = uint32_t(labels_.size()) * 2;
+  if (timed) vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, q);
+  vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
+  vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout(), 0, 1, &set, 0, nullptr);
+  if (pushBytes) vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, push);
+  vkCmdDispatch(cmd_, gx, gy, gz);
+  if (timed) {
+    vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q + 1);
+    labels_.emplace_back(label);
+  }
+  pending_ = true;
+}
+
+void Recorder::copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset, VkDeviceSize dstOffset) {
+  if (bytes == 0) return;
+  barrierIfNeeded();
+  VkBufferCopy region{srcOffset, dstOffset, bytes};
+  vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &region);
+  pending_ = true;
+}
+
+void Recorder::fill(Buffer& dst, uint32_t value, VkDeviceSize offset, VkDeviceSize bytes) {
+  if (dst.size() == 0) return;
+  barrierIfNeeded();
+  vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes == VK_WHOLE_SIZE ? VK_WHOLE_SIZE : bytes / 4 * 4, value);
+  pending_ = true;
+}
+
+void Recorder::end() {
+  if (!owned_) return;
+  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+}
+
+void Recorder::submitAndWait() {
+  if (!owned_) throw Error("Recorder::submitAndWait on a caller's command buffer");
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd_;
+  check(vkResetFences(ctx_.device(), 1, &fence_), "vkResetFences");
+  check(vkQueueSubmit(ctx_.queue(), 1, &si, fence_), "vkQueueSubmit");
+  check(vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+}
+
+std::vector<std::pair<std::string, double>> Recorder::timings() const {
+  std::vector<std::pair<std::string, double>> out;
+  if (!queries_ || labels_.empty()) return out;
+  std::vector<uint64_t> ts(labels_.size() * 2);
+  check(vkGetQueryPoolResults(ctx_.device(), queries_, 0, uint32_t(ts.size()), ts.size() * 8, ts.data(), 8,
+                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        "vkGetQueryPoolResults");
+  double period = ctx_.properties().limits.timestampPeriod;  // ns per tick
+  for (size_t i = 0; i < labels_.size(); ++i)
+    out.emplace_back(labels_[i], double(ts[2 * i + 1] - ts[2 * i]) * period * 1e-6);
+  return out;
+}
+
+}  // namespace vknerf::gpu

@@ -1,0 +1,58 @@
+#pragma once
+// Records dispatches into one command buffer with a memory barrier between consecutive commands,
+// optional timestamps per labelled dispatch, and submits once. Either owns its command buffer
+// (re-submittable: a training step is recorded once and replayed) or records into a caller's.
+#include <vulkan/vulkan.h>
+
+#include <initializer_list>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+#include "vknerf/context.h"
+
+namespace vknerf::gpu {
+
+class Recorder {
+ public:
+  // Owns a command buffer and fence; `timestamps` enables per-dispatch GPU timing.
+  explicit Recorder(Context& ctx, bool timestamps = false, uint32_t maxTimestamps = 256);
+  // Records into the caller's command buffer (already begun); the caller submits it.
+  Recorder(Context& ctx, VkCommandBuffer external);
+  ~Recorder();
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  void begin();  // owned command buffer: reset and begin recording
+  void dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+                uint32_t gx, uint32_t gy = 1, uint32_t gz = 1, const char* label = nullptr);
+  template <class P>
+  void dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const P& push, uint32_t gx, uint32_t gy = 1,
+                uint32_t gz = 1, const char* label = nullptr) {
+    dispatch(k, bindings, &push, sizeof(P), gx, gy, gz, label);
+  }
+  void copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset = 0, VkDeviceSize dstOffset = 0);
+  void fill(Buffer& dst, uint32_t value, VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
+  void end();
+  void submitAndWait();  // owned command buffer only; may be called repeatedly after one recording
+  // One record + submit, for tests and one-off work.
+  VkCommandBuffer commandBuffer() const { return cmd_; }
+
+  // Milliseconds per labelled dispatch of the last submission, in recording order.
+  std::vector<std::pair<std::string, double>> timings() const;
+
+ private:
+  void barrierIfNeeded();
+  Context& ctx_;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  bool owned_ = true;
+  bool pending_ = false;  // a command was recorded since the last barrier
+  uint32_t maxTimestamps_ = 0;
+  std::vector<std::string> labels_;
+};
+
+}  // namespace vknerf::gpu

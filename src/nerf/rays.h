@@ -1,0 +1,45 @@
+#pragma once
+// Stage 1 of the data flow: camera rays clipped to the scene box (shaders/rays.comp).
+// Layouts: rays are 2 x vec4 per ray, (o, t_near) and (d, t_far), with (-1, -1) for a miss;
+// pixel ids are (camera, pixel index within that camera's image) per ray.
+#include <span>
+#include <vector>
+
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+#include "vknerf/camera.h"
+
+namespace vknerf::nerf {
+
+struct CameraGpu {  // mirrors `struct Camera` in shaders/camera.glsl
+  float intrinsics[4];
+  float c2w[12];
+  uint32_t size[4];  // width, height, first pixel of this image in a concatenated pixel buffer, 0
+};
+static_assert(sizeof(CameraGpu) == 80);
+
+std::vector<CameraGpu> packCameras(std::span<const Camera> cameras);
+
+constexpr VkDeviceSize kRayBytes = 32;
+constexpr VkDeviceSize kPixelIdBytes = 8;
+
+class RayGeneration {
+ public:
+  explicit RayGeneration(Context& ctx);
+  // Rays through pixels [firstPixel, firstPixel + count) of one camera, row-major.
+  void recordImage(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t firstPixel,
+                   uint32_t count, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
+                   const gpu::BufferRange& pixelIds);
+  // `count` rays through random pixels of random cameras (uniform over cameras, then pixels).
+  void recordRandom(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t numCameras, uint32_t seed,
+                    uint32_t count, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
+                    const gpu::BufferRange& pixelIds);
+
+ private:
+  void record(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t mode, uint32_t camera, uint32_t first,
+              uint32_t count, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
+              const gpu::BufferRange& pixelIds);
+  gpu::Kernel kernel_;
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,15 @@
+#include "gpu_test.h"
+
+namespace vknerf::test {
+
+Context& context() {
+  static std::shared_ptr<Context> ctx = [] {
+    auto c = Context::create();
+    std::fprintf(stderr, "vknerf tests on %s%s\n", c->describe().c_str(),
+                 c->validationEnabled() ? " with validation" : "");
+    return c;
+  }();
+  return *ctx;
+}
+
+}  // namespace vknerf::test

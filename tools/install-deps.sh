@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Installs vknerf's build and test dependencies from Debian 12 packages (root or sudo).
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update
+$SUDO apt-get install -y --no-install-recommends \
+  build-essential cmake pkg-config git \
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools \
+  libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev \
+  libgtest-dev googletest libbenchmark-dev libopenblas-dev

@@ -1,19 +1,66 @@
 // vknerf command line. Exit codes: 0 success, 1 runtime error, 2 usage error.
-#include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <exception>
+#include <map>
+#include <sstream>
 
-#include "vknerf/context.h"
+#include "command.h"
 #include "vknerf/error.h"
 
-int main(int argc, char** argv) {
-  CLI::App app{"vknerf: Neural Radiance Fields on Vulkan compute"};
-  app.require_subcommand(1);
-  std::string device;
-  app.add_option("--device", device, "Vulkan device: index or name substring (default: VKNERF_DEVICE, else best)");
+namespace vknerf::cli {
 
-  auto* info = app.add_subcommand("info", "List Vulkan devices and show the one vknerf picks");
+std::vector<Command>& commands() {
+  static std::vector<Command> all;
+  return all;
+}
+
+Registration::Registration(std::string path, std::string help, Setup setup) {
+  commands().push_back({std::move(path), std::move(help), std::move(setup)});
+}
+
+std::shared_ptr<Context> Globals::context() const {
+  static std::shared_ptr<Context> ctx;
+  if (!ctx) {
+    ctx = Context::create({device, validation});
+    std::fprintf(stderr, "vknerf: device %s\n", ctx->describe().c_str());
+  }
+  return ctx;
+}
+
+}  // namespace vknerf::cli
+
+int main(int argc, char** argv) {
+  using namespace vknerf::cli;
+  CLI::App app{"vknerf: Neural Radiance Fields on Vulkan compute shaders"};
+  app.require_subcommand(1);
+  Globals globals;
+  app.add_option("--device", globals.device, "Vulkan device: index or name substring (default: $VKNERF_DEVICE, else the best)");
+  app.add_flag("--validation", globals.validation, "Enable the Khronos validation layer");
+
+  // Build the command tree; "bench mlp" nests under "bench".
+  std::map<std::string, CLI::App*> nodes;
+  std::function<int()> action;
+  std::vector<std::pair<CLI::App*, std::function<int()>>> actions;
+  for (auto& cmd : commands()) {
+    CLI::App* parent = &app;
+    std::istringstream words(cmd.path);
+    std::string word, prefix;
+    std::vector<std::string> parts;
+    while (words >> word) parts.push_back(word);
+    for (size_t i = 0; i + 1 < parts.size(); ++i) {
+      prefix += (prefix.empty() ? "" : " ") + parts[i];
+      auto it = nodes.find(prefix);
+      if (it == nodes.end()) {
+        CLI::App* sub = parent->add_subcommand(parts[i], parts[i] + " commands");
+        sub->require_subcommand(1);
+        it = nodes.emplace(prefix, sub).first;
+      }
+      parent = it->second;
+    }
+    CLI::App* sub = parent->add_subcommand(parts.back(), cmd.help);
+    nodes[cmd.path] = sub;
+    actions.emplace_back(sub, cmd.setup(*sub, globals));
+  }
 
   try {
     app.parse(argc, argv);
@@ -22,15 +69,11 @@ int main(int argc, char** argv) {
     return rc == 0 ? 0 : 2;
   }
   try {
-    if (*info) {
-      for (const auto& d : vknerf::Context::listDevices())
-        std::printf("device %u: %s%s\n", d.index, d.name.c_str(), d.usable ? "" : " (unusable: no Vulkan 1.2 compute)");
-      auto ctx = vknerf::Context::create({device, false});
-      std::printf("using: %s\n", ctx->describe().c_str());
-    }
+    for (auto& [sub, act] : actions)
+      if (sub->parsed()) return act();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "vknerf: error: %s\n", e.what());
     return 1;
   }
-  return 0;
+  return 2;
 }

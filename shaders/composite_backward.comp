@@ -6,8 +6,8 @@
 // back-to-front pass carries Q_i = R_i / T_{i+1} = alpha_{i+1} c_{i+1} + exp(-x_{i+1}) Q_{i+1},
 // Q_N = bg: a convex mix of colours, so it stays O(1) and exact-ish however deep the ray goes, and
 // dC/dsigma_i = delta_i * T_{i+1} * (c_i - Q_i) is exactly 0 (never NaN) where T_{i+1} underflows.
-// The front-to-back pass stores T_{i+1}, w_i, alpha_i, exp(-x_i) per sample in dField, whose slots
-// this invocation owns; the second pass reads them back and overwrites them with the gradients.
+// The front-to-back pass stores T_{i+1} per sample in dField, whose slots this invocation owns; the
+// back-to-front pass reads them and overwrites them with the gradients.
 #extension GL_GOOGLE_include_directive : require
 #include "composite.glsl"
 
@@ -34,33 +34,31 @@ void main() {
   uint begin = pc.samplesPerRay > 0u ? ray * pc.samplesPerRay : rayOffsets[ray];
   uint end = pc.samplesPerRay > 0u ? begin + pc.samplesPerRay : rayOffsets[ray + 1u];
 
-  // Front to back: the same prefix sums as the forward pass, so T and w match it bit for bit.
+  // Front to back: the same prefix sums as the forward pass, so T matches it bit for bit. Only
+  // T_{i+1} is kept (in dField[i].x); alpha is cheaper to recompute than to store and reload.
   float prefix = 0.0;
-  float tIn = 1.0;
   for (uint i = begin; i < end; ++i) {
-    vec2 s = samples[i];
-    float x = opticalDepth(imageLoad(field, int(i)).w, s.y);
-    vec2 a = alphaAndSurvival(x);
-    prefix += x;
-    float tOut = exp(-prefix);
-    dField[i] = vec4(tOut, tIn * a.x, a);
-    tIn = tOut;
+    prefix += opticalDepth(imageLoad(field, int(i)).w, samples[i].y);
+    dField[i].x = exp(-prefix);
   }
 
   vec4 g = dColor[ray];
   float gDepth = dDepth[ray];
-  float opacityTerm = g.w * tIn;  // tIn is now T_final; dO/dsigma_i = delta_i * T_final
+  float opacityTerm = g.w * exp(-prefix);  // dO/dsigma_i = delta_i * T_final
   vec3 q = pc.useBackgroundBuffer != 0u ? perRayBackground[ray].rgb : pc.background.rgb;
   float qDepth = 0.0;
+  float tOut = exp(-prefix);
   for (uint i = end; i > begin;) {
     --i;
-    vec4 st = dField[i];  // T_{i+1}, w_i, alpha_i, exp(-x_i)
+    float tIn = i > begin ? dField[i - 1u].x : 1.0;
     vec2 s = samples[i];
-    vec3 c = imageLoad(field, int(i)).rgb;
-    float inner = st.x * (dot(g.rgb, c - q) + gDepth * (s.x - qDepth)) + opacityTerm;
+    vec4 f = imageLoad(field, int(i));
+    vec2 a = alphaAndSurvival(opticalDepth(f.w, s.y));
+    float inner = tOut * (dot(g.rgb, f.rgb - q) + gDepth * (s.x - qDepth)) + opacityTerm;
     // delta_i = 0 multiplies a finite inner: the gradient of a duplicate sample is exactly 0.
-    dField[i] = vec4(st.y * g.rgb, s.y * inner);
-    q = st.z * c + st.w * q;
-    qDepth = st.z * s.x + st.w * qDepth;
+    dField[i] = vec4(tIn * a.x * g.rgb, s.y * inner);
+    q = a.x * f.rgb + a.y * q;
+    qDepth = a.x * s.x + a.y * qDepth;
+    tOut = tIn;
   }
 }

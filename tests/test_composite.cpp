@@ -395,6 +395,12 @@ TEST_F(Composite, HardOpaqueSample) {
     auto grad = ref::compositeBackward<double>(sd, fd, {0.3, 0.3, 0.3}, {0.7, -0.4, 0.25, 0.5}, -0.3);
     SCOPED_TRACE(huge);
     ASSERT_TRUE(allFinite(g.color) && allFinite(g.depth) && allFinite(g.weights) && allFinite(g.dField));
+    // The float reference meets the same input without inf arithmetic either.
+    auto refF = ref::compositeForward<float>(s, f, {0.3f, 0.3f, 0.3f});
+    auto gradF = ref::compositeBackward<float>(s, f, {0.3f, 0.3f, 0.3f}, {0.7f, -0.4f, 0.25f, 0.5f}, -0.3f);
+    EXPECT_EQ(refF.opacity, 1.0f);
+    EXPECT_TRUE(allFinite(refF.weights) && std::isfinite(refF.depth));
+    for (size_t i = 0; i < 10; ++i) EXPECT_TRUE(std::isfinite(gradF[i][3]) && (i < k || gradF[i][3] == 0.0f));
     EXPECT_EQ(g.color[3], 1.0f);
     EXPECT_EQ(ref.opacity, 1.0);
     double tK = 0;  // the wall takes all the light that reaches it

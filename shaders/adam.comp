@@ -1,19 +1,22 @@
 #version 450
 // Adam over a flat float parameter buffer with gradient, first- and second-moment buffers of the
 // same size; the gradient is zeroed after the step so the next backward pass can accumulate.
-// Each invocation updates 4 parameters through vec4 views (half the per-float SSBO cost of scalar
-// access on lavapipe); the last invocation handles the count % 4 leftovers through float views of
-// the same bindings. Bias corrections 1 / (1 - beta^t) come from the host, computed in double.
+// Each invocation updates 4 parameters through rgba32f storage texel buffers: on lavapipe their
+// loads and stores are vectorised across lanes while SSBO access is a per-lane loop (measured
+// 1.5-3x faster for this kernel). The last invocation handles the count % 4 leftovers through
+// float SSBO views of the buffers' tails (bindings 4-7). Bias corrections 1 / (1 - beta^t) come
+// from the host, computed in double.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) buffer Params { vec4 params4[]; };
-layout(std430, binding = 0) buffer ParamsF { float params1[]; };
-layout(std430, binding = 1) buffer Grads { vec4 grads4[]; };
-layout(std430, binding = 1) buffer GradsF { float grads1[]; };
-layout(std430, binding = 2) buffer Moment1 { vec4 m4[]; };
-layout(std430, binding = 2) buffer Moment1F { float m1[]; };
-layout(std430, binding = 3) buffer Moment2 { vec4 v4[]; };
-layout(std430, binding = 3) buffer Moment2F { float v1[]; };
+layout(binding = 0, rgba32f) uniform imageBuffer P4;
+layout(binding = 1, rgba32f) uniform imageBuffer G4;
+layout(binding = 2, rgba32f) uniform imageBuffer M4;
+layout(binding = 3, rgba32f) uniform imageBuffer V4;
+// The tails: each binding starts at most a storage-offset alignment before the leftovers.
+layout(std430, binding = 4) buffer ParamsF { float params1[]; };
+layout(std430, binding = 5) buffer GradsF { float grads1[]; };
+layout(std430, binding = 6) buffer Moment1F { float m1[]; };
+layout(std430, binding = 7) buffer Moment2F { float v1[]; };
 
 layout(push_constant) uniform Push {
   float lr;
@@ -24,6 +27,7 @@ layout(push_constant) uniform Push {
   float correction2;  // 1 / (1 - beta2^t)
   uint count;         // parameters
   uint skipZero;      // 1: a parameter whose gradient is exactly 0 keeps p, m and v (sparse rows)
+  uint tailIndex;     // index of parameter 4 * (count / 4) in the tail bindings
 } pc;
 
 // Same operation order as ref::adamStep. `live` masks lanes that must keep their old values.
@@ -40,17 +44,18 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   uint full = pc.count / 4u;
   if (i < full) {
-    vec4 g = grads4[i];
+    int k = int(i);
+    vec4 g = imageLoad(G4, k);
     bvec4 live = pc.skipZero != 0u ? notEqual(g, vec4(0.0)) : bvec4(true);
     if (!any(live)) return;  // an untouched sparse row: one load, no stores
-    vec4 p = params4[i], m = m4[i], v = v4[i];
+    vec4 p = imageLoad(P4, k), m = imageLoad(M4, k), v = imageLoad(V4, k);
     adam(p, m, v, g, live);
-    params4[i] = p;
-    m4[i] = m;
-    v4[i] = v;
-    grads4[i] = vec4(0.0);
-  } else if (i == full) {
-    uint first = 4u * full, n = pc.count - first;  // 1..3 leftovers (the host dispatches this lane only then)
+    imageStore(P4, k, p);
+    imageStore(M4, k, m);
+    imageStore(V4, k, v);
+    imageStore(G4, k, vec4(0.0));
+  } else if (i == full && pc.count > 4u * full) {
+    uint first = pc.tailIndex, n = pc.count - 4u * full;  // 1..3 leftovers
     vec4 p = vec4(0.0), g = vec4(0.0), m = vec4(0.0), v = vec4(0.0);
     for (uint j = 0u; j < n; ++j) {
       p[j] = params1[first + j];

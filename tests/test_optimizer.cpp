@@ -236,3 +236,39 @@ TEST_F(Adam, EmptyStepAndBadArguments) {
   bad.beta2 = 1.0f;
   EXPECT_THROW(nerf::Adam(ctx(), bad), Error);
 }
+
+TEST_F(Adam, SubRangesAndTinyCounts) {
+  // Parameters at an offset inside larger buffers, surrounded by sentinels that must survive;
+  // counts below 4 (no vec4 part), exactly 4 (no leftovers) and 5.
+  nerf::AdamConfig cfg;
+  nerf::Adam adam(ctx(), cfg);
+  for (uint32_t count : {1u, 3u, 4u, 5u}) {
+    const uint32_t offset = 16, total = offset + count + 9;  // floats
+    auto p = randomVector(total, count, 1), g = randomVector(total, 100 + count, 1);
+    std::vector<float> mv(total, 0.5f);
+    auto pb = gpu::Buffer::of(ctx(), p), gb = gpu::Buffer::of(ctx(), g), mb = gpu::Buffer::of(ctx(), mv),
+         vb = gpu::Buffer::of(ctx(), mv);
+    auto sub = [&](const gpu::Buffer& b) { return gpu::BufferRange(b, 4 * offset, 4 * count); };
+    gpu::Recorder rec(ctx());
+    rec.begin();
+    adam.record(rec, sub(pb), sub(gb), sub(mb), sub(vb), count, 2, 0.01f);
+    rec.end();
+    rec.submitAndWait();
+    std::vector<double> rp(p.begin() + offset, p.begin() + offset + count), rg(g.begin() + offset, g.begin() + offset + count),
+        rm(count, 0.5), rv(count, 0.5);
+    ref::adamStep<double>(rp, rg, rm, rv, 2, 0.01, refParams(cfg));
+    auto po = pb.download<float>(), go = gb.download<float>(), mo = mb.download<float>();
+    for (uint32_t i = 0; i < total; ++i) {
+      bool inside = i >= offset && i < offset + count;
+      if (!inside) {
+        ASSERT_EQ(po[i], p[i]) << count << ": " << i;
+        ASSERT_EQ(go[i], g[i]) << count << ": " << i;
+        ASSERT_EQ(mo[i], 0.5f) << count << ": " << i;
+      } else {
+        ASSERT_TRUE(paramNear(po[i], rp[i - offset], 0.01, 1)) << count << ": " << i;
+        ASSERT_TRUE(test::near(mo[i], rm[i - offset], 2.4e-7, 0)) << count << ": " << i;
+        ASSERT_EQ(go[i], 0.0f);
+      }
+    }
+  }
+}

@@ -1,6 +1,7 @@
 #pragma once
 // Adam over a flat float parameter buffer (shaders/adam.comp). params, grads, m and v hold `count`
-// floats each (bound at offsets that are multiples of 16 bytes); m and v start at zero; the
+// floats each, bound at offsets that are multiples of 16 bytes and of the device's storage and
+// texel-buffer offset alignments (whole buffers always qualify); m and v start at zero; the
 // gradient buffer is zeroed by every step so the next backward pass accumulates into it.
 #include <cstdint>
 
@@ -32,8 +33,10 @@ class Adam {
               const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t count, uint32_t step, float lr);
 
  private:
+  Context& ctx_;
   AdamConfig config_;
   gpu::Kernel kernel_;
+  gpu::Buffer dummy_;  // binds the vec4 views when there are fewer than 4 parameters
 };
 
 }  // namespace vknerf::nerf

@@ -3,7 +3,7 @@
 // same size; the gradient is zeroed after the step so the next backward pass can accumulate.
 // Each invocation updates 4 parameters through rgba32f storage texel buffers: on lavapipe their
 // loads and stores are vectorised across lanes while SSBO access is a per-lane loop (measured
-// 1.5-3x faster for this kernel). The last invocation handles the count % 4 leftovers through
+// 2-4x faster for this kernel on a dense step). The last invocation handles the count % 4 leftovers through
 // float SSBO views of the buffers' tails (bindings 4-7). Bias corrections 1 / (1 - beta^t) come
 // from the host, computed in double.
 layout(local_size_x = 64) in;

@@ -15,13 +15,14 @@
 #include <array>
 #include <cstdint>
 
+#include "nerf/sample_layout.h"
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
 
 namespace vknerf::nerf {
 
-constexpr VkDeviceSize kSampleBytes = 8;
+
 constexpr VkDeviceSize kFieldBytes = 16;
 
 class Compositor {

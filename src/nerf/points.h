@@ -2,13 +2,14 @@
 // Field inputs of a fixed-layout sample batch (shaders/sample_points.comp): ray r owns samples
 // [r*N, (r+1)*N); each sample (t, delta) becomes a position o + t d mapped from the scene box onto
 // [-1, 1]^3 and the ray's unit direction, both written as vec4 with w = 0.
+#include "nerf/sample_layout.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
 
-constexpr VkDeviceSize kSampleBytes = 8;  // vec2(t, delta)
+
 constexpr VkDeviceSize kPointBytes = 16;  // vec4 position or direction
 
 class SamplePoints {

@@ -1,8 +1,11 @@
 #version 450
 // Hierarchical (fine) sampling: inverse-CDF draws from the coarse pass's weights, merged in order
-// with the coarse samples. One invocation per ray, streaming: the draws come out sorted, so the bin
-// search is a pointer that only moves forward, and the merge emits each sample as soon as its
-// successor is known. No per-ray arrays, hence no bound on the sample counts.
+// with the coarse samples (src/reference/samples.h: rayCdf, invertCdf, importanceSamples).
+// One invocation per ray walks the bins [t_near, t_0], [t_0, t_1], ..., [t_last, t_far] once,
+// front to back. The draws come out sorted, so every step emits exactly one output sample: either
+// the next fine draw, inside the current bin, or a step into the next bin, whose start is the next
+// coarse sample. nCoarse + nFine steps for every ray, whatever its weights: on lavapipe's 8-lane
+// SIMD no lane waits on another's inner loop. No per-ray arrays, hence no bound on the counts.
 #extension GL_GOOGLE_include_directive : require
 #include "sampling.glsl"
 
@@ -21,37 +24,23 @@ layout(push_constant) uniform Push {
 } pc;
 
 uint coarseBase;
-float tFar;
+float tNear, tFar;
+bool uniformBins;  // the weights carry no distribution: each bin's mass is its width
 
-// Bin k's mass; (w > 0) also maps a NaN weight to 0.
-float massOf(uint k) {
+// Edge b of the bins: t_near, the coarse t's, t_far.
+float edgeOf(uint b) { return b == 0u ? tNear : b <= pc.nCoarse ? coarse[coarseBase + b - 1u].x : tFar; }
+
+// Coarse weight k clamped at 0 ((w > 0) also maps a NaN weight to 0), then padded.
+float paddedMass(uint k) {
   float w = weights[coarseBase + k];
   precise float m = (w > 0.0 ? w : 0.0) + pc.padding;
   return m;
 }
-// Bin edges are the coarse t's, closed by the ray's far bound.
-float edgeOf(uint k) { return k < pc.nCoarse ? coarse[coarseBase + k].x : tFar; }
 
-// The forward-only walk over the bins: bin k = [lo, hi] with mass m, cumulative mass `below`
-// before it and `through` up to its end.
-struct Walk {
-  uint k, last;
-  float lo, hi, m, below, through, total;
-};
-
-float nextFine(inout Walk w, uint ray, uint j) {
-  precise float v = fineDraw(pc.seed, ray, j, pc.nFine, pc.jitter != 0u) * w.total;
-  while (w.k < w.last && w.through < v) {
-    w.k++;
-    w.below = w.through;
-    w.lo = w.hi;
-    w.hi = edgeOf(w.k + 1u);
-    w.m = massOf(w.k);
-    precise float through = w.below + w.m;
-    w.through = through;
-  }
-  precise float t = w.lo + (v - w.below) / max(w.m, kMinMass) * max(w.hi - w.lo, 0.0);
-  return min(max(t, w.lo), w.hi);
+// Mass of bin b = [lo, hi]; bin 0, before the first coarse sample, has none unless uniform.
+float binMass(uint b, float lo, float hi) {
+  if (uniformBins) return max(hi - lo, 0.0);
+  return b == 0u ? 0.0 : paddedMass(b - 1u);
 }
 
 void main() {
@@ -60,7 +49,7 @@ void main() {
   uint nc = pc.nCoarse, nf = pc.nFine, nOut = nc + nf;
   uint outBase = ray * nOut;  // the host keeps numRays * nOut below 2^32
   coarseBase = ray * nc;
-  float tNear = rays[2u * ray].w;
+  tNear = rays[2u * ray].w;
   tFar = rays[2u * ray + 1u].w;
   if (emptyRay(tNear, tFar)) {
     for (uint o = 0u; o < nOut; ++o) merged[outBase + o] = vec2(max(tNear, 0.0), 0.0);
@@ -68,30 +57,40 @@ void main() {
   }
 
   precise float total = 0.0;
-  for (uint k = 0u; k < nc; ++k) total += massOf(k);
+  for (uint k = 0u; k < nc; ++k) total += paddedMass(k);
   bool massOk = total >= kMinMass && total <= kMaxFloat;  // false for NaN too
-  Walk w;
-  if (massOk && edgeOf(nc) > edgeOf(0u)) {
-    w = Walk(0u, nc - 1u, edgeOf(0u), edgeOf(1u), massOf(0u), 0.0, 0.0, total);
-  } else {  // no usable distribution: one bin [t_near, t_far] holding everything
-    w = Walk(0u, 0u, tNear, tFar, 1.0, 0.0, 0.0, 1.0);
+  uniformBins = !(massOk && tFar > edgeOf(1u));
+  if (uniformBins) {
+    total = 0.0;
+    float lo = tNear;
+    for (uint b = 1u; b <= nc + 1u; ++b) {
+      float hi = edgeOf(b);
+      total += max(hi - lo, 0.0);
+      lo = hi;
+    }
   }
-  w.through = w.m;
 
-  uint i = 0u, j = 0u;
-  float tCoarse = nc > 0u ? coarse[coarseBase].x : 0.0;
-  float tFine = nf > 0u ? nextFine(w, ray, 0u) : 0.0;
+  // Bin b = [lo, hi] with mass m; `below` and `through` are the cumulative masses at its ends.
+  uint b = 0u, j = 0u;
+  float lo = tNear, hi = edgeOf(1u), m = binMass(0u, lo, hi), below = 0.0;
+  precise float through = below + m;
+  precise float v = fineDraw(pc.seed, ray, 0u, nf, pc.jitter != 0u) * total;  // the next draw's target mass
   float prev = 0.0;
   for (uint o = 0u; o < nOut; ++o) {
     float cur;
-    if (i < nc && (j >= nf || tCoarse <= tFine)) {
-      cur = tCoarse;
-      ++i;
-      if (i < nc) tCoarse = coarse[coarseBase + i].x;
-    } else {
-      cur = tFine;
+    if (b < nc && (j >= nf || m <= 0.0 || through < v)) {  // into the next bin: emit its coarse sample
+      ++b;
+      below = through;
+      lo = hi;
+      hi = edgeOf(b + 1u);
+      m = binMass(b, lo, hi);
+      through = below + m;
+      cur = lo;
+    } else {  // the next fine draw lies in this bin
+      precise float t = lo + (v - below) / max(m, kMinMass) * max(hi - lo, 0.0);
+      cur = min(max(t, lo), hi);
       ++j;
-      if (j < nf) tFine = nextFine(w, ray, j);
+      v = fineDraw(pc.seed, ray, j, nf, pc.jitter != 0u) * total;
     }
     if (o > 0u) merged[outBase + o - 1u] = vec2(prev, max(cur - prev, 0.0));
     prev = cur;

@@ -245,9 +245,16 @@ TEST(SamplesInverseCdf, PaddingAndFallbackInTheReference) {
   auto cdf = ref::makeCdf<double>({0, 1, 2}, {0, 1}, 1.0);
   EXPECT_NEAR(ref::invertCdf(cdf, 1.0 / 6), 0.5, 1e-12);
   EXPECT_NEAR(ref::invertCdf(cdf, 2.0 / 3), 1.5, 1e-12);
-  EXPECT_FALSE(ref::needsUniformFallback(cdf));
-  EXPECT_TRUE(ref::needsUniformFallback(ref::makeCdf<double>({0, 1, 2}, {0, 0}, 0.0)));
-  EXPECT_TRUE(ref::needsUniformFallback(ref::makeCdf<double>({2, 2, 2}, {0.5, 0.5}, 0.0)));  // no length
+  // A ray's bins: [t_near, t_0] without mass, then the coarse segments with their padded weights.
+  auto ray = ref::rayCdf<double>(0.5, 3, {1, 2}, {0.25, 0.75}, 0.0);
+  EXPECT_EQ(ray.edges, (std::vector<double>{0.5, 1, 2, 3}));
+  EXPECT_EQ(ray.mass, (std::vector<double>{0, 0.25, 0.75}));
+  EXPECT_EQ(ref::invertCdf(ray, 0.0), 1.0);  // u = 0 goes to the first bin with mass, not t_near
+  // No mass, or coarse segments of no length: every bin weighs its width, uniform over [t_near, t_far].
+  for (auto c : {ref::rayCdf<double>(0.5, 3, {1, 2}, {0, 0}, 0.0), ref::rayCdf<double>(0.5, 3, {3, 3}, {1, 1}, 0.0)}) {
+    EXPECT_NEAR(c.total(), 2.5, 1e-15);
+    for (double u : {0.0, 0.1, 0.5, 0.9, 1.0}) EXPECT_NEAR(ref::invertCdf(c, u), 0.5 + 2.5 * u, 1e-15);
+  }
 }
 
 TEST_F(SamplesPdf, WorkedExampleOnTheDevice) {
@@ -423,6 +430,19 @@ TEST_F(SamplesPdf, ZeroWidthBins) {
     EXPECT_TRUE(test::near(b[2 * j], 1.0 + 2.0 * u, 0, 4 * kEps * 3)) << j;
   }
   for (int i = 8; i < 12; ++i) EXPECT_EQ(b[2 * i], 3.0f);
+}
+
+TEST_F(SamplesPdf, DrawOnACdfStepBeforeAnEmptyBinStaysInTheFullBin) {
+  // Masses (0.5, 0, 0.5) on [0,1], [1,2], [2,3]: u = 0.5 equals F_0 = F_1, and the chapter's rule
+  // F_{k-1} < u <= F_k picks bin 0, so t = 1 (its end), not 2 (the start of the next full bin).
+  auto cdf = ref::makeCdf<double>({0, 1, 2, 3}, {0.5, 0, 0.5}, 0.0);
+  EXPECT_EQ(ref::invertCdf(cdf, 0.5), 1.0);
+  EXPECT_EQ(ref::invertCdf(cdf, std::nextafter(0.5, 1.0)), 2.0);
+  // One deterministic draw is u = (0 + 0.5) / 1 exactly.
+  PdfCase c{{{0.0f, 3.0f}}, {0, 1, 2}, {0.5f, 0, 0.5f}, 3, 1, 0, false, 0.0f};
+  auto g = runPdf(ctx(), c);
+  float expected[] = {0, 1, 1, 2};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(g[2 * i], expected[i]) << i;
 }
 
 TEST_F(SamplesPdf, FractionOfDrawsPerBinApproachesTheWeights) {

@@ -68,34 +68,52 @@ template <class T> struct Cdf {
   T total() const { return cum.empty() ? T(0) : cum.back(); }
 };
 
-template <class T> Cdf<T> makeCdf(std::vector<T> edges, const std::vector<T>& weights, T padding) {
-  Cdf<T> c{std::move(edges), {}, {}};
+template <class T> Cdf<T> cdfOfMasses(std::vector<T> edges, std::vector<T> mass) {
+  Cdf<T> c{std::move(edges), std::move(mass), {}};
   T sum = 0;
-  for (T w : weights) {
-    c.mass.push_back((w > T(0) ? w : T(0)) + padding);  // (w > 0) also maps a NaN weight to 0
-    sum += c.mass.back();
-    c.cum.push_back(sum);
-  }
+  for (T m : c.mass) c.cum.push_back(sum += m);
   return c;
 }
 
-// The weights carry no usable distribution: (almost) no mass, a non-finite sum, or no length.
-template <class T> bool needsUniformFallback(const Cdf<T>& c) {
-  T total = c.total();
-  bool massOk = total >= T(kMinMass) && total <= T(3.402823466e38f);
-  return !massOk || !(c.edges.back() > c.edges.front());
+// Mass of a coarse weight: clamped at 0 ((w > 0) also maps a NaN weight to 0), then padded.
+template <class T> T paddedMass(T w, T padding) { return (w > T(0) ? w : T(0)) + padding; }
+
+template <class T> Cdf<T> makeCdf(std::vector<T> edges, const std::vector<T>& weights, T padding) {
+  std::vector<T> mass;
+  for (T w : weights) mass.push_back(paddedMass(w, padding));
+  return cdfOfMasses(std::move(edges), std::move(mass));
 }
 
-// Inverse of the CDF at u in [0, 1]: the first bin k whose cumulative mass reaches u * total, then
-// linear interpolation inside it, clamped to the bin so that rounding never unsorts samples.
+// Inverse of the CDF at u in [0, 1]: the first bin with mass whose cumulative mass reaches u * total
+// (the chapter's F_{k-1} < u <= F_k; at u = 0 the first bin with mass), then linear interpolation
+// inside it, clamped to the bin so that rounding never unsorts samples.
 template <class T> T invertCdf(const Cdf<T>& c, T u) {
   size_t last = c.mass.size() - 1, k = 0;
   T v = u * c.total();
-  while (k < last && c.cum[k] < v) ++k;
+  while (k < last && (c.mass[k] <= T(0) || c.cum[k] < v)) ++k;
   T below = k ? c.cum[k - 1] : T(0);
   T lo = c.edges[k], hi = c.edges[k + 1];
   T t = lo + (v - below) / std::max(c.mass[k], T(kMinMass)) * std::max(hi - lo, T(0));
   return std::min(std::max(t, lo), hi);
+}
+
+// The fine pass's density along one ray. Bins: [t_near, t_0] (no mass), then the coarse segments
+// [t_k, t_{k+1}], the last one closing at t_far, with the padded coarse weights. When those carry
+// no usable distribution (almost no mass, a non-finite sum, or coarse segments of no length) every
+// bin's mass becomes its width: uniform over [t_near, t_far].
+template <class T>
+Cdf<T> rayCdf(T tNear, T tFar, const std::vector<T>& coarseT, const std::vector<T>& weights, T padding) {
+  std::vector<T> edges{tNear};
+  edges.insert(edges.end(), coarseT.begin(), coarseT.end());
+  edges.push_back(tFar);
+  std::vector<T> mass{T(0)};
+  for (T w : weights) mass.push_back(paddedMass(w, padding));
+  Cdf<T> c = cdfOfMasses(edges, mass);
+  T total = c.total();
+  bool massOk = total >= T(kMinMass) && total <= T(3.402823466e38f);
+  if (massOk && edges.back() > edges[1]) return c;
+  for (size_t k = 0; k < mass.size(); ++k) mass[k] = std::max(edges[k + 1] - edges[k], T(0));
+  return cdfOfMasses(std::move(edges), std::move(mass));
 }
 
 // Draw j of n: stratified in [0, 1] (so the draws come out sorted), jittered or at bin centres.
@@ -103,15 +121,11 @@ template <class T> T fineDraw(uint32_t seed, uint32_t ray, uint32_t j, uint32_t 
   return (T(j) + (jitter ? T(rng01(seed, ray, j)) : T(0.5))) / T(n);
 }
 
-// The nFine fine t's of one ray: bins are the coarse segments [t_k, t_{k+1}] (the last one closing
-// at tFar), or the single bin [tNear, tFar] when the weights carry no distribution.
+// The nFine fine t's of one ray, sorted.
 template <class T>
 std::vector<T> fineSamples(T tNear, T tFar, const std::vector<T>& coarseT, const std::vector<T>& weights,
                            uint32_t nFine, uint32_t seed, uint32_t ray, bool jitter, T padding) {
-  std::vector<T> edges = coarseT;
-  edges.push_back(tFar);
-  Cdf<T> cdf = makeCdf(std::move(edges), weights, padding);
-  if (needsUniformFallback(cdf)) cdf = Cdf<T>{{tNear, tFar}, {T(1)}, {T(1)}};
+  Cdf<T> cdf = rayCdf(tNear, tFar, coarseT, weights, padding);
   std::vector<T> out(nFine);
   for (uint32_t j = 0; j < nFine; ++j) out[j] = invertCdf(cdf, fineDraw<T>(seed, ray, j, nFine, jitter));
   return out;

@@ -17,9 +17,9 @@ struct PdfPush {
   float padding;
 };
 
-// Per-sample invocations: big groups keep the group count (one lavapipe task each) moderate.
-constexpr uint32_t kStratifiedLocal = 256;
-// Per-ray invocations: small groups so a few thousand rays still spread over the worker threads.
+// One invocation per ray in both kernels: small groups so that a few thousand rays still make
+// enough workgroups (one lavapipe task each) to spread over the worker threads.
+constexpr uint32_t kStratifiedLocal = 32;
 constexpr uint32_t kPdfLocal = 32;
 
 VkDeviceSize bytesOf(const gpu::BufferRange& r) {
@@ -65,7 +65,7 @@ void StratifiedSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays,
   requireBytes("sample_stratified", "rays", rays, uint64_t(numRays) * kRayBytes);
   requireBytes("sample_stratified", "samples", samples, count * kSampleBytes);
   StratifiedPush p{numRays, samplesPerRay, seed, jitter ? 1u : 0u};
-  dispatchFlat(ctx_, rec, kernel_, {rays, samples}, &p, sizeof p, count, kStratifiedLocal, "sample_stratified");
+  dispatchFlat(ctx_, rec, kernel_, {rays, samples}, &p, sizeof p, numRays, kStratifiedLocal, "sample_stratified");
 }
 
 PdfSampler::PdfSampler(Context& ctx)

@@ -33,11 +33,14 @@ class StratifiedSampler {
 class PdfSampler {
  public:
   explicit PdfSampler(Context& ctx);
-  // nFine inverse-CDF draws per ray from the coarse weights (nCoarse floats per ray, each plus
-  // `padding`), whose bins are the coarse segments [t_k, t_k + delta_k]; uniform over
-  // [t_near, t_far] when the weights sum to 0 or the bins have no length. Draw j is at
-  // u = (j + rng01(seed, ray, j)) / nFine (jitter) or (j + 0.5) / nFine. The fine t's are merged with
-  // the coarse ones: `mergedSamples` holds numRays * (nCoarse + nFine) samples, deltas recomputed.
+  // nFine inverse-CDF draws per ray from the coarse weights (nCoarse floats per ray, each clamped at
+  // 0 and plus `padding`), whose bins are the coarse segments [t_k, t_{k+1}], the last closing at
+  // t_far (only the coarse t's are read). Uniform over [t_near, t_far] instead when the weights sum
+  // below 1e-30 (or to Inf/NaN) or the coarse segments have no length. Draw j is at
+  // u = (j + rng01(seed, ray, j)) / nFine (jitter) or (j + 0.5) / nFine, placed by linear
+  // interpolation in its bin. The fine t's are merged in order with the coarse ones: `mergedSamples`
+  // holds numRays * (nCoarse + nFine) samples, deltas recomputed. Throws vknerf::Error for a
+  // negative or non-finite padding or a buffer too small for the counts.
   void record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays,
               const gpu::BufferRange& coarseSamples, const gpu::BufferRange& coarseWeights, uint32_t nCoarse,
               uint32_t nFine, uint32_t seed, bool jitter, float padding, const gpu::BufferRange& mergedSamples);

@@ -9,12 +9,13 @@
 // different seeds so their jitter is independent.
 #include <cstdint>
 
+#include "nerf/sample_layout.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
 
 namespace vknerf::nerf {
 
-constexpr VkDeviceSize kSampleBytes = 8;
+
 
 class StratifiedSampler {
  public:

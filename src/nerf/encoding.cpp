@@ -1,5 +1,6 @@
 #include "nerf/encoding.h"
 
+#include <algorithm>
 #include <string>
 
 #include "reference/encoding.h"
@@ -48,14 +49,17 @@ void FrequencyEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& input
   const VkDeviceSize need = VkDeviceSize(count) * stride * 4;
   if (boundBytes(features) < need || boundBytes(inputs) < VkDeviceSize(count) * 16)
     throw Error("FrequencyEncoding: buffers too small for " + std::to_string(count) + " rows");
-  // A large matrix may exceed what one descriptor can bind; bind only the rows written then.
-  gpu::BufferRange out = features;
-  if (boundBytes(out) > ctx_.properties().limits.maxStorageBufferRange) out.range = need;
-  if (need > ctx_.properties().limits.maxStorageBufferRange)
-    throw Error("FrequencyEncoding: " + std::to_string(need) +
-                " bytes of features exceed maxStorageBufferRange; encode in chunks of rows");
-  Push p{count, stride / 4, columnOffset / 4};
-  rec.dispatch(kernel_, {inputs, out}, p, gpu::groupsFor(count, kLocal), 1, 1, "encode_frequency");
+  // A matrix larger than one descriptor can bind (128 MiB on lavapipe) is encoded in chunks of
+  // rows, each bound at its own offset. 64-row multiples keep every offset aligned.
+  const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4, limit = ctx_.properties().limits.maxStorageBufferRange;
+  const uint32_t chunk = uint32_t(std::min<VkDeviceSize>(count, limit / rowBytes / 64 * 64));
+  for (uint32_t first = 0; first < count; first += chunk) {
+    const uint32_t rows = std::min(chunk, count - first);
+    gpu::BufferRange in(*inputs.buffer, inputs.offset + VkDeviceSize(first) * 16, VkDeviceSize(rows) * 16);
+    gpu::BufferRange out(*features.buffer, features.offset + first * rowBytes, rows * rowBytes);
+    Push p{rows, stride / 4, columnOffset / 4};
+    rec.dispatch(kernel_, {in, out}, p, gpu::groupsFor(rows, kLocal), 1, 1, "encode_frequency");
+  }
 }
 
 }  // namespace vknerf::nerf

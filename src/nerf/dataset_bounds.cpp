@@ -96,13 +96,14 @@ bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8>
     for (size_t i = 3; i < img.rgba.size() && !anyTransparent; i += 4) anyTransparent = img.rgba[i] == 0;
   if (!anyTransparent) return false;
 
-  // Candidate region: twice the given box, so an object reaching past the camera estimate survives.
+  // Only the given box is searched: a larger region would reach the cameras, and the space between
+  // a camera and the object is seen through the object by that camera and hardly by any other, so
+  // it would survive and inflate the box.
   constexpr int kRes = 64;
   double lo[3], cell[3];
   for (int k = 0; k < 3; ++k) {
-    double c = 0.5 * (box.min[k] + box.max[k]), h = box.max[k] - box.min[k];
-    lo[k] = c - h;
-    cell[k] = 2 * h / kRes;
+    lo[k] = box.min[k];
+    cell[k] = (double(box.max[k]) - box.min[k]) / kRes;
   }
   const double radius = 0.5 * std::sqrt(cell[0] * cell[0] + cell[1] * cell[1] + cell[2] * cell[2]);
   // Per cell: kAlive until some mask rules it out, kSeen once a camera has its centre in view; a cell
@@ -134,14 +135,16 @@ bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8>
           double z = -(m[2] * q[0] + m[6] * q[1] + m[10] * q[2]);
           if (z <= 0) continue;
           double u = cam.cx + cam.fx * vx / z, v = cam.cy - cam.fy * vy / z;
-          if (u >= 0 && v >= 0 && u < w && v < h) a |= kSeen;
+          if (!(u >= 0 && v >= 0 && u < w && v < h)) continue;  // out of view: no constraint
+          a |= kSeen;
           if (z - radius <= 1e-9) continue;  // the cell reaches behind the camera: no constraint
           // Any point within `radius` of the centre projects within f r (1 + |v/z|) / (z - r).
           double ru = cam.fx * radius * (1 + std::fabs(vx / z)) / (z - radius);
           double rv = cam.fy * radius * (1 + std::fabs(vy / z)) / (z - radius);
-          double x0 = std::floor(u - ru), x1 = std::floor(u + ru), y0 = std::floor(v - rv), y1 = std::floor(v + rv);
-          if (x0 < 0 || y0 < 0 || x1 >= w || y1 >= h) continue;  // partly outside the view: no constraint
-          size_t X0 = size_t(x0), X1 = size_t(x1) + 1, Y0 = size_t(y0), Y1 = size_t(y1) + 1;
+          // The window is clipped to the image: what lies beyond the frame is taken to be as empty as the
+          // frame's edge, which holds for objects fully in view (the case alpha masks come from).
+          size_t X0 = size_t(std::max(0.0, std::floor(u - ru))), X1 = size_t(std::min(double(w - 1), std::floor(u + ru))) + 1;
+          size_t Y0 = size_t(std::max(0.0, std::floor(v - rv))), Y1 = size_t(std::min(double(h - 1), std::floor(v + rv))) + 1;
           uint32_t covered = sat[Y1 * (w + 1) + X1] - sat[Y0 * (w + 1) + X1] - sat[Y1 * (w + 1) + X0] + sat[Y0 * (w + 1) + X0];
           if (covered == 0) a = 0;  // every point of the cell projects onto transparent pixels
         }

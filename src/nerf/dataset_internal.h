@@ -57,11 +57,12 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height);
 
 // Scene box from the cameras alone (see vknerf/dataset.h); needs at least one camera.
 Aabb boxFromCameras(std::span<const Camera> cameras);
-// Replaces `box` by the bounds of the visual hull of the alpha masks (pixels with alpha > 0), found
-// on a 64^3 grid over twice `box`: a cell stays unless some camera sees all of it on transparent
-// pixels, and counts only if some camera has its centre in view. Conservative: every cell holding
-// an opaque point visible in the masks is kept. Returns false, leaving `box` alone, when no image has
-// a fully transparent pixel or the masks leave nothing.
+// Shrinks `box` to the bounds of the visual hull of the alpha masks (pixels with alpha > 0), found
+// on a 64^3 grid over `box`: a cell stays unless some camera with its centre in view sees all of it
+// (as much as lies in the frame) on transparent pixels, and counts only if some camera has its
+// centre in view. Conservative for objects fully in view: every cell holding an opaque point is
+// kept. Returns false, leaving `box` alone, when no image has a fully transparent pixel or the masks
+// leave nothing.
 bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8> images, Aabb& box);
 
 }  // namespace vknerf::nerf::detail

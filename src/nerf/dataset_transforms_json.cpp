@@ -1,6 +1,8 @@
 // nerf_synthetic / instant-ngp / nerfstudio transforms*.json. The poses are camera-to-world in the
 // OpenGL convention already, so they are only checked, never changed.
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -27,14 +29,26 @@ struct JsonFile {
 JsonFile readJson(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open '" + path.string() + "'");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   JsonFile f{path, {}};
   try {
-    f.root = json::parse(in);
+    f.root = json::parse(text);
   } catch (const json::exception& e) {
-    // nlohmann's message carries the position: "parse error at line 3, column 7: ...".
+    // Parse errors carry "at line L, column C"; a number overflow (1e999) names only the literal,
+    // so its first occurrence in the text gives the position.
     std::string what = e.what();
     if (auto close = what.find("] "); what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
       what = what.substr(close + 2);
+    if (what.find(" at line ") == std::string::npos) {
+      auto q0 = what.find('\''), q1 = what.rfind('\'');
+      if (q0 != std::string::npos && q1 > q0 + 1) {
+        if (size_t at = text.find(what.substr(q0 + 1, q1 - q0 - 1)); at != std::string::npos) {
+          size_t line = 1 + size_t(std::count(text.begin(), text.begin() + long(at), '\n'));
+          size_t column = at - (line > 1 ? text.rfind('\n', at) + 1 : 0) + 1;
+          what = "at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what;
+        }
+      }
+    }
     throw Error(path.string() + ": invalid JSON: " + what);
   }
   if (!f.root.is_object()) throw Error(path.string() + ": invalid transforms file: the top level is not a JSON object");

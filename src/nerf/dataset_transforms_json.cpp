@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -68,7 +69,7 @@ std::optional<double> optNumber(const JsonFile& f, const json& obj, const char* 
 void readIntrinsics(const JsonFile& f, const json& obj, const std::string& prefix, Intrinsics& in) {
   auto angle = [&](const char* key) {
     auto a = optNumber(f, obj, key, prefix);
-    if (a && !(*a > 0 && *a < M_PI)) fieldError(f, prefix + key, "must be in (0, pi) radians, got " + std::to_string(*a));
+    if (a && !(*a > 0 && *a < std::numbers::pi)) fieldError(f, prefix + key, "must be in (0, pi) radians, got " + std::to_string(*a));
     return a;
   };
   auto positive = [&](const char* key) {

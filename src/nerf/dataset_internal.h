@@ -1,0 +1,68 @@
+#pragma once
+// Shared by the dataset loaders (dataset*.cpp): a format reader turns its files into FrameSpecs
+// (pose + whatever intrinsics the file states); dataset.cpp loads the images, fills in the rest of
+// the intrinsics, downscales and finds the scene box.
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vknerf/dataset.h"
+
+namespace vknerf::nerf::detail {
+
+namespace fs = std::filesystem;
+
+// NaN / 0 where the file does not say; completed from the image size by completeCamera().
+struct Intrinsics {
+  double fx = NAN, fy = NAN, cx = NAN, cy = NAN;
+  double angleX = NAN, angleY = NAN;  // full field of view, radians
+  uint32_t width = 0, height = 0;
+};
+
+struct FrameSpec {
+  std::string where;  // names the frame in messages: "transforms_train.json: frames[3]", "images.txt:12"
+  fs::path image;     // resolved image file; empty when none was found
+  std::string imageTried;  // the paths tried, for the error when `image` is empty
+  Intrinsics intrinsics;
+  std::array<double, 16> c2w{};  // OpenGL convention, row-major, already checked to be rigid
+};
+
+struct SceneSpec {
+  std::vector<FrameSpec> frames;  // the requested split, in order
+  std::vector<FrameSpec> others;  // every other frame of the scene: used for the scene box only
+  bool hasBox = false;            // the files state the box
+  Aabb box;
+  std::string boxSource;
+};
+
+// Readers. `target` is what Dataset::load was given, already classified.
+SceneSpec readTransformsJson(const fs::path& target, const DatasetOptions& options);
+SceneSpec readColmap(const fs::path& modelDir, const fs::path& imagesDir, const DatasetOptions& options);
+
+// Indices of frames in `split` ("train", "val", "test", "all") of n frames, holding out
+// round(fraction * n) evenly spaced frames (at least one when fraction > 0) for val/test.
+std::vector<size_t> holdoutIndices(size_t n, float fraction, const std::string& split);
+
+// Throws unless the 3x3 part of `m` is a rotation (orthonormal, det +1, within 1e-3) and its
+// translation is finite and its last row (0, 0, 0, 1).
+void checkRigid(const std::array<double, 16>& m, const std::string& where);
+
+// Intrinsics for an image of width x height: focal lengths from fl_* or camera_angle_*, principal
+// point defaulting to the image centre. Throws (naming `f.where`) when the file's size disagrees
+// with the image's or the focal length is missing or not positive.
+Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height);
+
+// Scene box from the cameras alone (see vknerf/dataset.h); needs at least one camera.
+Aabb boxFromCameras(std::span<const Camera> cameras);
+// Shrinks `box` to the bounds of the visual hull of the alpha masks (pixels with alpha > 0), found
+// on a 64^3 grid over `box`: a cell stays unless some camera with its centre in view sees all of it
+// (as much as lies in the frame) on transparent pixels, and counts only if some camera has its
+// centre in view. Conservative for objects fully in view: every cell holding an opaque point is
+// kept. Returns false, leaving `box` alone, when no image has a fully transparent pixel or the masks
+// leave nothing.
+bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8> images, Aabb& box);
+
+}  // namespace vknerf::nerf::detail

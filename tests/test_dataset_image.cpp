@@ -1,0 +1,118 @@
+// Image files (src/nerf/image_io.*): PNG/JPEG in, PNG out, premultiplied box-filter downscale.
+#include <stb/stb_image_write.h>
+
+#include <cstdlib>
+
+#include "test_dataset_util.h"
+
+using namespace vknerf;
+using namespace vknerf::test;
+
+namespace {
+class DatasetImage : public TempDirTest {};
+}  // namespace
+
+TEST_F(DatasetImage, PngRoundTripKeepsRgbaExactly) {
+  ImageRGBA8 img = patternImage(7, 5, 3, true);
+  img.rgba[3] = 17;  // partial alpha survives too
+  writePng(dir() / "a.png", img);
+  ImageRGBA8 back = nerf::loadImage((dir() / "a.png").string());
+  EXPECT_EQ(back.width, 7u);
+  EXPECT_EQ(back.height, 5u);
+  EXPECT_EQ(back.rgba, img.rgba);
+  uint32_t w = 0, h = 0;
+  ASSERT_TRUE(nerf::readImageSize((dir() / "a.png").string(), w, h));
+  EXPECT_EQ(w, 7u);
+  EXPECT_EQ(h, 5u);
+}
+
+TEST_F(DatasetImage, RgbAndGreyFilesGetOpaqueAlpha) {
+  const uint8_t rgb[2 * 2 * 3] = {10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120};
+  const uint8_t grey[2 * 2] = {0, 85, 170, 255};
+  ASSERT_TRUE(stbi_write_png((dir() / "rgb.png").c_str(), 2, 2, 3, rgb, 6));
+  ASSERT_TRUE(stbi_write_png((dir() / "grey.png").c_str(), 2, 2, 1, grey, 2));
+  ImageRGBA8 a = nerf::loadImage((dir() / "rgb.png").string());
+  ImageRGBA8 b = nerf::loadImage((dir() / "grey.png").string());
+  for (int i = 0; i < 4; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(a.rgba[4 * i + c], rgb[3 * i + c]);
+      EXPECT_EQ(b.rgba[4 * i + c], grey[i]);
+    }
+    EXPECT_EQ(a.rgba[4 * i + 3], 255);
+    EXPECT_EQ(b.rgba[4 * i + 3], 255);
+  }
+}
+
+TEST_F(DatasetImage, JpegLoads) {
+  // A flat colour survives JPEG's 8x8 DCT almost exactly; 4 levels allow for chroma rounding.
+  std::vector<uint8_t> rgb(16 * 16 * 3);
+  for (size_t i = 0; i < rgb.size(); i += 3) rgb[i] = 200, rgb[i + 1] = 120, rgb[i + 2] = 40;
+  ASSERT_TRUE(stbi_write_jpg((dir() / "a.jpg").c_str(), 16, 16, 3, rgb.data(), 100));
+  ImageRGBA8 img = nerf::loadImage((dir() / "a.jpg").string());
+  ASSERT_EQ(img.width, 16u);
+  ASSERT_EQ(img.height, 16u);
+  for (size_t p = 0; p < 256; ++p) {
+    EXPECT_NEAR(img.rgba[4 * p], 200, 4);
+    EXPECT_NEAR(img.rgba[4 * p + 1], 120, 4);
+    EXPECT_NEAR(img.rgba[4 * p + 2], 40, 4);
+    EXPECT_EQ(img.rgba[4 * p + 3], 255);
+  }
+}
+
+TEST_F(DatasetImage, DownscaleWeightsColourByAlpha) {
+  // One 2x2 block: opaque red, transparent blue, one-third green, transparent black. Alpha is the
+  // mean 340 / 4 = 85; colour is sum(c * a) / sum(a): red 200 * 255 / 340 = 150, green
+  // 200 * 85 / 340 = 50, and the transparent blue contributes nothing.
+  ImageRGBA8 img{2, 2, {200, 0, 0, 255, 0, 0, 200, 0, 0, 200, 0, 85, 0, 0, 0, 0}};
+  ImageRGBA8 out = nerf::downscaleImage(img, 2);
+  ASSERT_EQ(out.width, 1u);
+  ASSERT_EQ(out.height, 1u);
+  EXPECT_EQ(out.rgba, (std::vector<uint8_t>{150, 50, 0, 85}));
+  // A fully transparent block keeps the plain mean of its colours.
+  ImageRGBA8 clear{2, 2, {10, 20, 30, 0, 30, 40, 50, 0, 50, 60, 70, 0, 70, 80, 90, 0}};
+  EXPECT_EQ(nerf::downscaleImage(clear, 2).rgba, (std::vector<uint8_t>{40, 50, 60, 0}));
+}
+
+TEST_F(DatasetImage, DownscaleMatchesDoubleReference) {
+  ImageRGBA8 img{13, 11, std::vector<uint8_t>(13 * 11 * 4)};
+  std::srand(7);
+  for (auto& v : img.rgba) v = uint8_t(std::rand() % 256);
+  for (size_t p = 0; p < 13 * 11; p += 5) img.rgba[4 * p + 3] = 0;  // some fully transparent pixels
+  for (uint32_t n : {1u, 2u, 3u, 4u}) {
+    ImageRGBA8 out = nerf::downscaleImage(img, n);
+    ASSERT_EQ(out.width, 13u / n);
+    ASSERT_EQ(out.height, 11u / n);
+    for (uint32_t y = 0; y < out.height; ++y)
+      for (uint32_t x = 0; x < out.width; ++x) {
+        double wsum[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, a = 0;
+        for (uint32_t dy = 0; dy < n; ++dy)
+          for (uint32_t dx = 0; dx < n; ++dx) {
+            const uint8_t* p = &img.rgba[((y * n + dy) * 13 + x * n + dx) * 4];
+            for (int c = 0; c < 3; ++c) wsum[c] += double(p[c]) * p[3], sum[c] += p[c];
+            a += p[3];
+          }
+        const uint8_t* o = &out.rgba[(y * out.width + x) * 4];
+        // The output rounds the exact rational mean to the nearest level: within half a level.
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(o[c], a > 0 ? wsum[c] / a : sum[c] / (n * n), 0.5 + 1e-9);
+        EXPECT_NEAR(o[3], a / (n * n), 0.5 + 1e-9);
+      }
+  }
+}
+
+TEST_F(DatasetImage, DownscaleRejectsZeroAndTooSmall) {
+  ImageRGBA8 img = patternImage(3, 2, 0);
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::downscaleImage(img, 0); }), "at least 1");
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::downscaleImage(img, 3); }), "3x2");
+}
+
+TEST_F(DatasetImage, UnreadableFilesNameThePath) {
+  std::string missing = (dir() / "nope.png").string();
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::loadImage(missing); }), missing);
+  writeText(dir() / "junk.png", "this is not a PNG file at all");
+  std::string junk = (dir() / "junk.png").string();
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::loadImage(junk); }), junk);
+  uint32_t w, h;
+  EXPECT_FALSE(nerf::readImageSize(junk, w, h));
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::savePng((dir() / "no" / "such" / "dir.png").string(), patternImage(2, 2, 0)); }),
+                     "dir.png");
+}

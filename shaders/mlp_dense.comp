@@ -5,7 +5,8 @@
 // Shaped for lavapipe (shared/LAVAPIPE.md): lanes are rows, each invocation owns R rows
 // (row0 + r*G) kept in registers; the k loop is fully unrolled so every weight is read with a
 // uniform imageLoad (one branch-free broadcast reused by R rows); the loop over output blocks of NB
-// columns stays dynamic so code size (and JIT time) does not grow with N. A tail of 4-wide blocks
+// columns is unrolled too for small layers (UNROLL_N: every weight coordinate a constant) and stays
+// dynamic for big ones, so code size (and JIT time) does not grow with K*N. A tail of 4-wide blocks
 // covers N4 % NB. Rows past `count` read the last row and store nothing.
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
@@ -20,6 +21,7 @@ layout(constant_id = 5) const uint ACT = 1;      // MLP_ACT_*
 layout(constant_id = 6) const uint WOFF4 = 0;    // vec4 offset of W in the parameter buffer
 layout(constant_id = 7) const uint R = 4;        // rows per invocation
 layout(constant_id = 8) const uint NB = 8;       // output columns per block (multiple of 4)
+layout(constant_id = 9) const bool UNROLL_N = false;  // unroll the block loop too (constant weight coordinates)
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer A;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer B;
@@ -91,6 +93,11 @@ void main() {
       xb[r][4 * q] = v.x; xb[r][4 * q + 1] = v.y; xb[r][4 * q + 2] = v.z; xb[r][4 * q + 3] = v.w;
     }
   }
-  [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
-  [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
+  if (UNROLL_N) {
+    [[unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
+    [[unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
+  } else {
+    [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
+    [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
+  }
 }

@@ -1,6 +1,8 @@
 #include "nerf/mlp_layer.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <string>
 
 #include "vknerf/error.h"
 
@@ -42,6 +44,24 @@ MlpTuning MlpTuning::forDevice(const Context& ctx) {
     t.dwU = 4;
     t.dwRows = 64;
   }
+  // VKNERF_MLP_TUNING="rows=4,block=8,dwKT=8,..." overrides fields, for benchmarking shapes.
+  if (const char* env = std::getenv("VKNERF_MLP_TUNING")) {
+    std::map<std::string, uint32_t*> fields{{"local", &t.local},   {"rows", &t.rows},       {"block", &t.block},
+                                            {"unrollWeights", &t.unrollWeights},             {"dxRows", &t.dxRows},
+                                            {"dxBlock", &t.dxBlock}, {"dwLocal", &t.dwLocal}, {"dwKT", &t.dwKT},
+                                            {"dwNT", &t.dwNT},     {"dwU", &t.dwU},         {"dwRows", &t.dwRows}};
+    std::string spec = env;
+    for (size_t at = 0; at < spec.size();) {
+      size_t end = std::min(spec.find(',', at), spec.size()), eq = spec.find('=', at);
+      if (eq >= end) throw Error("VKNERF_MLP_TUNING: expected name=value in '" + spec + "'");
+      auto it = fields.find(spec.substr(at, eq - at));
+      if (it == fields.end()) throw Error("VKNERF_MLP_TUNING: unknown field '" + spec.substr(at, eq - at) + "'");
+      *it->second = uint32_t(std::stoul(spec.substr(eq + 1, end - eq - 1)));
+      at = end + 1;
+    }
+    if (t.block % 4 || t.dxBlock % 4 || t.dwKT % 4 || t.dwNT % 4 || t.dwU == 0 || t.rows == 0 || t.dxRows == 0)
+      throw Error("VKNERF_MLP_TUNING: blocks and tiles must be multiples of 4, row counts positive");
+  }
   return t;
 }
 
@@ -68,7 +88,7 @@ void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRa
                                gpu::Binding::Storage},
                               sizeof(RowPush),
                               {t_.local, s.ka4(), s.kb4(), s.n4(), s.n, act, u32(s.offset / 4, "weight offset"), t_.rows,
-                               std::min(t_.block, s.n4() / 4 * 4)}});
+                               std::min(t_.block, s.n4()), uint32_t(s.k4() * s.n4() <= t_.unrollWeights)}});
   }
   const Mat& bb = s.kb ? b : a;
   RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4};

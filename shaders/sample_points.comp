@@ -1,0 +1,30 @@
+#version 450
+// Sample positions and directions for the field: one invocation per sample of a fixed-layout batch
+// (ray r owns samples [r*N, (r+1)*N)). The position o + t d is mapped from the scene box onto
+// [-1, 1]^3, the range the encodings expect; the direction is the ray's unit direction as is.
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Rays { vec4 rays[]; };        // (o, t_near), (d, t_far)
+layout(std430, binding = 1) readonly buffer Samples { vec2 samples[]; };  // (t, delta)
+layout(std430, binding = 2) writeonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = 3) writeonly buffer Directions { vec4 directions[]; };
+
+layout(push_constant) uniform Push {
+  vec4 boxMin;
+  vec4 boxMax;
+  uint count;           // samples in the batch
+  uint samplesPerRay;   // N
+} pc;
+
+void main() {
+  uint s = gl_GlobalInvocationID.x;
+  if (s >= pc.count) return;
+  uint r = s / pc.samplesPerRay;
+  vec3 o = rays[2 * r].xyz;
+  vec3 d = rays[2 * r + 1].xyz;
+  vec3 x = o + samples[s].x * d;
+  // Same operation order as ref::samplePosition: 2 (x - min) / (max - min) - 1.
+  vec3 p = 2.0 * (x - pc.boxMin.xyz) / (pc.boxMax.xyz - pc.boxMin.xyz) - 1.0;
+  positions[s] = vec4(p, 0.0);
+  directions[s] = vec4(d, 0.0);
+}

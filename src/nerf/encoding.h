@@ -1,0 +1,40 @@
+#pragma once
+// Frequency (positional) encoding gamma(p) of vec4 inputs (shaders/encode_frequency.comp).
+// Column order, per row (the released NeRF code's and the seed's §6.3 order):
+//   [p_0 .. p_{D-1}]                                  if includeInput
+//   for k in 0..L-1: [sin(2^k pi p_0) .. sin(2^k pi p_{D-1}), cos(2^k pi p_0) .. cos(2^k pi p_{D-1})]
+// so positions (D = 3, L = 10) give 63 columns and directions (D = 3, L = 4) 27.
+// The block is written into a row-major feature matrix (row stride a multiple of 4 floats) at a
+// column offset that is a multiple of 4, as paddedDims() = outputDims() rounded up to 4 columns;
+// the padding columns of the block are written as 0, columns outside the block are not touched.
+// gamma(x) and gamma(d) can thus share one matrix at offsets 0 and paddedDims of the first.
+#include <cstdint>
+
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+
+namespace vknerf::nerf {
+
+class FrequencyEncoding {
+ public:
+  // inputDims: components of each vec4 input used (1..4); levels: L (0..16).
+  FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t levels, bool includeInput);
+  uint32_t outputDims() const { return outputDims_; }
+  uint32_t paddedDims() const { return (outputDims_ + 3) / 4 * 4; }
+  uint32_t inputDims() const { return inputDims_; }
+  uint32_t levels() const { return levels_; }
+  bool includeInput() const { return includeInput_; }
+
+  // inputs: `count` vec4; features: `count` rows of `stride` floats. stride and columnOffset are
+  // multiples of 4 and columnOffset + paddedDims() <= stride.
+  void record(gpu::Recorder& rec, const gpu::BufferRange& inputs, uint32_t count, const gpu::BufferRange& features,
+              uint32_t stride, uint32_t columnOffset);
+
+ private:
+  Context& ctx_;
+  uint32_t inputDims_, levels_, outputDims_;
+  bool includeInput_;
+  gpu::Kernel kernel_;
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,57 @@
+#pragma once
+// Per-ray background colours (shaders/random_background.comp) and the photometric MSE loss with its
+// gradient (shaders/loss_photometric.comp).
+// Layouts: background and predictions are one vec4 per ray, pred = (r, g, b, opacity); pixel ids
+// are uvec2(camera, pixel within image) per ray; images are all training images concatenated as
+// packed RGBA8 (uint per pixel, R in the low byte), image c starting at cameras[c].size[2]
+// (CameraGpu); dPred is one vec4 per ray (opacity component 0); partials is one float per
+// workgroup of kRaysPerPartial rays: that workgroup's sum of squared errors over rgb.
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+
+namespace vknerf::nerf {
+
+class BackgroundColors {
+ public:
+  explicit BackgroundColors(Context& ctx);
+  // background[i] = (rng01(seed, i, 100), rng01(seed, i, 101), rng01(seed, i, 102), 1).
+  void recordRandom(gpu::Recorder& rec, const gpu::BufferRange& background, uint32_t numRays, uint32_t seed);
+  // background[i] = (rgb, 1).
+  void recordConstant(gpu::Recorder& rec, const gpu::BufferRange& background, uint32_t numRays,
+                      const std::array<float, 3>& rgb);
+
+ private:
+  gpu::Kernel kernel_;
+};
+
+struct LossStats {
+  double mse = 0;   // mean over rays and the 3 channels
+  double psnr = 0;  // -10 log10(mse), 100 dB for a perfect fit
+};
+
+class PhotometricLoss {
+ public:
+  static constexpr uint32_t kRaysPerPartial = 128;  // the shader's workgroup size
+
+  explicit PhotometricLoss(Context& ctx);
+  uint32_t partialCount(uint32_t numRays) const { return gpu::groupsFor(numRays, kRaysPerPartial); }
+  // dPred = gradScale * dL/dpred with L = sum (pred - target)^2 / (3 numRays).
+  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred, const gpu::BufferRange& pixelIds,
+              const gpu::BufferRange& images, const gpu::BufferRange& cameras, const gpu::BufferRange& background,
+              const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale = 1.0f);
+
+  // Sums partials (in double) into the mean loss of numRays rays.
+  static LossStats summarize(std::span<const float> partials, uint32_t numRays);
+  // Reads back the partialCount(numRays) partials written by the last submitted record().
+  LossStats read(const gpu::Buffer& partials, uint32_t numRays) const;
+
+ private:
+  Context& ctx_;
+  gpu::Kernel kernel_;
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,42 @@
+#pragma once
+// Adam over a flat float parameter buffer (shaders/adam.comp). params, grads, m and v hold `count`
+// floats each, bound at offsets that are multiples of 16 bytes and of the device's storage and
+// texel-buffer offset alignments (whole buffers always qualify); m and v start at zero; the
+// gradient buffer is zeroed by every step so the next backward pass accumulates into it.
+#include <cstdint>
+
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+
+namespace vknerf::nerf {
+
+struct AdamConfig {
+  float initialLearningRate = 5e-4f;
+  float beta1 = 0.9f;
+  float beta2 = 0.999f;    // 0.99 for hash grids
+  float epsilon = 1e-8f;   // 1e-15 for hash grids; must be > 0
+  float decayRate = 1.0f;  // lr = initialLearningRate * decayRate^(step / decaySteps); 1: constant
+  float decaySteps = 250000.0f;
+  bool skipZeroGradients = false;  // leave p, m, v of parameters whose gradient is exactly 0
+
+  // The exponentially decayed learning rate at `step` (continuous in the step, as in NeRF);
+  // learningRate(0) is the initial rate.
+  float learningRate(uint32_t step) const;
+};
+
+class Adam {
+ public:
+  Adam(Context& ctx, AdamConfig config);
+  const AdamConfig& config() const { return config_; }
+  // One step; `step` is 1-based (bias correction 1 / (1 - beta^step)); lr is this step's rate.
+  void record(gpu::Recorder& rec, const gpu::BufferRange& params, const gpu::BufferRange& grads,
+              const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t count, uint32_t step, float lr);
+
+ private:
+  Context& ctx_;
+  AdamConfig config_;
+  gpu::Kernel kernel_;
+  gpu::Buffer dummy_;  // binds the vec4 views when there are fewer than 4 parameters
+};
+
+}  // namespace vknerf::nerf

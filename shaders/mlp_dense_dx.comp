@@ -1,0 +1,84 @@
+#version 450
+// One dense layer, backward to its inputs: dX = dZ W^T for `count` rows, split into the A part
+// (columns [0, KA4) of X) and the B part ([KA4, KA4 + KB4)). dZ is dL/d(pre-activation).
+//   MODE_A / MODE_B: 0 skip, 1 store, 2 store times [A > 0] (the ReLU derivative of the layer that
+//   produced A, so the result is already the previous layer's dZ), 3 add to what is there.
+// Same shape as mlp_dense.comp: lanes are rows, R rows per invocation with dZ in registers, the n
+// loop unrolled with uniform weight reads, a dynamic loop over blocks of KBLK input columns.
+#extension GL_EXT_control_flow_attributes : require
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint KA4 = 64;
+layout(constant_id = 2) const uint KB4 = 0;
+layout(constant_id = 3) const uint N4 = 64;
+layout(constant_id = 4) const uint WOFF4 = 0;
+layout(constant_id = 5) const uint R = 4;
+layout(constant_id = 6) const uint KBLK = 8;    // divides KA4 (the B part goes 4 at a time)
+layout(constant_id = 7) const uint MODE_A = 2;
+layout(constant_id = 8) const uint MODE_B = 0;
+
+layout(binding = 0, rgba32f) uniform readonly imageBuffer DZ;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer A;  // for MODE_A == 2
+layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
+layout(std430, binding = 3) buffer DA { vec4 da4[]; };
+layout(std430, binding = 4) buffer DB { vec4 db4[]; };
+
+layout(push_constant) uniform Push {
+  uint count;
+  uint strideZ4, strideA4, strideDA4, strideDB4;  // row strides in vec4
+} pc;
+
+// acc[r][kk] = sum_n dz[r][n] W[ROW0 + k0 + kk][n]
+#define DX_BLOCK(BLK, ROW0, k0)                                                                  \
+  float acc[R][BLK];                                                                             \
+  [[unroll]] for (uint kk = 0; kk < BLK; kk++)                                                   \
+    [[unroll]] for (uint r = 0; r < R; r++) acc[r][kk] = 0.0;                                    \
+  [[unroll]] for (uint n = 0; n < N4; n += 4)                                                    \
+    [[unroll]] for (uint kk = 0; kk < BLK; kk++) {                                               \
+      vec4 w4 = imageLoad(P, int(WOFF4 + ((ROW0 + (k0) + kk) * N4 + n) / 4u));                   \
+      [[unroll]] for (uint r = 0; r < R; r++)                                                    \
+        acc[r][kk] += dz[r][n] * w4.x + dz[r][n + 1] * w4.y + dz[r][n + 2] * w4.z + dz[r][n + 3] * w4.w; \
+    }
+
+void main() {
+  uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  uint row0 = gl_GlobalInvocationID.x;
+  float dz[R][N4];
+  [[unroll]] for (uint r = 0; r < R; r++) {
+    uint row = min(row0 + r * G, pc.count - 1u);
+    [[unroll]] for (uint q = 0; q < N4 / 4u; q++) {
+      vec4 v = imageLoad(DZ, int(row * pc.strideZ4 + q));
+      dz[r][4 * q] = v.x; dz[r][4 * q + 1] = v.y; dz[r][4 * q + 2] = v.z; dz[r][4 * q + 3] = v.w;
+    }
+  }
+  if (MODE_A != 0u) {
+    [[dont_unroll]] for (uint k0 = 0; k0 < KA4; k0 += KBLK) {
+      DX_BLOCK(KBLK, 0u, k0)
+      [[unroll]] for (uint r = 0; r < R; r++) {
+        uint row = row0 + r * G;
+        if (row < pc.count)
+          [[unroll]] for (uint kk = 0; kk < KBLK; kk += 4) {
+            vec4 v = vec4(acc[r][kk], acc[r][kk + 1], acc[r][kk + 2], acc[r][kk + 3]);
+            uint i = row * pc.strideDA4 + (k0 + kk) / 4u;
+            if (MODE_A == 2u) v *= vec4(greaterThan(imageLoad(A, int(row * pc.strideA4 + (k0 + kk) / 4u)), vec4(0.0)));
+            if (MODE_A == 3u) v += da4[i];
+            da4[i] = v;
+          }
+      }
+    }
+  }
+  if (MODE_B != 0u) {
+    [[dont_unroll]] for (uint k0 = 0; k0 < KB4; k0 += 4u) {
+      DX_BLOCK(4u, KA4, k0)
+      [[unroll]] for (uint r = 0; r < R; r++) {
+        uint row = row0 + r * G;
+        if (row < pc.count) {
+          vec4 v = vec4(acc[r][0], acc[r][1], acc[r][2], acc[r][3]);
+          uint i = row * pc.strideDB4 + k0 / 4u;
+          if (MODE_B == 3u) v += db4[i];
+          db4[i] = v;
+        }
+      }
+    }
+  }
+}

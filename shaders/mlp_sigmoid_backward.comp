@@ -1,0 +1,23 @@
+#version 450
+// Output layer of the plain MLP, backward through its sigmoid: dZ = dY * y (1 - y) per vec4 of
+// columns; padding columns (>= NTRUE) get 0 so their weights never move.
+layout(local_size_x = 64) in;
+layout(constant_id = 0) const uint N4 = 4;
+layout(constant_id = 1) const uint NTRUE = 3;
+
+layout(binding = 0, rgba32f) uniform readonly imageBuffer DY;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer Y;
+layout(std430, binding = 2) writeonly buffer DZ { vec4 dz4[]; };
+
+layout(push_constant) uniform Push {
+  uint count;  // rows
+  uint strideDY4, strideY4, strideDZ4;
+} pc;
+
+void main() {
+  uint i = gl_GlobalInvocationID.x, row = i / (N4 / 4u), q = i % (N4 / 4u);
+  if (row >= pc.count) return;
+  vec4 y = imageLoad(Y, int(row * pc.strideY4 + q));
+  vec4 d = imageLoad(DY, int(row * pc.strideDY4 + q)) * y * (1.0 - y);
+  dz4[row * pc.strideDZ4 + q] = mix(vec4(0.0), d, lessThan(uvec4(4u * q) + uvec4(0, 1, 2, 3), uvec4(NTRUE)));
+}

@@ -1,0 +1,80 @@
+#pragma once
+// Training and rendering a NeRF. Everything numerical runs on the context's device; the host only
+// records command buffers and reads back what it reports.
+//
+//   auto ctx = vknerf::Context::create();
+//   auto data = vknerf::Dataset::load("assets/tabletop");
+//   vknerf::Trainer trainer(ctx, data, vknerf::TrainConfig::vanilla(*ctx));
+//   for (int i = 0; i < 1000; ++i) trainer.step();
+//   trainer.save("tabletop.vknerf");
+//   auto view = vknerf::Model::load(ctx, "tabletop.vknerf").render(data.cameras[0]);
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "vknerf/camera.h"
+#include "vknerf/config.h"
+#include "vknerf/context.h"
+#include "vknerf/dataset.h"
+
+namespace vknerf {
+
+struct RenderedImage {
+  uint32_t width = 0, height = 0;
+  std::vector<float> rgb;      // 3 per pixel, composited over the background
+  std::vector<float> depth;    // expected depth sum w_i t_i / opacity (0 where opacity is ~0)
+  std::vector<float> opacity;  // 1 - T_final
+};
+
+struct StepStats {
+  uint32_t step = 0;
+  bool hasLoss = false;  // loss is read back only when asked (every K steps)
+  double loss = 0;       // fine-pass MSE of this step's batch
+  double psnr = 0;
+};
+
+// A trained field: the model configuration, its parameters and the scene box.
+class Model {
+ public:
+  static Model load(std::shared_ptr<Context> ctx, const std::string& checkpoint);
+  ~Model();
+  Model(Model&&) noexcept;
+  Model& operator=(Model&&) noexcept;
+
+  const TrainConfig& config() const;
+  const Aabb& bounds() const;
+  RenderedImage render(const Camera& camera) const;
+
+ private:
+  friend class Trainer;
+  struct Impl;
+  explicit Model(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+class Trainer {
+ public:
+  Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config);
+  ~Trainer();
+
+  // One optimisation step over a random batch of rays (recorded into one command buffer).
+  StepStats step(bool readLoss = false);
+  uint32_t steps() const;
+  const Model& model() const;
+  // Device milliseconds per kernel of the last step (GPU timestamps), in recording order.
+  std::vector<std::pair<std::string, double>> lastStepTimings() const;
+
+  // Checkpoint: config, parameters, Adam state and the step, written atomically.
+  void save(const std::string& path) const;
+  // Continue exactly from a checkpoint written by save() for the same dataset.
+  void resume(const std::string& path);
+  // The training configuration stored in a checkpoint (to resume with exactly the same settings).
+  static TrainConfig configOf(const std::string& path);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vknerf

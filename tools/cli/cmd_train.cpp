@@ -1,0 +1,122 @@
+// `vknerf train SCENE -o MODEL`: fit a NeRF to posed photos.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "command.h"
+#include "vknerf/dataset.h"
+#include "vknerf/error.h"
+#include "vknerf/trainer.h"
+
+namespace vknerf::cli {
+namespace {
+
+std::atomic<bool> interrupted{false};
+extern "C" void onSigint(int) { interrupted = true; }
+
+struct Options {
+  std::string scene, output, config = "vanilla";
+  uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
+  double seconds = 0;
+  bool resume = false, profile = false;
+};
+
+std::string clock(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%d:%02d", int(s) / 60, int(s) % 60);
+  return buf;
+}
+
+int run(const Options& o, const Globals& g) {
+  if (o.steps == 0 && o.seconds <= 0) {
+    std::fprintf(stderr, "vknerf train: give a budget: --steps N and/or --time SECONDS\n");
+    return 2;
+  }
+  auto ctx = g.context();
+  DatasetOptions dopt;
+  dopt.downscale = o.downscale;
+  Dataset data = Dataset::load(o.scene, dopt);
+  std::printf("scene: %zu training images of %ux%u from %s; box [%.2f %.2f %.2f]..[%.2f %.2f %.2f] (%s)\n",
+              data.images.size(), data.images[0].width, data.images[0].height, o.scene.c_str(), data.bounds.min[0],
+              data.bounds.min[1], data.bounds.min[2], data.bounds.max[0], data.bounds.max[1], data.bounds.max[2],
+              data.boundsSource.c_str());
+  TrainConfig cfg = TrainConfig::vanilla(*ctx);
+  if (o.rays) cfg.raysPerBatch = o.rays;
+  cfg.seed = o.seed;
+  const bool resuming = o.resume && std::filesystem::exists(o.output);
+  if (resuming) cfg = Trainer::configOf(o.output);
+  std::printf("config: %s\n", cfg.describe().c_str());
+  Trainer trainer(ctx, data, cfg);
+  if (resuming) {
+    trainer.resume(o.output);
+    std::printf("resumed %s at step %u\n", o.output.c_str(), trainer.steps());
+  }
+  std::signal(SIGINT, onSigint);
+  const bool tty = ::isatty(fileno(stdout));
+  const uint32_t first = trainer.steps();
+  const uint32_t last = o.steps ? first + o.steps : UINT32_MAX;
+  auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  StepStats st;
+  double lastPsnr = 0;
+  while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !interrupted) {
+    bool report = (trainer.steps() + 1) % o.logEvery == 0 || trainer.steps() + 1 == last;
+    st = trainer.step(report);
+    if (st.hasLoss) lastPsnr = st.psnr;
+    if (report) {
+      double s = elapsed(), done = double(trainer.steps() - first);
+      double rate = done / s, frac = o.steps ? done / o.steps : s / o.seconds;
+      if (o.steps && o.seconds > 0) frac = std::max(done / o.steps, s / o.seconds);
+      double eta = frac > 0 ? s / frac - s : 0;
+      char line[256];
+      std::snprintf(line, sizeof line, "step %6u  loss %.5f  train PSNR %5.2f dB  %7.0f rays/s  %s elapsed  ETA %s",
+                    trainer.steps(), st.loss, st.psnr, rate * cfg.raysPerBatch, clock(s).c_str(), clock(eta).c_str());
+      if (tty) {
+        int bar = int(std::min(1.0, frac) * 20);
+        std::printf("\r[%.*s%*s] %s", bar, "####################", 20 - bar, "", line);
+        std::fflush(stdout);
+      } else {
+        std::printf("%s\n", line);
+      }
+    }
+    if (o.saveEvery && trainer.steps() % o.saveEvery == 0) trainer.save(o.output);
+  }
+  if (tty) std::printf("\n");
+  if (o.profile) {
+    std::map<std::string, double> perKernel;
+    double total = 0;
+    for (auto& [name, ms] : trainer.lastStepTimings()) perKernel[name] += ms, total += ms;
+    std::printf("device time of the last step: %.1f ms\n", total);
+    for (auto& [name, ms] : perKernel) std::printf("  %-24s %8.2f ms  %5.1f%%\n", name.c_str(), ms, 100 * ms / total);
+  }
+  trainer.save(o.output);
+  std::printf("%s after %u steps (%.1f s, last train PSNR %.2f dB); model saved to %s\n",
+              interrupted ? "interrupted" : "done", trainer.steps(), elapsed(), lastPsnr, o.output.c_str());
+  return 0;
+}
+
+Registration train("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON or COLMAP text model)",
+                   [](CLI::App& app, const Globals& g) {
+                     auto o = std::make_shared<Options>();
+                     app.add_option("scene", o->scene, "Scene folder, transforms JSON file, or COLMAP text model")->required();
+                     app.add_option("-o,--output", o->output, "Model checkpoint to write")->required();
+                     app.add_option("--config", o->config, "Model configuration")->check(CLI::IsMember({"vanilla"}));
+                     app.add_option("--steps", o->steps, "Number of training steps");
+                     app.add_option("--time", o->seconds, "Wall-clock budget in seconds")->check(CLI::PositiveNumber);
+                     app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
+                     app.add_option("--rays", o->rays, "Rays per batch (default: sized for the device)");
+                     app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
+                     app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
+                     app.add_option("--seed", o->seed, "Random seed");
+                     app.add_flag("--profile", o->profile, "Print the device time per kernel of the last step");
+                     app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config wins)");
+                     return [o, &g] { return run(*o, g); };
+                   });
+
+}  // namespace
+}  // namespace vknerf::cli

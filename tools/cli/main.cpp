@@ -31,6 +31,7 @@ std::shared_ptr<Context> Globals::context() const {
 
 int main(int argc, char** argv) {
   using namespace vknerf::cli;
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines reach a log file as they happen
   CLI::App app{"vknerf: Neural Radiance Fields on Vulkan compute shaders"};
   app.require_subcommand(1);
   Globals globals;

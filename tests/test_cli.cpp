@@ -1,0 +1,77 @@
+// The vknerf command line: exit codes (0 ok, 1 runtime error, 2 usage error) and one-line errors
+// that name the file or field.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string output;
+};
+
+Result runCli(const std::string& args) {
+  std::string cmd = std::string(VKNERF_BINARY_DIR) + "/vknerf " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 512> buf;
+  while (p && fgets(buf.data(), buf.size(), p)) r.output += buf.data();
+  int status = p ? pclose(p) : -1;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string scene() { return std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop"; }
+
+std::string temp(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() / ("vknerf_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+}  // namespace
+
+TEST(Cli, HelpAndUsageErrors) {
+  EXPECT_EQ(runCli("--help").code, 0);
+  EXPECT_EQ(runCli("train --help").code, 0);
+  EXPECT_EQ(runCli("").code, 2);
+  EXPECT_EQ(runCli("no-such-command").code, 2);
+  EXPECT_EQ(runCli("train " + scene() + " -o x.vknerf --no-such-flag").code, 2);
+  EXPECT_EQ(runCli("train " + scene()).code, 2);                              // -o is required
+  EXPECT_EQ(runCli("train " + scene() + " -o x --steps -3").code, 2);          // not a count
+  EXPECT_EQ(runCli("train " + scene() + " -o " + temp("x.vknerf")).code, 2);   // no budget
+}
+
+TEST(Cli, MissingSceneNamesThePath) {
+  auto r = runCli("train /no/such/scene -o " + temp("y.vknerf") + " --steps 1");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("/no/such/scene"), std::string::npos) << r.output;
+}
+
+TEST(Cli, CorruptCheckpointIsAClearError) {
+  auto path = temp("corrupt.vknerf");
+  std::ofstream(path) << "definitely not a checkpoint";
+  auto r = runCli("eval " + path + " " + scene());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find(path), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("error"), std::string::npos) << r.output;
+}
+
+TEST(Cli, UnknownDeviceIsARuntimeError) {
+  auto r = runCli("--device no-such-gpu info");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("no-such-gpu"), std::string::npos) << r.output;
+}
+
+TEST(Cli, SelfCheckPasses) {
+  auto r = runCli("selfcheck --size 24 --coarse 16 --fine 16");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("selfcheck: ok"), std::string::npos) << r.output;
+}

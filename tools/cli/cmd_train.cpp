@@ -21,6 +21,7 @@ extern "C" void onSigint(int) { interrupted = true; }
 
 struct Options {
   std::string scene, output, config = "vanilla";
+  uint32_t width = 0, depth = 0, coarse = 0, fine = 0;
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
   double seconds = 0;
   bool resume = false, profile = false;
@@ -47,6 +48,10 @@ int run(const Options& o, const Globals& g) {
               data.boundsSource.c_str());
   TrainConfig cfg = TrainConfig::vanilla(*ctx);
   if (o.rays) cfg.raysPerBatch = o.rays;
+  if (o.width) cfg.model.width = o.width;
+  if (o.depth) cfg.model.depth = o.depth, cfg.model.skipLayer = std::min(cfg.model.skipLayer, o.depth - 1);
+  if (o.coarse) cfg.model.coarseSamples = o.coarse;
+  if (o.fine) cfg.model.fineSamples = o.fine;
   cfg.seed = o.seed;
   const bool resuming = o.resume && std::filesystem::exists(o.output);
   if (resuming) cfg = Trainer::configOf(o.output);
@@ -110,6 +115,10 @@ Registration train("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp
                      app.add_option("--time", o->seconds, "Wall-clock budget in seconds")->check(CLI::PositiveNumber);
                      app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
                      app.add_option("--rays", o->rays, "Rays per batch (default: sized for the device)");
+                     app.add_option("--width", o->width, "MLP width (multiple of 8)")->check(CLI::Range(8u, 1024u));
+                     app.add_option("--depth", o->depth, "MLP trunk layers")->check(CLI::Range(2u, 16u));
+                     app.add_option("--coarse", o->coarse, "Stratified samples per ray")->check(CLI::Range(1u, 1024u));
+                     app.add_option("--fine", o->fine, "Importance samples per ray")->check(CLI::Range(1u, 1024u));
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");

@@ -1,0 +1,72 @@
+// End to end on the shipped sample scene: train the vanilla recipe (small sizes) for a fixed number
+// of steps, render held-out views, and require a PSNR that neither a broken renderer nor the best
+// constant colour can reach.
+#include <cmath>
+
+#include "gpu_test.h"
+#include "nerf/metrics.h"
+#include "vknerf/trainer.h"
+
+using namespace vknerf;
+
+namespace {
+
+std::vector<float> groundTruth(const ImageRGBA8& im, const std::array<float, 3>& bg) {
+  std::vector<float> rgb(size_t(im.width) * im.height * 3);
+  for (size_t p = 0; p < size_t(im.width) * im.height; ++p) {
+    float a = im.rgba[p * 4 + 3] / 255.0f;
+    for (int k = 0; k < 3; ++k) rgb[p * 3 + k] = im.rgba[p * 4 + k] / 255.0f * a + bg[k] * (1 - a);
+  }
+  return rgb;
+}
+
+class EndToEnd : public test::GpuTest {};
+
+}  // namespace
+
+TEST_F(EndToEnd, TrainsSampleSceneAboveConstantBaseline) {
+  const std::string scene = std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop";
+  DatasetOptions opt;
+  opt.downscale = 2;  // 50x50: the test budget is minutes on 2 cores
+  Dataset train = Dataset::load(scene, opt);
+  opt.split = "test";
+  Dataset test = Dataset::load(scene, opt);
+  ASSERT_EQ(train.images.size(), 100u);
+  ASSERT_EQ(test.images.size(), 20u);
+
+  TrainConfig cfg = TrainConfig::vanilla(test::context());
+  cfg.model.width = 32;
+  cfg.model.depth = 3;
+  cfg.model.skipLayer = 2;
+  cfg.model.coarseSamples = 16;
+  cfg.model.fineSamples = 32;
+  auto ctx = std::shared_ptr<Context>(&test::context(), [](Context*) {});
+  Trainer trainer(ctx, train, cfg);
+  for (int i = 0; i < 80; ++i) trainer.step();
+
+  // The best constant colour for these views (their mean) is the baseline a model that learned
+  // nothing about geometry would approach (~14 dB on this scene; all-white scores ~13 dB).
+  const size_t views = 5;
+  std::vector<float> all, mean(3, 0.0f);
+  for (size_t i = 0; i < views; ++i) {
+    auto gt = groundTruth(test.images[i], cfg.background);
+    all.insert(all.end(), gt.begin(), gt.end());
+  }
+  for (size_t p = 0; p < all.size(); ++p) mean[p % 3] += all[p] / float(all.size() / 3);
+  double psnr = 0, baseline = 0, ssim = 0;
+  for (size_t i = 0; i < views; ++i) {
+    auto gt = groundTruth(test.images[i], cfg.background);
+    RenderedImage img = trainer.model().render(test.cameras[i]);
+    std::vector<float> constant(gt.size());
+    for (size_t p = 0; p < gt.size(); ++p) constant[p] = mean[p % 3];
+    psnr += nerf::psnr(img.rgb, gt) / views;
+    baseline += nerf::psnr(constant, gt) / views;
+    ssim += nerf::ssim(img.rgb, gt, img.width, img.height) / views;
+  }
+  std::printf("held-out PSNR %.2f dB (best constant %.2f dB), SSIM %.3f after %u steps\n", psnr, baseline, ssim,
+              trainer.steps());
+  // Measured: ~18.5-19 dB after 80 steps. 3 dB over the constant is a quarter of the squared error
+  // a constant leaves: only a model that placed the objects in 3-D gets there.
+  EXPECT_GT(psnr, baseline + 3.0);
+  EXPECT_GT(psnr, 16.5);
+}

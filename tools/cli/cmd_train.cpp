@@ -33,11 +33,25 @@ std::string clock(double s) {
   return buf;
 }
 
+int train(const Options& o, const Globals& g);
+
 int run(const Options& o, const Globals& g) {
-  if (o.steps == 0 && o.seconds <= 0) {
-    std::fprintf(stderr, "vknerf train: give a budget: --steps N and/or --time SECONDS\n");
-    return 2;
+  Options opts = o;
+  if (opts.output.empty()) {
+    // `vknerf train assets/tabletop` writes tabletop.vknerf in the working directory.
+    auto p = std::filesystem::path(opts.scene);
+    std::string stem = (p.has_filename() ? p : p.parent_path()).stem().string();
+    if (stem.rfind("transforms", 0) == 0) stem = std::filesystem::absolute(p).parent_path().filename().string();
+    opts.output = (stem.empty() ? "model" : stem) + ".vknerf";
   }
+  if (opts.steps == 0 && opts.seconds <= 0) {
+    opts.seconds = 300;  // converges to a usable model on a CPU device; say so, since it was not asked for
+    std::printf("no --steps or --time given: training for %.0f s\n", opts.seconds);
+  }
+  return train(opts, g);
+}
+
+int train(const Options& o, const Globals& g) {
   auto ctx = g.context();
   DatasetOptions dopt;
   dopt.downscale = o.downscale;
@@ -105,14 +119,14 @@ int run(const Options& o, const Globals& g) {
   return 0;
 }
 
-Registration train("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON or COLMAP text model)",
+Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON or COLMAP text model)",
                    [](CLI::App& app, const Globals& g) {
                      auto o = std::make_shared<Options>();
                      app.add_option("scene", o->scene, "Scene folder, transforms JSON file, or COLMAP text model")->required();
-                     app.add_option("-o,--output", o->output, "Model checkpoint to write")->required();
+                     app.add_option("-o,--output", o->output, "Model checkpoint to write (default: <scene name>.vknerf)");
                      app.add_option("--config", o->config, "Model configuration")->check(CLI::IsMember({"vanilla"}));
                      app.add_option("--steps", o->steps, "Number of training steps");
-                     app.add_option("--time", o->seconds, "Wall-clock budget in seconds")->check(CLI::PositiveNumber);
+                     app.add_option("--time", o->seconds, "Wall-clock budget in seconds (default without --steps: 300)")->check(CLI::PositiveNumber);
                      app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
                      app.add_option("--rays", o->rays, "Rays per batch (default: sized for the device)");
                      app.add_option("--width", o->width, "MLP width (multiple of 8)")->check(CLI::Range(8u, 1024u));

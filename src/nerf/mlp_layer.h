@@ -23,9 +23,9 @@ struct MlpTuning {
   uint32_t dxRows = 4;       // rows per invocation, input gradient
   uint32_t dxBlock = 8;      // input columns per block, input gradient (multiple of 4)
   uint32_t dwLocal = 64;     // invocations per workgroup, weight gradient
-  uint32_t dwKT = 8, dwNT = 8;  // weight-gradient tile per invocation (multiples of 4)
-  uint32_t dwU = 8;          // rows summed per loop iteration
-  uint32_t dwRows = 256;     // rows per invocation (a multiple of dwU)
+  uint32_t dwKT = 16, dwNT = 16;  // weight-gradient tile per invocation (multiples of 4)
+  uint32_t dwU = 2;          // rows summed per loop iteration
+  uint32_t dwRows = 512;     // rows per invocation (a multiple of dwU)
   static MlpTuning forDevice(const Context& ctx);
 };
 

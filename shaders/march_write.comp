@@ -1,0 +1,25 @@
+#version 450
+// Pass 2 of the packed march: repeats march_count.comp's march and writes ray r's samples
+// (t, delta) and their ray index at [off[r], off[r+1]). The offsets are clamped to the buffers'
+// capacity, so a batch over budget loses the samples of its last rays, never memory safety.
+#extension GL_GOOGLE_include_directive : require
+#define OCCUPANCY_MARCH
+layout(std430, binding = 0) readonly buffer Rays { vec4 rays[]; };             // (o, t_near), (d, t_far)
+layout(std430, binding = 1) readonly buffer Bits { uint occupancyBits[]; };
+layout(std430, binding = 2) readonly buffer Offsets { uint offsets[]; };       // numRays + 1
+layout(std430, binding = 3) writeonly buffer Samples { vec2 samples[]; };      // (t, delta)
+layout(std430, binding = 4) writeonly buffer SampleRay { uint sampleRay[]; };
+#include "occupancy.glsl"
+
+void main() {
+  uint ray = marchRayIndex();
+  if (ray >= pc.numRays) return;
+  uint s = offsets[ray], end = offsets[ray + 1u];
+  if (s >= end) return;
+  MarchRay m = marchRay(ray);
+  for (uint k = nextOccupied(m, 0u); k < kMaxMarchSteps && s < end; k = nextOccupied(m, k + 1u)) {
+    samples[s] = marchSample(m, k);
+    sampleRay[s] = ray;
+    ++s;
+  }
+}

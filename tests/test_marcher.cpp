@@ -13,6 +13,7 @@
 #include "gpu_test.h"
 #include "nerf/marcher.h"
 #include "nerf/occupancy.h"
+#include "reference/encoding.h"
 #include "reference/occupancy.h"
 #include "reference/rays.h"
 #include "vknerf/error.h"
@@ -389,4 +390,149 @@ TEST_F(Marcher, RejectsBadArguments) {
   EXPECT_THROW(marcher.record(rec, rays, 10, grid, box, 0.01f, 8, 0, false, shortOffsets, samples, sampleRay, totals),
                Error);
   rec.end();
+}
+
+// ---- Packed sample points ----
+
+TEST_F(Marcher, PackedPointsFollowSampleRays) {
+  Aabb box{{-2, -1, -1}, {2, 1, 3}};
+  nerf::OccupancyGrid grid(ctx(), 16);
+  setBits(grid, randomBits(grid, 0.3, 4));
+  auto rays = randomRays(300, box, 12);
+  uint32_t n = uint32_t(rays.size()), capacity = 40000;
+  auto rayBuf = gpu::Buffer::of(ctx(), packRays(rays));
+  gpu::Buffer offsets(ctx(), (n + 1) * 4), samples(ctx(), capacity * 8), sampleRay(ctx(), capacity * 4),
+      totals(ctx(), 16), positions(ctx(), capacity * 16), directions(ctx(), capacity * 16);
+  positions.upload(std::vector<float>(capacity * 4, 7.0f));  // sentinel past the batch
+  nerf::RayMarcher marcher(ctx(), n);
+  nerf::PackedSamplePoints points(ctx());
+  gpu::Recorder rec(ctx());
+  rec.begin();
+  marcher.record(rec, rayBuf, n, grid, box, 0.02f, 256, 8, true, offsets, samples, sampleRay, totals);
+  points.record(rec, rayBuf, samples, sampleRay, totals, capacity, box, positions, directions);
+  rec.end();
+  rec.submitAndWait();
+  uint32_t total = totals.download<uint32_t>(1)[0];
+  ASSERT_GT(total, 1000u);
+  ASSERT_LT(total, capacity);
+  auto s = samples.download<float>(size_t(total) * 2);
+  auto sr = sampleRay.download<uint32_t>(total);
+  auto pos = positions.download<float>(size_t(capacity) * 4);
+  auto dir = directions.download<float>(size_t(total) * 4);
+  for (uint32_t i = 0; i < total; ++i) {
+    const auto& r = rays[sr[i]];
+    std::array<double, 3> o{r.o[0], r.o[1], r.o[2]}, d{r.d[0], r.d[1], r.d[2]};
+    auto p = ref::samplePosition<double>(o, d, double(s[2 * i]), box);
+    for (int k = 0; k < 3; ++k) {
+      // o + t d with |o|, t up to ~10, then an affine map with O(1) factors: a few float roundings
+      // of values up to ~10, so ~1e-6 absolute; the result lies in [-1, 1] up to that rounding.
+      EXPECT_TRUE(test::near(pos[4 * i + k], p[k], 0, 4e-6));
+      EXPECT_LE(std::fabs(pos[4 * i + k]), 1.0 + 1e-5);
+      EXPECT_EQ(dir[4 * i + k], r.d[k]);
+    }
+  }
+  for (uint32_t i = total; i < capacity; ++i) ASSERT_EQ(pos[4 * i], 7.0f) << "wrote past the batch at " << i;
+}
+
+// ---- Early termination ----
+
+namespace {
+
+struct PackedBatch {
+  std::vector<uint32_t> offsets{0}, sampleRay;
+  std::vector<float> samples, field;  // 2 and 4 per sample
+};
+
+// Rays of 0..60 samples; sigma scaled per ray from faint (never terminates) to opaque, with NaN,
+// negative and infinite densities sprinkled in.
+PackedBatch randomBatch(uint32_t numRays, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  PackedBatch b;
+  for (uint32_t r = 0; r < numRays; ++r) {
+    uint32_t n = rng() % 61;
+    float scale = std::pow(10.0f, 3.0f * uni(rng) - 1.0f), t = uni(rng);
+    for (uint32_t i = 0; i < n; ++i) {
+      float delta = 0.01f + 0.09f * uni(rng), sigma = scale * uni(rng);
+      uint32_t hard = rng() % 200;
+      if (hard == 0) sigma = NAN;
+      if (hard == 1) sigma = -5.0f;
+      if (hard == 2) sigma = INFINITY;
+      b.samples.insert(b.samples.end(), {t, delta});
+      b.field.insert(b.field.end(), {uni(rng), uni(rng), uni(rng), sigma});
+      b.sampleRay.push_back(r);
+      t += delta;
+    }
+    b.offsets.push_back(uint32_t(b.sampleRay.size()));
+  }
+  return b;
+}
+
+// Colour of one ray from samples [first, first + n), in double.
+std::array<double, 3> compositeRay(const PackedBatch& b, uint32_t first, uint32_t n) {
+  std::array<double, 3> c{0, 0, 0};
+  double trans = 1;
+  for (uint32_t i = first; i < first + n; ++i) {
+    double sigma = ref::sanitizeDensity<double>(b.field[4 * i + 3]);
+    double alpha = 1 - std::exp(-sigma * b.samples[2 * i + 1]);
+    for (int k = 0; k < 3; ++k) c[k] += trans * alpha * b.field[4 * i + k];
+    trans *= 1 - alpha;
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_F(Marcher, EarlyTerminationKeepsSamplesUntilOpaque) {
+  const uint32_t n = 700;
+  const float minT = 1e-4f;
+  auto b = randomBatch(n, 31);
+  uint32_t total = b.offsets.back();
+  auto offsets = gpu::Buffer::of(ctx(), b.offsets);
+  auto samples = gpu::Buffer::of(ctx(), b.samples), sampleRay = gpu::Buffer::of(ctx(), b.sampleRay);
+  auto field = gpu::Buffer::of(ctx(), b.field);
+  gpu::Buffer outOffsets(ctx(), (n + 1) * 4), outSamples(ctx(), total * 8), outSampleRay(ctx(), total * 4),
+      outField(ctx(), total * 16), outTotals(ctx(), 16);
+  nerf::EarlyTermination et(ctx(), n);
+  gpu::Recorder rec(ctx());
+  rec.begin();
+  et.record(rec, n, offsets, samples, sampleRay, field, minT, outOffsets, outSamples, outSampleRay, outField, outTotals);
+  rec.end();
+  rec.submitAndWait();
+  auto off = outOffsets.download<uint32_t>(n + 1);
+  uint32_t kept = off[n];
+  auto s = outSamples.download<float>(size_t(kept) * 2);
+  auto sr = outSampleRay.download<uint32_t>(kept);
+  auto f = outField.download<float>(size_t(kept) * 4);
+  EXPECT_EQ(outTotals.download<uint32_t>(1)[0], kept);
+  float maxDepth = nerf::EarlyTermination::maxOpticalDepth(minT);
+  uint32_t truncated = 0, whole = 0;
+  for (uint32_t r = 0; r < n; ++r) {
+    uint32_t first = b.offsets[r], count = b.offsets[r + 1] - first;
+    std::vector<float> sigma, delta;
+    for (uint32_t i = first; i < first + count; ++i) {
+      sigma.push_back(b.field[4 * i + 3]);
+      delta.push_back(b.samples[2 * i + 1]);
+    }
+    // Same float sum in the same order as the shader: the kept counts match exactly.
+    uint32_t expected = ref::keptSamples<float>(sigma, delta, maxDepth);
+    ASSERT_EQ(off[r + 1] - off[r], expected) << "ray " << r;
+    for (uint32_t i = 0; i < expected; ++i) {
+      uint32_t src = first + i, dst = off[r] + i;
+      ASSERT_EQ(s[2 * dst], b.samples[2 * src]);
+      ASSERT_EQ(s[2 * dst + 1], b.samples[2 * src + 1]);
+      ASSERT_EQ(sr[dst], r);
+      for (int k = 0; k < 4; ++k)
+        if (!std::isnan(b.field[4 * src + k])) ASSERT_EQ(f[4 * dst + k], b.field[4 * src + k]);
+    }
+    // What was dropped was invisible: the colour changes by less than the cut-off transmittance
+    // (colours are in [0, 1]); 1% slack for the float optical depth against double exp().
+    auto full = compositeRay(b, first, count), cut = compositeRay(b, first, expected);
+    for (int k = 0; k < 3; ++k) EXPECT_LE(std::fabs(full[k] - cut[k]), 1.01 * minT) << "ray " << r;
+    truncated += expected < count;
+    whole += expected == count && count > 0;
+  }
+  EXPECT_GT(truncated, 100u);  // both outcomes occur often enough to matter
+  EXPECT_GT(whole, 100u);
+  EXPECT_LT(kept, total);
 }

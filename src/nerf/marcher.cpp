@@ -1,7 +1,9 @@
 #include "nerf/marcher.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "nerf/rays.h"
 #include "nerf/sample_layout.h"
@@ -37,6 +39,38 @@ void requireBytes(const char* stage, const char* what, const gpu::BufferRange& r
   if (needed > 0 && bytesOf(r) < needed)
     throw Error(std::string(stage) + ": " + what + " buffer holds " + std::to_string(bytesOf(r)) + " bytes, needs " +
                 std::to_string(needed));
+}
+
+struct TruncatePush {
+  uint32_t numRays;
+  float maxOpticalDepth;
+};
+struct CompactPush {
+  uint32_t numRays;
+};
+struct PointsPush {
+  float boxMin[4], boxMax[4];
+};
+
+gpu::KernelDesc totalsKernel() {
+  return {"march_totals", {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(TotalsPush), {}};
+}
+
+void recordTotalsWith(Context& ctx, gpu::Recorder& rec, gpu::Kernel& k, const gpu::BufferRange& offsets,
+                      uint32_t numRays, uint32_t localSize, const gpu::BufferRange& totals) {
+  if (localSize == 0) throw Error("RayMarcher: dispatch local size must be at least 1");
+  requireBytes("RayMarcher", "offsets", offsets, (uint64_t(numRays) + 1) * 4);
+  requireBytes("RayMarcher", "totals", totals, RayMarcher::kTotalsBytes);
+  TotalsPush p{numRays, localSize, ctx.properties().limits.maxComputeWorkGroupCount[0]};
+  rec.dispatch(k, {offsets, totals}, p, 1, 1, 1, "march_totals");
+}
+
+// Groups of `local` over x, spilling into y past maxComputeWorkGroupCount[0] (shaders index flatly).
+std::pair<uint32_t, uint32_t> flatGroups(Context& ctx, uint64_t invocations, uint32_t local) {
+  uint64_t groups = (invocations + local - 1) / local;
+  uint64_t maxX = ctx.properties().limits.maxComputeWorkGroupCount[0];
+  uint64_t gy = (groups + maxX - 1) / maxX;
+  return {uint32_t(gy ? (groups + gy - 1) / gy : 0), uint32_t(gy)};
 }
 
 uint32_t blocksFor(uint32_t n) { return (n + kScanBlock - 1) / kScanBlock; }
@@ -100,7 +134,7 @@ RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays)
                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
                     gpu::Binding::Storage},
                    sizeof(MarchPush), {}}),
-      totals_(ctx, {"march_totals", {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(TotalsPush), {}}) {}
+      totals_(ctx, totalsKernel()) {}
 
 float RayMarcher::defaultStep(const Aabb& box) {
   double s = 0;
@@ -131,9 +165,7 @@ void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32
               {float(r) / (box.max[0] - box.min[0]), float(r) / (box.max[1] - box.min[1]),
                float(r) / (box.max[2] - box.min[2]), 0},
               numRays, r, maxSamplesPerRay, seed, jitter ? 1u : 0u, uint32_t(capacity)};
-  uint32_t groups = gpu::groupsFor(numRays, kMarchLocal);
-  uint32_t maxX = ctx_.properties().limits.maxComputeWorkGroupCount[0];
-  uint32_t gy = (groups + maxX - 1) / maxX, gx = gy ? (groups + gy - 1) / gy : 0;
+  auto [gx, gy] = flatGroups(ctx_, numRays, kMarchLocal);
   rec.dispatch(count_, {rays, grid.bits(), counts_}, p, gx, gy, 1, "march_count");
   scan_.record(rec, counts_, numRays, offsets, numRays + 1, uint32_t(capacity));
   if (capacity > 0) rec.dispatch(write_, {rays, grid.bits(), offsets, samples, sampleRay}, p, gx, gy, 1, "march_write");
@@ -142,11 +174,74 @@ void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32
 
 void RayMarcher::recordTotals(gpu::Recorder& rec, const gpu::BufferRange& offsets, uint32_t numRays,
                               uint32_t localSize, const gpu::BufferRange& totals) {
-  if (localSize == 0) throw Error("RayMarcher: dispatch local size must be at least 1");
-  requireBytes("RayMarcher", "offsets", offsets, (uint64_t(numRays) + 1) * 4);
-  requireBytes("RayMarcher", "totals", totals, kTotalsBytes);
-  TotalsPush p{numRays, localSize, ctx_.properties().limits.maxComputeWorkGroupCount[0]};
-  rec.dispatch(totals_, {offsets, totals}, p, 1, 1, 1, "march_totals");
+  recordTotalsWith(ctx_, rec, totals_, offsets, numRays, localSize, totals);
+}
+
+// ---- PackedSamplePoints ----
+
+PackedSamplePoints::PackedSamplePoints(Context& ctx)
+    : ctx_(ctx),
+      kernel_(ctx, {"march_points",
+                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+                     gpu::Binding::Storage, gpu::Binding::Storage},
+                    sizeof(PointsPush), {}}) {}
+
+void PackedSamplePoints::record(gpu::Recorder& rec, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
+                                const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, uint32_t capacity,
+                                const Aabb& box, const gpu::BufferRange& positions,
+                                const gpu::BufferRange& directions) {
+  for (int k = 0; k < 3; ++k)
+    if (!(box.max[k] > box.min[k])) throw Error("PackedSamplePoints: scene box is empty along axis " + std::to_string(k));
+  requireBytes("PackedSamplePoints", "samples", samples, uint64_t(capacity) * kSampleBytes);
+  requireBytes("PackedSamplePoints", "sampleRay", sampleRay, uint64_t(capacity) * 4);
+  requireBytes("PackedSamplePoints", "totals", totals, RayMarcher::kTotalsBytes);
+  requireBytes("PackedSamplePoints", "positions", positions, uint64_t(capacity) * 16);
+  requireBytes("PackedSamplePoints", "directions", directions, uint64_t(capacity) * 16);
+  PointsPush p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}};
+  auto [gx, gy] = flatGroups(ctx_, capacity, 64);
+  rec.dispatch(kernel_, {rays, samples, sampleRay, totals, positions, directions}, p, gx, gy, 1, "march_points");
+}
+
+// ---- EarlyTermination ----
+
+EarlyTermination::EarlyTermination(Context& ctx, uint32_t maxRays)
+    : ctx_(ctx),
+      maxRays_(maxRays),
+      kept_(ctx, VkDeviceSize(std::max(maxRays, 1u)) * 4),
+      scan_(ctx, maxRays + 1),
+      truncate_(ctx, {"march_truncate",
+                      {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                      sizeof(TruncatePush), {}}),
+      compact_(ctx, {"march_compact", std::vector<gpu::Binding>(8, gpu::Binding::Storage), sizeof(CompactPush), {}}),
+      totals_(ctx, totalsKernel()) {}
+
+float EarlyTermination::maxOpticalDepth(float minTransmittance) { return float(-std::log(double(minTransmittance))); }
+
+void EarlyTermination::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& offsets,
+                              const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
+                              const gpu::BufferRange& field, float minTransmittance,
+                              const gpu::BufferRange& outOffsets, const gpu::BufferRange& outSamples,
+                              const gpu::BufferRange& outSampleRay, const gpu::BufferRange& outField,
+                              const gpu::BufferRange& outTotals) {
+  if (numRays > maxRays_)
+    throw Error("EarlyTermination: " + std::to_string(numRays) + " rays exceed the capacity " + std::to_string(maxRays_));
+  if (!(minTransmittance > 0.0f && minTransmittance <= 1.0f))
+    throw Error("EarlyTermination: minTransmittance " + std::to_string(minTransmittance) + " is outside (0, 1]");
+  requireBytes("EarlyTermination", "offsets", offsets, (uint64_t(numRays) + 1) * 4);
+  requireBytes("EarlyTermination", "out offsets", outOffsets, (uint64_t(numRays) + 1) * 4);
+  // The survivors never outnumber the input, so outputs as large as the inputs always suffice;
+  // smaller ones clamp like the marcher's (the last rays lose samples).
+  uint64_t capacity = std::min<uint64_t>({bytesOf(outSamples) / kSampleBytes, bytesOf(outSampleRay) / 4,
+                                          bytesOf(outField) / 16, 0xffffffffull});
+  auto [gx, gy] = flatGroups(ctx_, numRays, kMarchLocal);
+  TruncatePush tp{numRays, maxOpticalDepth(minTransmittance)};
+  rec.dispatch(truncate_, {offsets, samples, field, kept_}, tp, gx, gy, 1, "march_truncate");
+  scan_.record(rec, kept_, numRays, outOffsets, numRays + 1, uint32_t(capacity));
+  CompactPush cp{numRays};
+  if (capacity > 0)
+    rec.dispatch(compact_, {offsets, samples, sampleRay, field, outOffsets, outSamples, outSampleRay, outField}, cp, gx,
+                 gy, 1, "march_compact");
+  recordTotalsWith(ctx_, rec, totals_, outOffsets, numRays, RayMarcher::kIndirectLocal, outTotals);
 }
 
 }  // namespace vknerf::nerf

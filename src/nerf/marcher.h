@@ -77,4 +77,45 @@ class RayMarcher {
   gpu::Kernel count_, write_, totals_;
 };
 
+// Field inputs of a packed batch (shaders/march_points.comp): positions (normalised box [-1, 1]^3)
+// and directions, vec4 with w = 0, one per sample. The count comes from the marcher's totals on
+// the device; `capacity` (the samples the output buffers hold) bounds the dispatch.
+class PackedSamplePoints {
+ public:
+  explicit PackedSamplePoints(Context& ctx);
+  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
+              const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, uint32_t capacity, const Aabb& box,
+              const gpu::BufferRange& positions, const gpu::BufferRange& directions);
+
+ private:
+  Context& ctx_;
+  gpu::Kernel kernel_;
+};
+
+// Early termination of a packed batch once the field is known (shaders/march_truncate.comp,
+// march_compact.comp): ray r keeps its samples while the transmittance in front of them is at
+// least minTransmittance (default 1e-4), i.e. up to and including the sample where it drops
+// below; the survivors are packed into the out* buffers (same layouts as RayMarcher's outputs,
+// field vec4 (r, g, b, sigma) per sample, which the compositor takes as it is). The light the
+// dropped samples could add is below minTransmittance times their brightest colour.
+// It lives here rather than in the compositor so that the backward passes, the expensive part,
+// run over the survivors only.
+class EarlyTermination {
+ public:
+  EarlyTermination(Context& ctx, uint32_t maxRays);
+  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& offsets, const gpu::BufferRange& samples,
+              const gpu::BufferRange& sampleRay, const gpu::BufferRange& field, float minTransmittance,
+              const gpu::BufferRange& outOffsets, const gpu::BufferRange& outSamples,
+              const gpu::BufferRange& outSampleRay, const gpu::BufferRange& outField, const gpu::BufferRange& outTotals);
+  // The optical depth the kernels compare against: -ln(minTransmittance), rounded to float.
+  static float maxOpticalDepth(float minTransmittance);
+
+ private:
+  Context& ctx_;
+  uint32_t maxRays_;
+  gpu::Buffer kept_;
+  PrefixSum scan_;
+  gpu::Kernel truncate_, compact_, totals_;
+};
+
 }  // namespace vknerf::nerf

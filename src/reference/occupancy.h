@@ -116,17 +116,16 @@ std::vector<MarchSample<T>> marchRay(const std::array<T, 3>& o, const std::array
 
 // ---- Early termination ----
 
-// Samples a ray keeps when compositing stops once transmittance falls below `minTransmittance`:
-// sample i is kept while T_i = exp(-sum_{j<i} sigma_j delta_j) >= minTransmittance (so the sample
-// that crosses the threshold is kept, the ones behind it are not).
+// Samples a ray keeps when compositing stops once transmittance falls below a threshold: sample i
+// is kept while the optical depth in front of it, sum_{j<i} sigma_j delta_j, is at most
+// maxOpticalDepth = -ln(threshold) (so T_i >= threshold; the sample that crosses the threshold is
+// kept, the ones behind it are not). The dropped samples carry at most T_cut < threshold of light.
 template <class T>
-uint32_t keptSamples(const std::vector<T>& sigma, const std::vector<T>& delta, T minTransmittance) {
-  T opticalDepth = 0;
-  for (size_t i = 0; i < sigma.size(); ++i) {
-    if (std::exp(-opticalDepth) < minTransmittance) return uint32_t(i);
-    opticalDepth += sanitizeDensity(sigma[i]) * delta[i];
-  }
-  return uint32_t(sigma.size());
+uint32_t keptSamples(const std::vector<T>& sigma, const std::vector<T>& delta, T maxOpticalDepth) {
+  T depth = 0;
+  uint32_t i = 0;
+  for (; i < sigma.size() && depth <= maxOpticalDepth; ++i) depth += sanitizeDensity(sigma[i]) * delta[i];
+  return i;
 }
 
 }  // namespace vknerf::ref

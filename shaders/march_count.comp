@@ -13,10 +13,13 @@ void main() {
   uint ray = marchRayIndex();
   if (ray >= pc.numRays) return;
   MarchRay m = marchRay(ray);
-  uint n = 0u;
-  if (m.tNear >= 0.0) {
-    for (uint k = nextOccupied(m, 0u); k < kMaxMarchSteps; k = nextOccupied(m, k + 1u))
-      if (++n >= pc.maxSamples) break;
+  // Whole runs of lattice points per cell: the count costs one iteration per cell crossed.
+  uint kEnd = marchEnd(m), n = 0u;
+  for (uint k = 0u; k < kEnd && n < pc.maxSamples;) {
+    bool occupied;
+    uint run = cellRun(m, k, occupied);
+    if (occupied) n += min(min(run, kEnd - k), pc.maxSamples - n);
+    k += run;
   }
   counts[ray] = n;
 }

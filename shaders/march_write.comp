@@ -17,9 +17,16 @@ void main() {
   uint s = offsets[ray], end = offsets[ray + 1u];
   if (s >= end) return;
   MarchRay m = marchRay(ray);
-  for (uint k = nextOccupied(m, 0u); k < kMaxMarchSteps && s < end; k = nextOccupied(m, k + 1u)) {
-    samples[s] = marchSample(m, k);
-    sampleRay[s] = ray;
-    ++s;
+  uint kEnd = marchEnd(m);
+  for (uint k = 0u; k < kEnd && s < end;) {
+    bool occupied;
+    uint run = cellRun(m, k, occupied);
+    if (occupied) {
+      for (uint j = k, stop = min(k + run, kEnd); j < stop && s < end; ++j, ++s) {
+        samples[s] = marchSample(m, j);
+        sampleRay[s] = ray;
+      }
+    }
+    k += run;
   }
 }

@@ -74,36 +74,39 @@ struct MarchRay {
   uint r;            // grid resolution
 };
 
-// First lattice point k' >= k of the ray inside [t_near, t_far) whose cell is occupied, or
-// kMaxMarchSteps when there is none: exactly the point a one-step-at-a-time march would find next.
-// An empty cell is skipped in one jump to the first lattice point past its exit. The jump is
-// verified, not trusted: grid coordinates and cells are monotone in k under float rounding, so if
-// point k' - 1 still lies in the empty cell so do all points before it, and a skip never loses a
-// sample to rounding of the exit distance. A failed check falls back to a single step.
-uint nextOccupied(MarchRay m, uint k) {
-  while (k < kMaxMarchSteps) {
-    float t = latticeT(m.tNear, m.u, m.dt, k);
-    if (!(t < m.tFar)) break;
-    uvec3 c = cellOf(gridPoint(m.go, m.gd, t), m.r);
-    uint index = cellIndex(c, m.r);
-    if (bitSet(occupancyBits[index >> 5u], index)) return k;
-    float tExit = kMaxFloat;
-    for (int a = 0; a < 3; ++a) {
-      if (m.gd[a] != 0.0) {
-        float bound = m.gd[a] > 0.0 ? float(c[a] + 1u) : float(c[a]);
-        tExit = min(tExit, (bound - m.go[a]) / m.gd[a]);
-      }
+// Number of lattice points with t_k < t_far (0 for a ray that misses). Estimated by division, then
+// settled exactly by the same comparison the one-step march makes: t_k is monotone in k.
+uint marchEnd(MarchRay m) {
+  if (!(m.tNear >= 0.0)) return 0u;
+  float estimate = clamp(ceil((m.tFar - m.tNear) / m.dt - m.u), 0.0, float(kMaxMarchSteps));
+  uint k = uint(estimate);
+  while (k > 0u && !(latticeT(m.tNear, m.u, m.dt, k - 1u) < m.tFar)) --k;
+  while (k < kMaxMarchSteps && latticeT(m.tNear, m.u, m.dt, k) < m.tFar) ++k;
+  return k;
+}
+
+// The cell of lattice point k, and how many consecutive points from k lie in it (>= 1): the run
+// ends at the first point past the cell's exit. The run is verified, not trusted: grid coordinates
+// and cells are monotone in k under float rounding, so when point k + n - 1 is still in the cell
+// so are all points before it, and no point is ever attributed to the wrong cell by a rounded exit
+// distance. A failed check falls back to a run of one.
+uint cellRun(MarchRay m, uint k, out bool occupied) {
+  float t = latticeT(m.tNear, m.u, m.dt, k);
+  uvec3 c = cellOf(gridPoint(m.go, m.gd, t), m.r);
+  uint index = cellIndex(c, m.r);
+  occupied = bitSet(occupancyBits[index >> 5u], index);
+  float tExit = kMaxFloat;
+  for (int a = 0; a < 3; ++a) {
+    if (m.gd[a] != 0.0) {
+      float bound = m.gd[a] > 0.0 ? float(c[a] + 1u) : float(c[a]);
+      tExit = min(tExit, (bound - m.go[a]) / m.gd[a]);
     }
-    float steps = min(ceil((tExit - t) / m.dt), float(kMaxMarchSteps));
-    uint n = 1u;
-    if (steps > 1.0) {
-      n = uint(steps);
-      uvec3 last = cellOf(gridPoint(m.go, m.gd, latticeT(m.tNear, m.u, m.dt, k + n - 1u)), m.r);
-      if (any(notEqual(last, c))) n = 1u;
-    }
-    k += n;
   }
-  return kMaxMarchSteps;
+  float steps = min(ceil((tExit - t) / m.dt), float(kMaxMarchSteps));
+  if (!(steps > 1.0)) return 1u;
+  uint n = uint(steps);
+  uvec3 last = cellOf(gridPoint(m.go, m.gd, latticeT(m.tNear, m.u, m.dt, k + n - 1u)), m.r);
+  return all(equal(last, c)) ? n : 1u;
 }
 
 uint marchRayIndex() { return flatIndex(32u); }

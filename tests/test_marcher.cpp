@@ -275,6 +275,36 @@ TEST_F(Marcher, RayParallelToCellFaces) {
   EXPECT_GT(expectMatchesReference(out, rays, paramsFor(grid, box, 0.02f, 1000, 0, false), bits), 10u);
 }
 
+TEST_F(Marcher, LatticePointsExactlyOnCellFaces) {
+  // R = 8 over [-1, 1]: cells 0.25 wide, dt = 1/16, so every fourth lattice point sits exactly on a
+  // face (all values dyadic: the float arithmetic is exact). Cells x = 0, 2, 4, 6 of the row
+  // (y, z) = (4, 4) are occupied. A point on a face belongs to the cell above it (floor), and the
+  // point at x = 1 to the border cell 7.
+  Aabb box;
+  const uint32_t res = 8;
+  nerf::OccupancyGrid grid(ctx(), res);
+  std::vector<uint32_t> bits(grid.numWords());
+  for (uint32_t x : {0u, 2u, 4u, 6u}) ref::setBit(bits, ref::cellIndex(x, 4, 4, res));
+  setBits(grid, bits);
+  std::vector<TestRay> rays = {{{-3, 0.125f, 0.125f}, {1, 0, 0}, 2, 4}, {{3, 0.125f, 0.125f}, {-1, 0, 0}, 2, 4}};
+  auto out = runMarch(ctx(), rays, grid, box, 0.0625f, 1000, 0, false);
+  for (uint32_t r = 0; r < 2; ++r) {
+    std::vector<float> expected;
+    for (uint32_t k = 0; k < 32; ++k) {
+      double x = r == 0 ? -1 + k / 16.0 : 1 - k / 16.0;
+      int cell = std::min(int(std::floor((x + 1) * 4)), 7);
+      if (cell % 2 == 0) expected.push_back(2.0f + k / 16.0f);
+    }
+    ASSERT_EQ(out.offsets[r + 1] - out.offsets[r], expected.size()) << "ray " << r;
+    for (size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(out.samples[2 * (out.offsets[r] + i)], expected[i]);
+      EXPECT_EQ(out.samples[2 * (out.offsets[r] + i) + 1], 0.0625f);
+    }
+  }
+  EXPECT_EQ(out.offsets[1], 16u);  // k = 0-3, 8-11, 16-19, 24-27
+  EXPECT_EQ(out.offsets[2] - out.offsets[1], 15u);  // k = 5-8, 13-16, 21-24, 29-31
+}
+
 TEST_F(Marcher, RayStartingInsideTheBox) {
   Aabb box;
   nerf::OccupancyGrid grid(ctx(), 16);

@@ -1,0 +1,67 @@
+#pragma once
+// Occupancy grid for empty-space skipping (shaders/occupancy_*.comp, shaders/occupancy.glsl).
+// R^3 cells over the scene box. Layouts:
+//   density  float[R^3]: running maximum of the field density sigma per cell (instant-ngp's EMA)
+//   bits     uint[ceil(R^3 / 32)]: cell i = x + R (y + R z) is occupied when bit (i & 31) of word
+//            i >> 5 is set; bits past the last cell are meaningless and never read
+// An update is three steps around the caller's field evaluation:
+//   1. recordAllCellPoints / recordRandomCellPoints: vec4 positions (normalised box [-1, 1]^3,
+//      w = 0) and uint cell indices of the points to evaluate;
+//   2. the caller writes float density[] (sigma, activated) for those points;
+//   3. recordUpdate: d = max(d * decay, max of the new densities in the cell) for every cell, then
+//      bits = d > threshold.
+// The threshold is a density; densityThreshold(tau, dt) gives the density at which one march step
+// dt has optical thickness sigma * dt = tau (instant-ngp: tau = 0.01, alpha ~ 1%).
+#include <cstdint>
+
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+
+namespace vknerf::nerf {
+
+class OccupancyGrid {
+ public:
+  // resolution R in [1, 256]; density starts at 0 and every cell empty: call recordMarkAllOccupied
+  // before the first march so that nothing is skipped until the field has been measured.
+  OccupancyGrid(Context& ctx, uint32_t resolution = 128);
+
+  uint32_t resolution() const { return resolution_; }
+  uint32_t numCells() const { return numCells_; }
+  uint32_t numWords() const { return (numCells_ + 31u) / 32u; }
+  const gpu::Buffer& density() const { return density_; }
+  const gpu::Buffer& bits() const { return bits_; }
+  gpu::Buffer& density() { return density_; }
+  gpu::Buffer& bits() { return bits_; }
+
+  static float densityThreshold(float opticalThickness, float dt) { return opticalThickness / dt; }
+
+  // Every cell occupied (the initial state of training); densities are left as they are.
+  void recordMarkAllOccupied(gpu::Recorder& rec);
+
+  // numCells() points, point j in cell j: positions vec4[numCells()], cells uint[numCells()].
+  void recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const gpu::BufferRange& positions,
+                           const gpu::BufferRange& cells);
+  // `count` points in cells drawn uniformly at random (with repetition), cell rngUint(seed, j, 3) % R^3.
+  void recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, uint32_t count, const gpu::BufferRange& positions,
+                              const gpu::BufferRange& cells);
+  // EMA and bits from the densities measured at `count` points of `cells`. NaN and negative
+  // densities count as 0, +inf as FLT_MAX. decay in [0, 1], threshold >= 0.
+  void recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density, uint32_t count,
+                    float decay, float threshold);
+
+  // Number of occupied cells into counter (one uint, overwritten).
+  void recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter);
+  // Occupied cells / all cells, after everything submitted so far (records, submits, waits).
+  float occupiedFraction();
+
+ private:
+  void dispatchFlat(gpu::Recorder& rec, gpu::Kernel& k, std::initializer_list<gpu::BufferRange> bindings,
+                    const void* push, uint32_t pushBytes, uint64_t invocations, uint32_t local, const char* label);
+  Context& ctx_;
+  uint32_t resolution_, numCells_;
+  gpu::Buffer density_, bits_, fresh_, counter_;
+  gpu::Kernel points_, splat_, ema_, count_;
+};
+
+}  // namespace vknerf::nerf

@@ -18,7 +18,11 @@ layout(constant_id = 0) const uint LEVELS = 16u;
 layout(constant_id = 1) const uint FEATURES = 2u;
 layout(constant_id = 2) const uint LOG2_TABLE = 19u;
 layout(constant_id = 3) const uint MERGE = 0u;
-const uint IN_VEC4 = (LEVELS * FEATURES + 3u) / 4u;
+// Levels in groups that read whole vec4s of dL/dfeatures (as encode_hash.comp), so nothing is an
+// array indexed by a loop counter.
+const uint GROUP = FEATURES >= 4u ? 1u : 4u / FEATURES;
+const uint GROUP_VEC4 = FEATURES == 8u ? 2u : 1u;
+const uint GROUPS = (LEVELS + GROUP - 1u) / GROUP;
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer dFeatures;
@@ -45,23 +49,26 @@ void main() {
   uint row = gl_GlobalInvocationID.x;
   if (row >= pc.count) return;
   vec3 p = imageLoad(positions, int(row)).xyz;
-  float d[IN_VEC4 * 4u];
   uint src = row * pc.strideVec4 + pc.offsetVec4;
-  [[unroll]] for (uint j = 0u; j < IN_VEC4; ++j) {
-    vec4 t = imageLoad(dFeatures, int(src + j));
-    d[4u * j] = t.x, d[4u * j + 1u] = t.y, d[4u * j + 2u] = t.z, d[4u * j + 3u] = t.w;
-  }
-  [[unroll]] for (uint l = 0u; l < LEVELS; ++l) {
-    uint res = pc.res[l / 4u][l % 4u];
-    bool dense = ((pc.denseMask >> l) & 1u) != 0u;
-    uvec3 cell;
-    vec3 w;
-    hashGridCell(p, res, cell, w);
-    [[unroll]] for (uint k = 0u; k < 8u; ++k) {
-      uvec3 corner = cell + uvec3(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
-      uint entry = (l << LOG2_TABLE) + hashGridIndex(corner, res, dense, LOG2_TABLE);
-      float wk = hashGridWeight(k, w);
-      [[unroll]] for (uint f = 0u; f < FEATURES; ++f) scatter(entry * FEATURES + f, wk * d[l * FEATURES + f]);
+  for (uint g = 0u; g < GROUPS; ++g) {
+    vec4 d = imageLoad(dFeatures, int(src + g * GROUP_VEC4));
+    vec4 d2 = GROUP_VEC4 == 2u ? imageLoad(dFeatures, int(src + g * GROUP_VEC4 + 1u)) : vec4(0.0);
+    [[unroll]] for (uint lg = 0u; lg < GROUP; ++lg) {
+      uint l = g * GROUP + lg;
+      if (l < LEVELS) {
+        uint res = pc.res[l / 4u][l % 4u];
+        bool dense = ((pc.denseMask >> l) & 1u) != 0u;
+        uvec3 cell;
+        vec3 w;
+        hashGridCell(p, res, cell, w);
+        [[unroll]] for (uint k = 0u; k < 8u; ++k) {
+          uvec3 corner = cell + uvec3(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
+          uint entry = (l << LOG2_TABLE) + hashGridIndex(corner, res, dense, LOG2_TABLE);
+          float wk = hashGridWeight(k, w);
+          [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
+            scatter(entry * FEATURES + f, wk * (f < 4u ? d[lg * FEATURES + f] : d2[f - 4u]));
+        }
+      }
     }
   }
 }

@@ -25,9 +25,11 @@ class HashEncoding : public test::GpuTest {};
 //  kPow2:  res 4, 8, 16, 32, 64, 128 (b = 2: exact vertex coordinates); dense while (res+1)^3 <= 4096.
 //  kOdd:   res 3, 4, 5 (b = 1.37), F = 1, T = 6: level 0 dense (64 vertices = 64 entries), others hashed.
 //  kWide:  res 8, 24 (b = 3), F = 4, T = 8: every level hashed, with many collisions.
+//  kEight: res 2, 4, 8, F = 8 (two vec4s per level), T = 7: levels 0 and 1 dense (27, 125 <= 128).
 const HashGridConfig kPow2{6, 2, 12, 4, 2.0};
 const HashGridConfig kOdd{3, 1, 6, 3, 1.37};
 const HashGridConfig kWide{2, 4, 8, 8, 3.0};
+const HashGridConfig kEight{3, 8, 7, 2, 2.0};
 
 std::vector<float> randomTable(const HashGridConfig& c, uint32_t seed) {
   std::mt19937 gen(seed);
@@ -204,7 +206,7 @@ TEST(HashEncodingReference, GradientMatchesFiniteDifferences) {
   // differences of S in double. S is linear in the table, so the difference quotient is exact up to
   // rounding of S (~1e-15 relative): 1e-9 absolute is generous and still catches any misplaced or
   // mis-weighted contribution (weights are O(0.01..1)).
-  for (const auto& c : {kPow2, kOdd, kWide}) {
+  for (const auto& c : {kPow2, kOdd, kWide, kEight}) {
     auto tf = randomTable(c, 9);
     std::vector<double> t(tf.begin(), tf.end());
     const uint32_t n = 6, D = c.levels * c.featuresPerLevel;
@@ -262,11 +264,12 @@ TEST_F(HashEncoding, ForwardMatchesReference) {
   expectForwardMatches(ctx(), kPow2, 1000, 0, 0);
   expectForwardMatches(ctx(), kOdd, 333, 4, 4);
   expectForwardMatches(ctx(), kWide, 65, 8, 0);
+  expectForwardMatches(ctx(), kEight, 200, 4, 4);
 }
 
 TEST_F(HashEncoding, BackwardMatchesReferenceAndAccumulates) {
   for (auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged})
-    for (const auto& c : {kPow2, kOdd, kWide}) {
+    for (const auto& c : {kPow2, kOdd, kWide, kEight}) {
       nerf::HashEncoding enc(ctx(), c, mode);
       const uint32_t F = c.featuresPerLevel, D = enc.outputDims(), offset = 4, stride = offset + enc.paddedDims() + 4;
       // Two batches (777 and 130 rows: not workgroup multiples), recorded back to back into one

@@ -344,3 +344,28 @@ TEST_F(HashEncoding, EmptyBatchesAndBadLayouts) {
   EXPECT_THROW(nerf::HashEncoding(ctx(), HashGridConfig{4, 2, 12, 4, 0.5}), Error);
   EXPECT_THROW(nerf::HashEncoding(ctx(), HashGridConfig{16, 8, 24, 16, 1.5}), Error);  // 2 GiB table
 }
+
+TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
+  // The same device adopted as if the caller had not enabled shaderBufferFloat32AtomicAdd: the
+  // forward pass (inference) still works, the backward pass refuses with an Error, not a bad shader.
+  auto adopted = Context::adopt({ctx().instance(), ctx().physicalDevice(), ctx().device(), ctx().queueFamily(),
+                                 ctx().queue(), false});
+  ASSERT_FALSE(adopted->floatAtomics());
+  nerf::HashEncoding enc(*adopted, kOdd);
+  auto table = randomTable(kOdd, 3);
+  auto pos = hardPositions(10, 1);
+  auto m = forward(*adopted, enc, pos, table, 4, 0);
+  const double p[3] = {pos[0], pos[1], pos[2]};
+  std::vector<double> t(table.begin(), table.end());
+  EXPECT_TRUE(test::near(m[0], ref::hashEncoding<double>(kOdd, t.data(), p)[0], 0, forwardTolerance(enc.resolution(0))));
+  auto pb = gpu::Buffer::of(*adopted, pos), db = gpu::Buffer::of(*adopted, m), gb = gpu::Buffer::of(*adopted, table);
+  gpu::Recorder rec(*adopted);
+  rec.begin();
+  try {
+    enc.recordBackward(rec, pb, 10, db, 4, 0, gb);
+    ADD_FAILURE() << "recordBackward did not throw";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("float atomics"), std::string::npos) << e.what();
+  }
+  rec.end();
+}

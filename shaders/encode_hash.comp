@@ -4,7 +4,9 @@
 // Multiresolution hash encoding, forward: one invocation per sample, L * F trilinearly interpolated
 // table features written as whole vec4s into a row-major feature matrix at a 4-aligned column
 // offset (the block's last vec4 zero-padded). Layouts: src/reference/hash_encoding.h.
-// Corners are unrolled; positions come through a texel buffer (vectorised loads on lavapipe).
+// Corners are unrolled. Positions and the table are read through rgba32f texel buffers: on lavapipe
+// an imageLoad at per-lane coordinates is a vectorised gather, where an SSBO load is a scalar loop
+// over the lanes (shared/LAVAPIPE.md). An entry of F = 2 is half a texel, F = 1 a quarter.
 #include "hash_grid.glsl"
 
 layout(local_size_x = 64) in;
@@ -20,10 +22,7 @@ const uint GROUP_VEC4 = FEATURES == 8u ? 2u : 1u;         // output vec4s per gr
 const uint GROUPS = (LEVELS + GROUP - 1u) / GROUP;
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
-// One table buffer, viewed as float / vec2 / vec4 so an entry of F floats is one load where F > 1.
-layout(std430, binding = 1) readonly buffer Table { float table[]; };
-layout(std430, binding = 1) readonly buffer Table2 { vec2 table2[]; };
-layout(std430, binding = 1) readonly buffer Table4 { vec4 table4[]; };
+layout(binding = 1, rgba32f) uniform readonly imageBuffer table;
 layout(std430, binding = 2) writeonly buffer Features { vec4 features[]; };
 
 layout(push_constant) uniform Push {
@@ -54,16 +53,17 @@ void main() {
           uint entry = (l << LOG2_TABLE) + hashGridIndex(corner, res, dense, LOG2_TABLE);
           float wk = hashGridWeight(k, w);
           if (FEATURES == 1u) {
-            acc[lg] += wk * table[entry];
+            acc[lg] += wk * imageLoad(table, int(entry >> 2u))[entry & 3u];
           } else if (FEATURES == 2u) {
-            vec2 t = table2[entry];
-            acc[2u * lg] += wk * t.x;
-            acc[2u * lg + 1u] += wk * t.y;
+            vec4 t = imageLoad(table, int(entry >> 1u));
+            vec2 e = (entry & 1u) != 0u ? t.zw : t.xy;
+            acc[2u * lg] += wk * e.x;
+            acc[2u * lg + 1u] += wk * e.y;
           } else if (FEATURES == 4u) {
-            acc += wk * table4[entry];
+            acc += wk * imageLoad(table, int(entry));
           } else {
-            acc += wk * table4[2u * entry];
-            acc2 += wk * table4[2u * entry + 1u];
+            acc += wk * imageLoad(table, int(2u * entry));
+            acc2 += wk * imageLoad(table, int(2u * entry + 1u));
           }
         }
       }

@@ -18,7 +18,8 @@ const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
   if (c.levels < 1 || c.levels > 24) fail("levels must be 1..24, got " + std::to_string(c.levels));
   const uint32_t F = c.featuresPerLevel;
   if (F != 1 && F != 2 && F != 4 && F != 8) fail("features per level must be 1, 2, 4 or 8, got " + std::to_string(F));
-  if (c.log2TableSize < 1 || c.log2TableSize > 24) fail("log2 table size must be 1..24, got " + std::to_string(c.log2TableSize));
+  // T >= 2: a level's slot is a whole number of texels (the forward pass reads the table as rgba32f).
+  if (c.log2TableSize < 2 || c.log2TableSize > 24) fail("log2 table size must be 2..24, got " + std::to_string(c.log2TableSize));
   if (c.baseResolution < 1) fail("base resolution must be at least 1");
   if (!(c.growthFactor >= 1.0)) fail("growth factor must be >= 1, got " + std::to_string(c.growthFactor));
   // Vertex coordinates reach res; the hash and the dense index are uint32 arithmetic.
@@ -36,7 +37,7 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
     : ctx_(ctx),
       config_(checked(config, ctx)),
       mode_(mode),
-      forward_(ctx, {"encode_hash", {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage},
+      forward_(ctx, {"encode_hash", {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
                      sizeof(Push), {config.levels, config.featuresPerLevel, config.log2TableSize}}) {
   for (uint32_t l = 0; l < config_.levels; ++l) {
     push_.res[l] = resolution(l);
@@ -89,6 +90,9 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
 void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
                                  const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
                                  uint32_t columnOffset) {
+  if (params.offset % ctx_.properties().limits.minTexelBufferOffsetAlignment)
+    throw Error("HashEncoding::recordForward: parameter offset " + std::to_string(params.offset) +
+                " is not a multiple of minTexelBufferOffsetAlignment");
   forChunks(count, stride, columnOffset, positions, features, params, "recordForward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& out, const Push& p, uint32_t groups) {
               rec.dispatch(forward_, {in, params, out}, p, groups, 1, 1, "encode_hash");

@@ -27,7 +27,7 @@ enum class HashBackwardMode : uint32_t {
 
 class HashEncoding {
  public:
-  // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 1..24, N_min >= 1, b >= 1, and the whole table
+  // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 2..24, N_min >= 1, b >= 1, and the whole table
   // within one storage binding (maxStorageBufferRange: 128 MiB on lavapipe, e.g. L=16 F=2 T=20).
   HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode = HashBackwardMode::Atomic);
 
@@ -41,7 +41,8 @@ class HashEncoding {
   // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
   std::vector<float> initialParameters(uint32_t seed) const;
 
-  // positions: `count` vec4 (texel-buffer aligned offset); params: parameterCount() floats;
+  // positions: `count` vec4; params: parameterCount() floats (both bound as texel buffers: offsets
+  // multiples of minTexelBufferOffsetAlignment);
   // features: `count` rows of `stride` floats, block at columnOffset (both multiples of 4).
   void recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
                      const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,

@@ -17,12 +17,13 @@ namespace vknerf::nerf {
 using HashGridConfig = ref::HashGridConfig;
 
 // How the backward pass scatters into the table. Measured on lavapipe (2 threads on a shared, loaded
-// machine, so +-50%; L=16 F=2 T=19, 2^18 samples, best of 4), in us per sample:
-//   uniform random points:  Atomic 3.6-5.5, SubgroupMerged 6.0-8.7
-//   ray-ordered points:     Atomic 1.8-3.9, SubgroupMerged 4.9-7.5
-// SubgroupMerged lost every paired run (1.3-1.9x): the vote and reduction per scatter cost more
-// than the atomics they save. Atomic is the default; the other stays for devices where contended
-// atomics on the coarse levels are the bottleneck.
+// machine, so +-50%; L=16 F=2 T=19, 2^18 samples, best of 4), in us per sample over 5 runs:
+//   uniform random points:  Atomic 3.6-6.2, SubgroupMerged 3.2-12.9
+//   ray-ordered points:     Atomic 1.8-5.5, SubgroupMerged 4.9-9.2
+// SubgroupMerged was 1.2-2.8x slower in 9 of 10 same-run comparisons (the exception coincided with
+// the machine's load dropping mid-run): the vote and reduction per scatter cost more than the
+// atomics they save. Atomic is the default; the other stays for devices where contended atomics on
+// the coarse levels are the bottleneck.
 enum class HashBackwardMode : uint32_t {
   Atomic = 0,          // one float atomicAdd per lane, corner and feature
   SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic

@@ -369,3 +369,31 @@ TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
   }
   rec.end();
 }
+
+TEST_F(HashEncoding, TableInsideALargerBuffer) {
+  // Parameters often live in one buffer with the network's: the table bound at an offset must give
+  // the same features, and the backward pass must touch only the table's own range.
+  nerf::HashEncoding enc(ctx(), kPow2);
+  const size_t P = enc.parameterCount(), lead = 64, tail = 100;
+  auto table = randomTable(kPow2, 8);
+  std::vector<float> big(lead + P + tail, kSentinel);
+  std::copy(table.begin(), table.end(), big.begin() + lead);
+  auto pos = dyadicPositions(150, 3, false);
+  const uint32_t stride = enc.paddedDims();
+  auto bb = gpu::Buffer::of(ctx(), big), pb = gpu::Buffer::of(ctx(), pos);
+  gpu::Buffer feat(ctx(), 150 * stride * 4);
+  gpu::BufferRange inner(bb, lead * 4, VK_WHOLE_SIZE);
+  gpu::Recorder rec(ctx());
+  rec.begin();
+  enc.recordForward(rec, pb, 150, inner, feat, stride, 0);
+  enc.recordBackward(rec, pb, 150, feat, stride, 0, inner);  // dFeatures = features, into the table itself
+  rec.end();
+  rec.submitAndWait();
+  EXPECT_EQ(feat.download<float>(), forward(ctx(), enc, pos, table, stride, 0));
+  auto after = bb.download<float>();
+  for (size_t i = 0; i < lead; ++i) ASSERT_EQ(after[i], kSentinel) << i;
+  for (size_t i = lead + P; i < after.size(); ++i) ASSERT_EQ(after[i], kSentinel) << i;
+  size_t changed = 0;
+  for (size_t i = 0; i < P; ++i) changed += after[lead + i] != table[i];
+  EXPECT_GT(changed, 100u);
+}

@@ -55,6 +55,11 @@ std::vector<float> HashEncoding::initialParameters(uint32_t seed) const {
   return ref::hashGridInitialParameters(config_, seed);
 }
 
+// The table's own range, so parameters inside a larger buffer bind no more than one binding allows.
+gpu::BufferRange HashEncoding::exactly(const gpu::BufferRange& table) const {
+  return gpu::BufferRange(*table.buffer, table.offset, VkDeviceSize(parameterCount()) * 4);
+}
+
 template <class Fn>
 void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
                              const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn) {
@@ -95,7 +100,7 @@ void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& pos
                 " is not a multiple of minTexelBufferOffsetAlignment");
   forChunks(count, stride, columnOffset, positions, features, params, "recordForward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& out, const Push& p, uint32_t groups) {
-              rec.dispatch(forward_, {in, params, out}, p, groups, 1, 1, "encode_hash");
+              rec.dispatch(forward_, {in, exactly(params), out}, p, groups, 1, 1, "encode_hash");
             });
 }
 
@@ -107,7 +112,7 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, const gpu::BufferRange& po
                 "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs");
   forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t groups) {
-              rec.dispatch(backward_, {in, dF, grads}, p, groups, 1, 1, "encode_hash_backward");
+              rec.dispatch(backward_, {in, dF, exactly(grads)}, p, groups, 1, 1, "encode_hash_backward");
             });
 }
 

@@ -62,6 +62,7 @@ class HashEncoding {
     uint32_t count, strideVec4, offsetVec4, denseMask;
     uint32_t res[24];
   };
+  gpu::BufferRange exactly(const gpu::BufferRange& table) const;
   template <class Fn>
   void forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
                  const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn);

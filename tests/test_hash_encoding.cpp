@@ -81,10 +81,6 @@ std::vector<float> dyadicPositions(uint32_t count, uint32_t seed, bool runs) {
   return v;
 }
 
-struct Run {
-  std::vector<float> matrix;
-};
-
 std::vector<float> forward(Context& ctx, nerf::HashEncoding& enc, const std::vector<float>& pos,
                            const std::vector<float>& table, uint32_t stride, uint32_t offset) {
   const uint32_t count = uint32_t(pos.size() / 4);

@@ -1,0 +1,77 @@
+#pragma once
+// Multiresolution hash encoding (instant-ngp's grid; shaders/encode_hash.comp and
+// shaders/encode_hash_backward.comp). Layouts (table, levels, hashing) are documented in
+// src/reference/hash_encoding.h. Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp);
+// the L * F features of a sample go into a row-major feature matrix (row stride a multiple of 4
+// floats) at a column offset that is a multiple of 4, as paddedDims() = L * F rounded up to 4
+// columns, padding written as 0 and columns outside the block untouched (as FrequencyEncoding).
+#include <cstdint>
+#include <vector>
+
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+#include "reference/hash_encoding.h"
+
+namespace vknerf::nerf {
+
+using HashGridConfig = ref::HashGridConfig;
+
+// How the backward pass scatters into the table. Measured on lavapipe (2 threads on a shared, loaded
+// machine, so +-50%; L=16 F=2 T=19, 2^18 samples, best of 4), in us per sample over 5 runs:
+//   uniform random points:  Atomic 3.6-6.2, SubgroupMerged 3.2-12.9
+//   ray-ordered points:     Atomic 1.8-5.5, SubgroupMerged 4.9-9.2
+// SubgroupMerged was 1.2-2.8x slower in 9 of 10 same-run comparisons (the exception coincided with
+// the machine's load dropping mid-run): the vote and reduction per scatter cost more than the
+// atomics they save. Atomic is the default; the other stays for devices where contended atomics on
+// the coarse levels are the bottleneck.
+enum class HashBackwardMode : uint32_t {
+  Atomic = 0,          // one float atomicAdd per lane, corner and feature
+  SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic
+};
+
+class HashEncoding {
+ public:
+  // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 2..24, N_min >= 1, b >= 1, and the whole table
+  // within one storage binding (maxStorageBufferRange: 128 MiB on lavapipe, e.g. L=16 F=2 T=20).
+  HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode = HashBackwardMode::Atomic);
+
+  const HashGridConfig& config() const { return config_; }
+  uint32_t outputDims() const { return config_.levels * config_.featuresPerLevel; }
+  uint32_t paddedDims() const { return (outputDims() + 3) / 4 * 4; }
+  size_t parameterCount() const { return ref::hashGridParameterCount(config_); }
+  uint32_t resolution(uint32_t level) const { return ref::hashGridResolution(config_, level); }
+  bool dense(uint32_t level) const { return ref::hashGridDense(config_, level); }
+  HashBackwardMode backwardMode() const { return mode_; }
+  // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
+  std::vector<float> initialParameters(uint32_t seed) const;
+
+  // positions: `count` vec4; params: parameterCount() floats (both bound as texel buffers: offsets
+  // multiples of minTexelBufferOffsetAlignment);
+  // features: `count` rows of `stride` floats, block at columnOffset (both multiples of 4).
+  void recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+                     const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
+                     uint32_t columnOffset);
+  // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params.
+  // dFeatures has the features' layout; its padding columns are ignored. Needs float atomics.
+  void recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+                      const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
+                      const gpu::BufferRange& grads);
+
+ private:
+  struct Push {
+    uint32_t count, strideVec4, offsetVec4, denseMask;
+    uint32_t res[24];
+  };
+  gpu::BufferRange exactly(const gpu::BufferRange& table) const;
+  template <class Fn>
+  void forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
+                 const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn);
+
+  Context& ctx_;
+  HashGridConfig config_;
+  HashBackwardMode mode_;
+  Push push_{};
+  gpu::Kernel forward_, backward_;
+};
+
+}  // namespace vknerf::nerf

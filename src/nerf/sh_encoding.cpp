@@ -1,0 +1,56 @@
+#include "nerf/sh_encoding.h"
+
+#include <algorithm>
+#include <string>
+
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+struct Push {
+  uint32_t count, strideVec4, offsetVec4;
+};
+constexpr uint32_t kLocal = 64;
+
+uint32_t checkedDegree(uint32_t degree) {
+  if (degree < 1 || degree > 4) throw Error("ShEncoding: degree must be 1..4, got " + std::to_string(degree));
+  return degree;
+}
+
+VkDeviceSize boundBytes(const gpu::BufferRange& r) {
+  return r.range == VK_WHOLE_SIZE ? r.buffer->size() - r.offset : r.range;
+}
+}  // namespace
+
+ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
+    : ctx_(ctx),
+      degree_(checkedDegree(degree)),
+      kernel_(ctx, {"encode_sh", {gpu::Binding::TexelRgba32f, gpu::Binding::Storage}, sizeof(Push), {degree}}) {}
+
+void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, uint32_t count,
+                        const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset) {
+  if (stride % 4 || columnOffset % 4)
+    throw Error("ShEncoding: stride " + std::to_string(stride) + " and column offset " + std::to_string(columnOffset) +
+                " must be multiples of 4");
+  if (columnOffset + paddedDims() > stride)
+    throw Error("ShEncoding: columns [" + std::to_string(columnOffset) + ", " +
+                std::to_string(columnOffset + paddedDims()) + ") do not fit a row of " + std::to_string(stride));
+  if (count == 0) return;
+  const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
+  if (boundBytes(features) < count * rowBytes || boundBytes(directions) < VkDeviceSize(count) * 16)
+    throw Error("ShEncoding: buffers too small for " + std::to_string(count) + " rows");
+  // Matrices beyond one binding are encoded in chunks of rows bound at their own offsets;
+  // 64-row multiples keep the texel-buffer offsets aligned.
+  const auto& lim = ctx_.properties().limits;
+  const VkDeviceSize rows = std::min<VkDeviceSize>(lim.maxStorageBufferRange / rowBytes, lim.maxTexelBufferElements);
+  const uint32_t chunk = uint32_t(std::min<VkDeviceSize>(count, rows / 64 * 64));
+  for (uint32_t first = 0; first < count; first += chunk) {
+    const uint32_t n = std::min(chunk, count - first);
+    gpu::BufferRange in(*directions.buffer, directions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);
+    gpu::BufferRange out(*features.buffer, features.offset + first * rowBytes, n * rowBytes);
+    Push p{n, stride / 4, columnOffset / 4};
+    rec.dispatch(kernel_, {in, out}, p, gpu::groupsFor(n, kLocal), 1, 1, "encode_sh");
+  }
+}
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,32 @@
+#pragma once
+// Spherical-harmonics direction encoding (shaders/encode_sh.comp): degree^2 real SH coefficients
+// (16 for instant-ngp's degree 4) of each unit direction, basis and constants documented in
+// src/reference/sh_encoding.h. Written into a row-major feature matrix (row stride a multiple of 4
+// floats) at a column offset that is a multiple of 4, as paddedDims() columns, padding 0 and
+// columns outside the block untouched. No backward: directions are not optimised.
+#include <cstdint>
+
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+
+namespace vknerf::nerf {
+
+class ShEncoding {
+ public:
+  explicit ShEncoding(Context& ctx, uint32_t degree = 4);  // degree: 1..4 bands
+  uint32_t degree() const { return degree_; }
+  uint32_t outputDims() const { return degree_ * degree_; }
+  uint32_t paddedDims() const { return (outputDims() + 3) / 4 * 4; }
+
+  // directions: `count` vec4 (xyz unit, w ignored; texel-buffer aligned offset); features: `count`
+  // rows of `stride` floats.
+  void record(gpu::Recorder& rec, const gpu::BufferRange& directions, uint32_t count, const gpu::BufferRange& features,
+              uint32_t stride, uint32_t columnOffset);
+
+ private:
+  Context& ctx_;
+  uint32_t degree_;
+  gpu::Kernel kernel_;
+};
+
+}  // namespace vknerf::nerf

@@ -5,9 +5,10 @@
 // Shaped for lavapipe (shared/LAVAPIPE.md): lanes are rows, each invocation owns R rows
 // (row0 + r*G) kept in registers; the k loop is fully unrolled so every weight is read with a
 // uniform imageLoad (one branch-free broadcast reused by R rows); the loop over output blocks of NB
-// columns is unrolled too for small layers (UNROLL_N: every weight coordinate a constant) and stays
-// dynamic for big ones, so code size (and JIT time) does not grow with K*N. A tail of 4-wide blocks
-// covers N4 % NB. Rows past `count` read the last row and store nothing.
+// columns stays dynamic: unrolling it as well (every weight coordinate a constant) measured no faster
+// once 4 columns are summed per accumulator update (DENSE_K4), and it cost ~9 s of JIT per 64x64
+// layer. A tail of 4-wide blocks covers N4 % NB. Rows past `count` read the last row and store
+// nothing.
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 #include "mlp_common.glsl"
@@ -21,7 +22,6 @@ layout(constant_id = 5) const uint ACT = 1;      // MLP_ACT_*
 layout(constant_id = 6) const uint WOFF4 = 0;    // vec4 offset of W in the parameter buffer
 layout(constant_id = 7) const uint R = 4;        // rows per invocation
 layout(constant_id = 8) const uint NB = 8;       // output columns per block (multiple of 4)
-layout(constant_id = 9) const bool UNROLL_N = false;  // unroll the block loop too (constant weight coordinates)
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer A;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer B;
@@ -37,6 +37,20 @@ const uint K4 = KA4 + KB4;
 const uint NMAIN = N4 - N4 % NB;
 const uint BOFF4 = WOFF4 + K4 * N4 / 4u;
 
+// Four input columns at a time: their products are summed before touching the accumulator, so
+// the (spilled) accumulators are loaded and stored once per 4 columns instead of once per column.
+#define DENSE_K4(XARR, k, wrow, n0, j)                                                                \
+  {                                                                                                \
+    vec4 w0 = imageLoad(P, int(WOFF4 + ((wrow) * N4 + (n0) + (j)) / 4u));                          \
+    vec4 w1 = imageLoad(P, int(WOFF4 + ((wrow + 1u) * N4 + (n0) + (j)) / 4u));                     \
+    vec4 w2 = imageLoad(P, int(WOFF4 + ((wrow + 2u) * N4 + (n0) + (j)) / 4u));                     \
+    vec4 w3 = imageLoad(P, int(WOFF4 + ((wrow + 3u) * N4 + (n0) + (j)) / 4u));                     \
+    [[unroll]] for (uint r = 0; r < R; r++) {                                                      \
+      vec4 t = XARR[r][k] * w0 + XARR[r][k + 1] * w1 + XARR[r][k + 2] * w2 + XARR[r][k + 3] * w3;  \
+      acc[r][j] += t.x; acc[r][j + 1] += t.y; acc[r][j + 2] += t.z; acc[r][j + 3] += t.w;          \
+    }                                                                                              \
+  }
+
 // acc[r][j] = bias + sum_k x[r][k] W[k][n0 + j] for j < BLK, then activation and store.
 #define DENSE_BLOCK(BLK, n0)                                                                       \
   {                                                                                                \
@@ -47,24 +61,10 @@ const uint BOFF4 = WOFF4 + K4 * N4 / 4u;
         acc[r][j] = b4.x; acc[r][j + 1] = b4.y; acc[r][j + 2] = b4.z; acc[r][j + 3] = b4.w;        \
       }                                                                                            \
     }                                                                                              \
-    [[unroll]] for (uint k = 0; k < KA4; k++)                                                      \
-      [[unroll]] for (uint j = 0; j < BLK; j += 4) {                                               \
-        vec4 w4 = imageLoad(P, int(WOFF4 + (k * N4 + (n0) + j) / 4u));                            \
-        [[unroll]] for (uint r = 0; r < R; r++) {                                                  \
-          float xv = xa[r][k];                                                                     \
-          acc[r][j] += xv * w4.x; acc[r][j + 1] += xv * w4.y;                                      \
-          acc[r][j + 2] += xv * w4.z; acc[r][j + 3] += xv * w4.w;                                  \
-        }                                                                                          \
-      }                                                                                            \
-    [[unroll]] for (uint k = 0; k < KB4; k++)                                                      \
-      [[unroll]] for (uint j = 0; j < BLK; j += 4) {                                               \
-        vec4 w4 = imageLoad(P, int(WOFF4 + ((KA4 + k) * N4 + (n0) + j) / 4u));                     \
-        [[unroll]] for (uint r = 0; r < R; r++) {                                                  \
-          float xv = xb[r][k];                                                                     \
-          acc[r][j] += xv * w4.x; acc[r][j + 1] += xv * w4.y;                                      \
-          acc[r][j + 2] += xv * w4.z; acc[r][j + 3] += xv * w4.w;                                  \
-        }                                                                                          \
-      }                                                                                            \
+    [[unroll]] for (uint k = 0; k < KA4; k += 4)                                                   \
+      [[unroll]] for (uint j = 0; j < BLK; j += 4) DENSE_K4(xa, k, k, n0, j)                       \
+    [[unroll]] for (uint k = 0; k < KB4; k += 4)                                                   \
+      [[unroll]] for (uint j = 0; j < BLK; j += 4) DENSE_K4(xb, k, KA4 + k, n0, j)                 \
     [[unroll]] for (uint r = 0; r < R; r++) {                                                      \
       uint row = row0 + r * G;                                                                     \
       if (row < pc.count)                                                                          \
@@ -93,11 +93,6 @@ void main() {
       xb[r][4 * q] = v.x; xb[r][4 * q + 1] = v.y; xb[r][4 * q + 2] = v.z; xb[r][4 * q + 3] = v.w;
     }
   }
-  if (UNROLL_N) {
-    [[unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
-    [[unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
-  } else {
-    [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
-    [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
-  }
+  [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
+  [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
 }

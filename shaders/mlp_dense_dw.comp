@@ -68,9 +68,13 @@ void main() {
         acc[i][j] += t;
       }
   }
+  // The reduction runs once per invocation: a dynamic loop keeps its code (and the JIT time of
+  // KT*NT subgroupAdds, each a loop over the lanes in llvmpipe) small.
+  float sums[KT * NT];
   [[unroll]] for (uint i = 0; i < KT; i++)
-    [[unroll]] for (uint j = 0; j < NT; j++) {
-      float s = subgroupAdd(acc[i][j]);
-      if (subgroupElect()) atomicAdd(g[GOFF + (k0 + i) * N4 + n0 + j], s);
-    }
+    [[unroll]] for (uint j = 0; j < NT; j++) sums[i * NT + j] = acc[i][j];
+  [[dont_unroll]] for (uint e = 0; e < KT * NT; e++) {
+    float s = subgroupAdd(sums[e]);
+    if (subgroupElect()) atomicAdd(g[GOFF + (k0 + e / NT) * N4 + n0 + e % NT], s);
+  }
 }

@@ -47,7 +47,7 @@ MlpTuning MlpTuning::forDevice(const Context& ctx) {
   // VKNERF_MLP_TUNING="rows=4,block=8,dwKT=8,..." overrides fields, for benchmarking shapes.
   if (const char* env = std::getenv("VKNERF_MLP_TUNING")) {
     std::map<std::string, uint32_t*> fields{{"local", &t.local},   {"rows", &t.rows},       {"block", &t.block},
-                                            {"unrollWeights", &t.unrollWeights},             {"dxRows", &t.dxRows},
+                                            {"dxRows", &t.dxRows},
                                             {"dxBlock", &t.dxBlock}, {"dwLocal", &t.dwLocal}, {"dwKT", &t.dwKT},
                                             {"dwNT", &t.dwNT},     {"dwU", &t.dwU},         {"dwRows", &t.dwRows}};
     std::string spec = env;
@@ -88,7 +88,7 @@ void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRa
                                gpu::Binding::Storage},
                               sizeof(RowPush),
                               {t_.local, s.ka4(), s.kb4(), s.n4(), s.n, act, u32(s.offset / 4, "weight offset"), t_.rows,
-                               std::min(t_.block, s.n4()), uint32_t(s.k4() * s.n4() <= t_.unrollWeights)}});
+                               std::min(t_.block, s.n4())}});
   }
   const Mat& bb = s.kb ? b : a;
   RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4};

@@ -19,7 +19,6 @@ struct MlpTuning {
   uint32_t local = 64;       // invocations per workgroup, row-parallel kernels
   uint32_t rows = 4;         // rows per invocation, forward
   uint32_t block = 8;        // output columns per block, forward (multiple of 4)
-  uint32_t unrollWeights = 8192;  // fully unroll layers with at most this many weights (JIT time grows)
   uint32_t dxRows = 4;       // rows per invocation, input gradient
   uint32_t dxBlock = 8;      // input columns per block, input gradient (multiple of 4)
   uint32_t dwLocal = 64;     // invocations per workgroup, weight gradient

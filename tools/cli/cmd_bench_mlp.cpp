@@ -6,6 +6,7 @@
 // layers + dX of the last 2 (the first layer's input gradient is not requested).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,9 @@ constexpr uint32_t kLayers = 3;
 struct Result {
   uint32_t width = 0;
   double fwdMs = 0, bwdMs = 0, inferMs = 0, fwdFlops = 0, bwdFlops = 0;
+  // Process CPU time (lavapipe's worker threads are ours): insensitive to other processes on the
+  // cores, so on a shared machine these ratios are the steadier ones.
+  double fwdCpuMs = 1e30, stepCpuMs = 1e30, blasFwdCpuMs = 1e30, blasStepCpuMs = 1e30;
   std::map<std::string, double> kernelMs, kernelFlops;
   double blasFwdMs = 0, blasBwdMs = 0;
 };
@@ -97,6 +101,13 @@ Result benchWidth(Context& ctx, uint32_t W, uint32_t batch, int reps) {
   };
   gemmFwd();
 #endif
+  auto cpu = [](auto&& fn) {
+    timespec a{}, b{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &a);
+    fn();
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &b);
+    return (b.tv_sec - a.tv_sec) * 1e3 + (b.tv_nsec - a.tv_nsec) * 1e-6;
+  };
   auto wall = [](auto&& fn) {
     auto t0 = std::chrono::steady_clock::now();
     fn();
@@ -108,9 +119,9 @@ Result benchWidth(Context& ctx, uint32_t W, uint32_t batch, int reps) {
   for (int rep = 0; rep < reps; ++rep) {
     infer.submitAndWait();
     r.inferMs = std::min(r.inferMs, sumLabel(infer.timings(), "mlp"));
-    fwd.submitAndWait();
+    r.fwdCpuMs = std::min(r.fwdCpuMs, cpu([&] { fwd.submitAndWait(); }));
     r.fwdMs = std::min(r.fwdMs, sumLabel(fwd.timings(), "mlp"));
-    step.submitAndWait();
+    r.stepCpuMs = std::min(r.stepCpuMs, cpu([&] { step.submitAndWait(); }));
     auto t = step.timings();
     r.bwdMs = std::min(r.bwdMs, sumLabel(t, "mlp") - sumLabel(t, "mlp forward"));
     for (const char* k : {"mlp forward", "mlp dX", "mlp dW", "mlp output backward"}) {
@@ -120,6 +131,11 @@ Result benchWidth(Context& ctx, uint32_t W, uint32_t batch, int reps) {
 #ifdef VKNERF_HAVE_BLAS
     r.blasFwdMs = std::min(r.blasFwdMs, wall(gemmFwd));
     r.blasBwdMs = std::min(r.blasBwdMs, wall(gemmBwd));
+    r.blasFwdCpuMs = std::min(r.blasFwdCpuMs, cpu(gemmFwd));
+    r.blasStepCpuMs = std::min(r.blasStepCpuMs, cpu([&] {
+      gemmFwd();
+      gemmBwd();
+    }));
 #else
     r.blasFwdMs = r.blasBwdMs = 0;
 #endif
@@ -191,9 +207,10 @@ Registration benchMlp("bench mlp", "Throughput of the MLP kernels against OpenBL
     auto ctx = g.context();
     auto json = nlohmann::json::array();
     if (!o->json)
-      std::printf("%d dense WxW layers, batch %u, device %s\n%6s %12s %10s %12s %10s %10s %10s %8s %8s | %9s %9s %9s\n",
+      std::printf("%d dense WxW layers, batch %u, device %s\n%6s %12s %10s %12s %10s %10s %10s %8s %8s %8s %8s | %9s %9s %9s\n",
                   int(kLayers), o->batch, ctx->describe().c_str(), "width", "fwd samp/s", "fwd GF/s", "f+b samp/s",
-                  "f+b GF/s", "blas fwd", "blas f+b", "fwd rat", "f+b rat", "fwd GF/s", "dX GF/s", "dW GF/s");
+                  "f+b GF/s", "blas fwd", "blas f+b", "fwd rat", "f+b rat", "cpu fwd", "cpu f+b", "fwd GF/s", "dX GF/s",
+                  "dW GF/s");
     for (uint32_t W : o->widths) {
       if (W == 0 || W % 4) throw vknerf::Error("bench mlp: width " + std::to_string(W) + " is not a positive multiple of 4");
       Result r = benchWidth(*ctx, W, o->batch, o->reps);
@@ -217,11 +234,13 @@ Registration benchMlp("bench mlp", "Throughput of the MLP kernels against OpenBL
                       {"fwd_ratio", fwdRatio},
                       {"ratio", ratio},
                       {"kernel_gflops", {{"forward", kf}, {"dX", kx}, {"dW", kw}}},
+                      {"cpu_time_fwd_ratio", r.blasFwdCpuMs / r.fwdCpuMs},
+                      {"cpu_time_ratio", r.blasStepCpuMs / r.stepCpuMs},
                       {"kernel_ms", r.kernelMs}});
       if (!o->json)
-        std::printf("%6u %12.0f %10.1f %12.0f %10.1f %10.1f %10.1f %8.2f %8.2f | %9.1f %9.1f %9.1f\n", W,
+        std::printf("%6u %12.0f %10.1f %12.0f %10.1f %10.1f %10.1f %8.2f %8.2f %8.2f %8.2f | %9.1f %9.1f %9.1f\n", W,
                     o->batch / (r.fwdMs * 1e-3), fwdG, o->batch / ((r.fwdMs + r.bwdMs) * 1e-3), allG, blasFwd, blasAll,
-                    fwdRatio, ratio, kf, kx, kw);
+                    fwdRatio, ratio, r.blasFwdCpuMs / r.fwdCpuMs, r.blasStepCpuMs / r.stepCpuMs, kf, kx, kw);
     }
     if (o->nerf) {
       auto n = benchNerf(*ctx, o->batch, o->reps);

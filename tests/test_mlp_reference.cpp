@@ -31,9 +31,10 @@ double nerfLoss(const ref::NerfShape& s, const std::vector<double>& p, const std
   return L;
 }
 
-// Central differences with step h have truncation error O(h^2 f''') ~ 1e-12 and rounding error
-// O(eps |L| / h) ~ 1e-10 here; a ReLU kink inside [x-h, x+h] is improbable with random inputs.
-// Tolerance: 1e-6 absolute + 1e-6 relative.
+// Central differences with step h = 1e-5 have truncation error ~h^2 |f'''| ~ 1e-10 and rounding
+// error ~eps |L| / h ~ 1e-11 for these O(1) losses; a ReLU kink inside [x-h, x+h] is improbable
+// with random inputs. Tolerance 1e-6 absolute + 1e-6 relative leaves a wide margin while any
+// wrong term of an O(0.01..1) gradient still fails.
 constexpr double kFdStep = 1e-5, kFdTol = 1e-6;
 
 class MlpReference : public ::testing::TestWithParam<ref::DensityActivation> {};

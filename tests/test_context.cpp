@@ -151,3 +151,35 @@ TEST_F(ContextTest, BufferRoundTripAndZero) {
   EXPECT_TRUE(empty.valid());
   EXPECT_TRUE(empty.download<float>().empty());
 }
+
+TEST_F(ContextTest, IndirectDispatchReadsGroupCountsFromTheDevice) {
+  // rays.comp asked for 1000 rays, but the indirect arguments allow 2 workgroups of 64: exactly
+  // 128 rays are written, the rest keep their sentinel.
+  struct Push {
+    float aabbMin[4], aabbMax[4];
+    uint32_t mode, camera, first, count;
+  } push{{-1, -1, -1, 0}, {1, 1, 1, 0}, 0, 0, 0, 1000};
+  gpu::Kernel rays(ctx(), {"rays", {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push), {}});
+  Camera cam;
+  cam.fx = cam.fy = 10;
+  cam.width = cam.height = 40;
+  cam.cx = cam.cy = 20;
+  cam.c2w[11] = 3;
+  auto camBuf = gpu::Buffer::of(ctx(), nerf::packCameras(std::span<const Camera>(&cam, 1)));
+  auto out = gpu::Buffer::of(ctx(), std::vector<float>(1000 * 8, 7.0f));
+  gpu::Buffer ids(ctx(), 1000 * nerf::kPixelIdBytes);
+  auto args = gpu::Buffer::of(ctx(), std::vector<uint32_t>{0, 2, 1, 1});
+  gpu::Recorder rec(ctx());
+  rec.begin();
+  EXPECT_THROW(rec.dispatchIndirect(rays, {camBuf, out, ids}, &push, sizeof push, args, 8, "rays"), Error);
+  rec.dispatchIndirect(rays, {camBuf, out, ids}, &push, sizeof push, args, 4, "rays");
+  rec.end();
+  rec.submitAndWait();
+  auto r = out.download<float>(1000 * 8);
+  for (int i = 0; i < 1000; ++i) {
+    if (i < 128)
+      ASSERT_NE(r[8 * i + 6], 7.0f) << i;  // a direction component was written
+    else
+      ASSERT_EQ(r[8 * i + 6], 7.0f) << i;
+  }
+}

@@ -4,21 +4,13 @@
 #include <cmath>
 
 #include "gpu_test.h"
+#include "nerf/image_io.h"
 #include "nerf/metrics.h"
 #include "vknerf/trainer.h"
 
 using namespace vknerf;
 
 namespace {
-
-std::vector<float> groundTruth(const ImageRGBA8& im, const std::array<float, 3>& bg) {
-  std::vector<float> rgb(size_t(im.width) * im.height * 3);
-  for (size_t p = 0; p < size_t(im.width) * im.height; ++p) {
-    float a = im.rgba[p * 4 + 3] / 255.0f;
-    for (int k = 0; k < 3; ++k) rgb[p * 3 + k] = im.rgba[p * 4 + k] / 255.0f * a + bg[k] * (1 - a);
-  }
-  return rgb;
-}
 
 class EndToEnd : public test::GpuTest {};
 
@@ -49,13 +41,13 @@ TEST_F(EndToEnd, TrainsSampleSceneAboveConstantBaseline) {
   const size_t views = 5;
   std::vector<float> all, mean(3, 0.0f);
   for (size_t i = 0; i < views; ++i) {
-    auto gt = groundTruth(test.images[i], cfg.background);
+    auto gt = nerf::compositeOver(test.images[i], cfg.background);
     all.insert(all.end(), gt.begin(), gt.end());
   }
   for (size_t p = 0; p < all.size(); ++p) mean[p % 3] += all[p] / float(all.size() / 3);
   double psnr = 0, baseline = 0, ssim = 0;
   for (size_t i = 0; i < views; ++i) {
-    auto gt = groundTruth(test.images[i], cfg.background);
+    auto gt = nerf::compositeOver(test.images[i], cfg.background);
     RenderedImage img = trainer.model().render(test.cameras[i]);
     std::vector<float> constant(gt.size());
     for (size_t p = 0; p < gt.size(); ++p) constant[p] = mean[p % 3];

@@ -14,7 +14,7 @@ std::atomic<uint64_t> nextBufferId{1};
 
 constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                                      VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
+                                      VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
 
 struct Raw {
   VkBuffer buffer = VK_NULL_HANDLE;
@@ -132,6 +132,12 @@ void Buffer::zero() {
     return;
   }
   ctx_->runOnce([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, 0); });
+}
+
+void requireBytes(const char* stage, const char* what, const BufferRange& r, uint64_t needed) {
+  if (needed > 0 && boundBytes(r) < needed)
+    throw Error(std::string(stage) + ": " + what + " buffer holds " + std::to_string(boundBytes(r)) + " bytes, needs " +
+                std::to_string(needed));
 }
 
 }  // namespace vknerf::gpu

@@ -66,4 +66,14 @@ struct BufferRange {
   BufferRange(const Buffer& b, VkDeviceSize off, VkDeviceSize len) : buffer(&b), offset(off), range(len) {}
 };
 
+// Bytes a range binds (0 for an empty or invalid one).
+inline VkDeviceSize boundBytes(const BufferRange& r) {
+  if (!r.buffer || !r.buffer->valid()) return 0;
+  if (r.range != VK_WHOLE_SIZE) return r.range;
+  return r.offset < r.buffer->size() ? r.buffer->size() - r.offset : 0;
+}
+
+// Throws vknerf::Error "<stage>: <what> buffer holds N bytes, needs M" when the range is too small.
+void requireBytes(const char* stage, const char* what, const BufferRange& r, uint64_t needed);
+
 }  // namespace vknerf::gpu

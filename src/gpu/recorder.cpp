@@ -1,5 +1,7 @@
 #include "gpu/recorder.h"
 
+#include <functional>
+
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -43,37 +45,54 @@ void Recorder::begin() {
 
 // Each kernel reads what the previous one wrote; a full compute/transfer memory barrier between
 // consecutive commands is the simple correct rule, and it costs nothing measurable (LAVAPIPE.md).
-void Recorder::barrierIfNeeded() {
+void Recorder::barrierIfNeeded(bool indirectNext) {
   if (!pending_) return;
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
                      VK_ACCESS_TRANSFER_WRITE_BIT;
-  const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-  vkCmdPipelineBarrier(cmd_, stages, stages, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  VkPipelineStageFlags src = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst = src;
+  if (indirectNext) {  // dispatch arguments written by a shader are read by the indirect-command stage
+    mb.dstAccessMask |= VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
+    dst |= VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
+  }
+  vkCmdPipelineBarrier(cmd_, src, dst, 0, 1, &mb, 0, nullptr, 0, nullptr);
   pending_ = false;
 }
 
-void Recorder::dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
-                        uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
-  if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
+void Recorder::recordKernel(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
+                            uint32_t pushBytes, const char* label, bool indirect,
+                            const std::function<void()>& issue) {
   if (pushBytes != k.desc().pushConstantBytes)
     throw Error("kernel " + k.desc().shader + " expects " + std::to_string(k.desc().pushConstantBytes) +
                 " bytes of push constants, got " + std::to_string(pushBytes));
   VkDescriptorSet set = k.descriptorSet(std::span<const BufferRange>(bindings.begin(), bindings.size()));
-  barrierIfNeeded();
+  barrierIfNeeded(indirect);
   bool timed = queries_ && label && labels_.size() < maxTimestamps_;
   uint32_t q = uint32_t(labels_.size()) * 2;
   if (timed) vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, q);
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
   vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout(), 0, 1, &set, 0, nullptr);
   if (pushBytes) vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, push);
-  vkCmdDispatch(cmd_, gx, gy, gz);
+  issue();
   if (timed) {
     vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q + 1);
     labels_.emplace_back(label);
   }
   pending_ = true;
+}
+
+void Recorder::dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+                        uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
+  if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
+  recordKernel(k, bindings, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
+}
+
+void Recorder::dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
+                                uint32_t pushBytes, const Buffer& args, VkDeviceSize offset, const char* label) {
+  if (offset % 4 || offset + 12 > args.size()) throw Error("dispatchIndirect: arguments lie outside the buffer");
+  recordKernel(k, bindings, push, pushBytes, label, true,
+               [&] { vkCmdDispatchIndirect(cmd_, args.handle(), offset); });
 }
 
 void Recorder::copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset, VkDeviceSize dstOffset) {

@@ -4,6 +4,7 @@
 // (re-submittable: a training step is recorded once and replayed) or records into a caller's.
 #include <vulkan/vulkan.h>
 
+#include <functional>
 #include <initializer_list>
 #include <string>
 #include <utility>
@@ -33,6 +34,10 @@ class Recorder {
                 uint32_t gz = 1, const char* label = nullptr) {
     dispatch(k, bindings, &push, sizeof(P), gx, gy, gz, label);
   }
+  // Workgroup counts read on the device from a VkDispatchIndirectCommand at `offset` (e.g. written
+  // by the marcher from its sample total), so a step needs no host round trip.
+  void dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+                        const Buffer& args, VkDeviceSize offset, const char* label = nullptr);
   void copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset = 0, VkDeviceSize dstOffset = 0);
   void fill(Buffer& dst, uint32_t value, VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
   void end();
@@ -44,7 +49,9 @@ class Recorder {
   std::vector<std::pair<std::string, double>> timings() const;
 
  private:
-  void barrierIfNeeded();
+  void barrierIfNeeded(bool indirectNext = false);
+  void recordKernel(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+                    const char* label, bool indirect, const std::function<void()>& issue);
   Context& ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

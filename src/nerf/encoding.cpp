@@ -21,9 +21,6 @@ uint32_t checkedDims(uint32_t inputDims, uint32_t levels) {
   return inputDims;
 }
 
-VkDeviceSize boundBytes(const gpu::BufferRange& r) {
-  return r.range == VK_WHOLE_SIZE ? r.buffer->size() - r.offset : r.range;
-}
 }  // namespace
 
 FrequencyEncoding::FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t levels, bool includeInput)
@@ -47,7 +44,7 @@ void FrequencyEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& input
                 std::to_string(columnOffset + paddedDims()) + ") do not fit a row of " + std::to_string(stride));
   if (count == 0) return;
   const VkDeviceSize need = VkDeviceSize(count) * stride * 4;
-  if (boundBytes(features) < need || boundBytes(inputs) < VkDeviceSize(count) * 16)
+  if (gpu::boundBytes(features) < need || gpu::boundBytes(inputs) < VkDeviceSize(count) * 16)
     throw Error("FrequencyEncoding: buffers too small for " + std::to_string(count) + " rows");
   // A matrix larger than one descriptor can bind (128 MiB on lavapipe) is encoded in chunks of
   // rows, each bound at its own offset. 64-row multiples keep every offset aligned.

@@ -9,10 +9,6 @@ namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
 
-VkDeviceSize boundBytes(const gpu::BufferRange& r) {
-  return r.range == VK_WHOLE_SIZE ? r.buffer->size() - r.offset : r.range;
-}
-
 const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
   auto fail = [](const std::string& m) { throw Error("HashEncoding: " + m); };
   if (c.levels < 1 || c.levels > 24) fail("levels must be 1..24, got " + std::to_string(c.levels));
@@ -70,11 +66,11 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
   if (columnOffset + paddedDims() > stride)
     throw Error(name + "columns [" + std::to_string(columnOffset) + ", " + std::to_string(columnOffset + paddedDims()) +
                 ") do not fit a row of " + std::to_string(stride));
-  if (boundBytes(table) < VkDeviceSize(parameterCount()) * 4)
+  if (gpu::boundBytes(table) < VkDeviceSize(parameterCount()) * 4)
     throw Error(name + "parameter buffer holds fewer than " + std::to_string(parameterCount()) + " floats");
   if (count == 0) return;
   const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
-  if (boundBytes(matrix) < count * rowBytes || boundBytes(positions) < VkDeviceSize(count) * 16)
+  if (gpu::boundBytes(matrix) < count * rowBytes || gpu::boundBytes(positions) < VkDeviceSize(count) * 16)
     throw Error(name + "buffers too small for " + std::to_string(count) + " rows");
   // Rows beyond one binding (storage range or texel count) go in chunks bound at row offsets;
   // 64-row multiples keep every offset aligned for texel buffer views.

@@ -81,4 +81,13 @@ ImageRGBA8 downscaleImage(const ImageRGBA8& image, uint32_t factor) {
   return out;
 }
 
+std::vector<float> compositeOver(const ImageRGBA8& im, const std::array<float, 3>& bg) {
+  std::vector<float> rgb(size_t(im.width) * im.height * 3);
+  for (size_t p = 0; p < size_t(im.width) * im.height; ++p) {
+    float a = im.rgba[p * 4 + 3] / 255.0f;
+    for (int k = 0; k < 3; ++k) rgb[p * 3 + k] = im.rgba[p * 4 + k] / 255.0f * a + bg[k] * (1 - a);
+  }
+  return rgb;
+}
+
 }  // namespace vknerf::nerf

@@ -1,6 +1,7 @@
 #pragma once
 // Image files in and out (stb_image / stb_image_write), and the box-filter downscale used by datasets.
 #include <cstdint>
+#include <array>
 #include <string>
 
 #include "vknerf/dataset.h"
@@ -24,5 +25,9 @@ void savePng(const std::string& path, const ImageRGBA8& image);
 // intrinsics (f / factor, c / factor) put them. Throws vknerf::Error for factor 0 or an image
 // smaller than the factor.
 ImageRGBA8 downscaleImage(const ImageRGBA8& image, uint32_t factor);
+
+// The image as the model is asked to reproduce it: straight alpha composited over `background`,
+// 3 floats per pixel in [0, 1].
+std::vector<float> compositeOver(const ImageRGBA8& image, const std::array<float, 3>& background);
 
 }  // namespace vknerf::nerf

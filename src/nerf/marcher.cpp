@@ -29,17 +29,7 @@ struct TotalsPush {
 
 constexpr uint32_t kScanBlock = 1024, kAddLocal = 256, kMarchLocal = 32;
 
-VkDeviceSize bytesOf(const gpu::BufferRange& r) {
-  if (!r.buffer || !r.buffer->valid()) return 0;
-  if (r.range != VK_WHOLE_SIZE) return r.range;
-  return r.offset < r.buffer->size() ? r.buffer->size() - r.offset : 0;
-}
-
-void requireBytes(const char* stage, const char* what, const gpu::BufferRange& r, uint64_t needed) {
-  if (needed > 0 && bytesOf(r) < needed)
-    throw Error(std::string(stage) + ": " + what + " buffer holds " + std::to_string(bytesOf(r)) + " bytes, needs " +
-                std::to_string(needed));
-}
+using gpu::requireBytes;
 
 struct TruncatePush {
   uint32_t numRays;
@@ -158,7 +148,7 @@ void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32
   requireBytes("RayMarcher", "rays", rays, uint64_t(numRays) * kRayBytes);
   requireBytes("RayMarcher", "offsets", offsets, (uint64_t(numRays) + 1) * 4);
   requireBytes("RayMarcher", "totals", totals, kTotalsBytes);
-  uint64_t capacity = std::min<uint64_t>({bytesOf(samples) / kSampleBytes, bytesOf(sampleRay) / 4, 0xffffffffull});
+  uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(samples) / kSampleBytes, gpu::boundBytes(sampleRay) / 4, 0xffffffffull});
 
   uint32_t r = grid.resolution();
   MarchPush p{{box.min[0], box.min[1], box.min[2], dt},
@@ -231,8 +221,8 @@ void EarlyTermination::record(gpu::Recorder& rec, uint32_t numRays, const gpu::B
   requireBytes("EarlyTermination", "out offsets", outOffsets, (uint64_t(numRays) + 1) * 4);
   // The survivors never outnumber the input, so outputs as large as the inputs always suffice;
   // smaller ones clamp like the marcher's (the last rays lose samples).
-  uint64_t capacity = std::min<uint64_t>({bytesOf(outSamples) / kSampleBytes, bytesOf(outSampleRay) / 4,
-                                          bytesOf(outField) / 16, 0xffffffffull});
+  uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(outSamples) / kSampleBytes, gpu::boundBytes(outSampleRay) / 4,
+                                          gpu::boundBytes(outField) / 16, 0xffffffffull});
   auto [gx, gy] = flatGroups(ctx_, numRays, kMarchLocal);
   TruncatePush tp{numRays, maxOpticalDepth(minTransmittance)};
   rec.dispatch(truncate_, {offsets, samples, field, kept_}, tp, gx, gy, 1, "march_truncate");

@@ -24,16 +24,8 @@ struct CountPush {
 
 constexpr uint32_t kPointsLocal = 256, kSplatLocal = 256, kEmaLocal = 64, kCountLocal = 64, kCountWords = 16;
 
-VkDeviceSize bytesOf(const gpu::BufferRange& r) {
-  if (!r.buffer || !r.buffer->valid()) return 0;
-  if (r.range != VK_WHOLE_SIZE) return r.range;
-  return r.offset < r.buffer->size() ? r.buffer->size() - r.offset : 0;
-}
-
 void requireBytes(const char* what, const gpu::BufferRange& r, uint64_t needed) {
-  if (needed > 0 && bytesOf(r) < needed)
-    throw Error(std::string("OccupancyGrid: ") + what + " buffer holds " + std::to_string(bytesOf(r)) +
-                " bytes, needs " + std::to_string(needed));
+  gpu::requireBytes("OccupancyGrid", what, r, needed);
 }
 
 uint32_t checkedResolution(uint32_t r) {

@@ -24,9 +24,6 @@ const AdamConfig& checked(const AdamConfig& c) {
   return c;
 }
 
-VkDeviceSize boundBytes(const gpu::BufferRange& r) {
-  return r.range == VK_WHOLE_SIZE ? r.buffer->size() - r.offset : r.range;
-}
 }  // namespace
 
 float AdamConfig::learningRate(uint32_t step) const {
@@ -54,7 +51,7 @@ void Adam::record(gpu::Recorder& rec, const gpu::BufferRange& params, const gpu:
   for (const gpu::BufferRange* r : {&params, &grads, &m, &v}) {
     if (r->offset % align)
       throw Error("Adam: buffer offsets must be multiples of " + std::to_string(align) + " bytes");
-    if (boundBytes(*r) < VkDeviceSize(count) * 4)
+    if (gpu::boundBytes(*r) < VkDeviceSize(count) * 4)
       throw Error("Adam: a bound range holds fewer than " + std::to_string(count) + " floats");
     if (r->buffer->size() - r->offset < 16) throw Error("Adam: buffers must extend at least 16 bytes past their offset");
   }

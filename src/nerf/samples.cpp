@@ -22,17 +22,7 @@ struct PdfPush {
 constexpr uint32_t kStratifiedLocal = 32;
 constexpr uint32_t kPdfLocal = 32;
 
-VkDeviceSize bytesOf(const gpu::BufferRange& r) {
-  if (!r.buffer || !r.buffer->valid()) return 0;
-  if (r.range != VK_WHOLE_SIZE) return r.range;
-  return r.offset < r.buffer->size() ? r.buffer->size() - r.offset : 0;
-}
-
-void requireBytes(const char* stage, const char* what, const gpu::BufferRange& r, uint64_t needed) {
-  if (needed > 0 && bytesOf(r) < needed)
-    throw Error(std::string(stage) + ": " + what + " buffer holds " + std::to_string(bytesOf(r)) + " bytes, needs " +
-                std::to_string(needed));
-}
+using gpu::requireBytes;
 
 void requireIndexable(const char* stage, uint64_t count) {
   if (count > 0xffffffffull)

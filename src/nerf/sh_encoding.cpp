@@ -17,9 +17,6 @@ uint32_t checkedDegree(uint32_t degree) {
   return degree;
 }
 
-VkDeviceSize boundBytes(const gpu::BufferRange& r) {
-  return r.range == VK_WHOLE_SIZE ? r.buffer->size() - r.offset : r.range;
-}
 }  // namespace
 
 ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
@@ -37,7 +34,7 @@ void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, 
                 std::to_string(columnOffset + paddedDims()) + ") do not fit a row of " + std::to_string(stride));
   if (count == 0) return;
   const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
-  if (boundBytes(features) < count * rowBytes || boundBytes(directions) < VkDeviceSize(count) * 16)
+  if (gpu::boundBytes(features) < count * rowBytes || gpu::boundBytes(directions) < VkDeviceSize(count) * 16)
     throw Error("ShEncoding: buffers too small for " + std::to_string(count) + " rows");
   // Matrices beyond one binding are encoded in chunks of rows bound at their own offsets;
   // 64-row multiples keep the texel-buffer offsets aligned.

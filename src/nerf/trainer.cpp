@@ -61,7 +61,13 @@ TrainConfig fromJson(const json& j, const std::string& file) {
   }
 }
 
-template <class T> std::vector<T> downloadAll(const gpu::Buffer& b, size_t n) { return b.download<T>(n); }
+json configJson(const nerf::Checkpoint& ck, const std::string& path) {
+  try {
+    return json::parse(ck.config);
+  } catch (const json::exception& e) {
+    throw Error(path + ": checkpoint config is not valid JSON: " + e.what());
+  }
+}
 
 }  // namespace
 
@@ -135,12 +141,7 @@ void uploadChecked(const nerf::Checkpoint& ck, const std::string& name, gpu::Buf
 
 Model Model::load(std::shared_ptr<Context> ctx, const std::string& path) {
   auto ck = nerf::Checkpoint::load(path);
-  json j;
-  try {
-    j = json::parse(ck.config);
-  } catch (const json::exception& e) {
-    throw Error(path + ": checkpoint config is not valid JSON: " + e.what());
-  }
+  json j = configJson(ck, path);
   auto impl = std::make_unique<Impl>();
   impl->ctx = ctx;
   impl->config = fromJson(j.at("config"), path);
@@ -253,7 +254,7 @@ void Trainer::save(const std::string& path) const {
 TrainConfig Trainer::configOf(const std::string& path) {
   auto ck = nerf::Checkpoint::load(path);
   try {
-    return fromJson(json::parse(ck.config).at("config"), path);
+    return fromJson(configJson(ck, path).at("config"), path);
   } catch (const json::exception& e) {
     throw Error(path + ": checkpoint config: " + e.what());
   }
@@ -263,12 +264,7 @@ void Trainer::resume(const std::string& path) {
   auto& s = *impl_;
   auto& p = *s.pipe;
   auto ck = nerf::Checkpoint::load(path);
-  json j;
-  try {
-    j = json::parse(ck.config);
-  } catch (const json::exception& e) {
-    throw Error(path + ": checkpoint config is not valid JSON: " + e.what());
-  }
+  json j = configJson(ck, path);
   TrainConfig saved = fromJson(j.at("config"), path);
   if (toJson(saved)["model"] != toJson(s.config)["model"])
     throw Error(path + ": checkpoint model config differs from this run's (" + saved.describe() + ")");

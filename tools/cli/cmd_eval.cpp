@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "nerf/image_io.h"
 #include "nerf/metrics.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
@@ -19,16 +20,6 @@ struct Options {
   uint32_t downscale = 1, limit = 0;
 };
 
-// The ground truth as the model is asked to reproduce it: straight alpha composited over the
-// model's background colour.
-std::vector<float> groundTruth(const ImageRGBA8& im, const std::array<float, 3>& bg) {
-  std::vector<float> rgb(size_t(im.width) * im.height * 3);
-  for (size_t p = 0; p < size_t(im.width) * im.height; ++p) {
-    float a = im.rgba[p * 4 + 3] / 255.0f;
-    for (int k = 0; k < 3; ++k) rgb[p * 3 + k] = im.rgba[p * 4 + k] / 255.0f * a + bg[k] * (1 - a);
-  }
-  return rgb;
-}
 
 int run(const Options& o, const Globals& g) {
   auto ctx = g.context();
@@ -45,7 +36,7 @@ int run(const Options& o, const Globals& g) {
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = model.render(data.cameras[i]);
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    auto gt = groundTruth(data.images[i], model.config().background);
+    auto gt = nerf::compositeOver(data.images[i], model.config().background);
     double p = nerf::psnr(img.rgb, gt), q = nerf::ssim(img.rgb, gt, img.width, img.height);
     sumPsnr += p, sumSsim += q, sumSeconds += s;
     images.push_back({{"name", data.names[i]}, {"psnr", p}, {"ssim", q}, {"seconds", s}});

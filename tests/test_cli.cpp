@@ -25,6 +25,9 @@ Result runCli(const std::string& args) {
   while (p && fgets(buf.data(), buf.size(), p)) r.output += buf.data();
   int status = p ? pclose(p) : -1;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  // ctest's VKNERF_VALIDATION=1 reaches the command line too: any layer message fails the test.
+  if (r.output.find("vknerf: validation") != std::string::npos)
+    ADD_FAILURE() << "validation messages from: vknerf " << args << "\n" << r.output;
   return r;
 }
 

@@ -1,5 +1,6 @@
 #include "gpu/buffer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <string>
@@ -132,6 +133,15 @@ void Buffer::zero() {
     return;
   }
   ctx_->runOnce([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, 0); });
+}
+
+uint32_t rowsPerBinding(const Context& ctx, VkDeviceSize rowBytes, uint64_t texelsPerRow) {
+  const auto& lim = ctx.properties().limits;
+  uint64_t rows = lim.maxStorageBufferRange / std::max<VkDeviceSize>(rowBytes, 1);
+  if (texelsPerRow) rows = std::min<uint64_t>(rows, lim.maxTexelBufferElements / texelsPerRow);
+  rows = std::min<uint64_t>(rows, 1u << 30) / 64 * 64;
+  if (rows == 0) throw Error("a row of " + std::to_string(rowBytes) + " bytes exceeds the device's buffer range");
+  return uint32_t(rows);
 }
 
 void requireBytes(const char* stage, const char* what, const BufferRange& r, uint64_t needed) {

@@ -73,6 +73,11 @@ inline VkDeviceSize boundBytes(const BufferRange& r) {
   return r.offset < r.buffer->size() ? r.buffer->size() - r.offset : 0;
 }
 
+// Rows of `rowBytes` that one binding can hold: within maxStorageBufferRange and, when rows are
+// also viewed as rgba32f texels (`texelsPerRow` > 0), within maxTexelBufferElements. Rounded down
+// to a multiple of 64 rows, so chunk offsets keep any sane alignment; throws if not even 64 fit.
+uint32_t rowsPerBinding(const Context& ctx, VkDeviceSize rowBytes, uint64_t texelsPerRow = 0);
+
 // Throws vknerf::Error "<stage>: <what> buffer holds N bytes, needs M" when the range is too small.
 void requireBytes(const char* stage, const char* what, const BufferRange& r, uint64_t needed);
 

@@ -47,9 +47,9 @@ void FrequencyEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& input
   if (gpu::boundBytes(features) < need || gpu::boundBytes(inputs) < VkDeviceSize(count) * 16)
     throw Error("FrequencyEncoding: buffers too small for " + std::to_string(count) + " rows");
   // A matrix larger than one descriptor can bind (128 MiB on lavapipe) is encoded in chunks of
-  // rows, each bound at its own offset. 64-row multiples keep every offset aligned.
-  const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4, limit = ctx_.properties().limits.maxStorageBufferRange;
-  const uint32_t chunk = uint32_t(std::min<VkDeviceSize>(count, limit / rowBytes / 64 * 64));
+  // rows, each bound at its own offset.
+  const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
+  const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes));
   for (uint32_t first = 0; first < count; first += chunk) {
     const uint32_t rows = std::min(chunk, count - first);
     gpu::BufferRange in(*inputs.buffer, inputs.offset + VkDeviceSize(first) * 16, VkDeviceSize(rows) * 16);

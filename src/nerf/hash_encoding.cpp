@@ -72,12 +72,8 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
   const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
   if (gpu::boundBytes(matrix) < count * rowBytes || gpu::boundBytes(positions) < VkDeviceSize(count) * 16)
     throw Error(name + "buffers too small for " + std::to_string(count) + " rows");
-  // Rows beyond one binding (storage range or texel count) go in chunks bound at row offsets;
-  // 64-row multiples keep every offset aligned for texel buffer views.
-  const auto& lim = ctx_.properties().limits;
-  VkDeviceSize rows = std::min<VkDeviceSize>(lim.maxStorageBufferRange / rowBytes, lim.maxTexelBufferElements / (stride / 4));
-  rows = std::min<VkDeviceSize>(rows, lim.maxTexelBufferElements);
-  const uint32_t chunk = uint32_t(std::min<VkDeviceSize>(count, rows / 64 * 64));
+  // Rows beyond one binding (storage range or texel count) go in chunks bound at row offsets.
+  const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes, std::max<uint64_t>(stride / 4, 1)));
   for (uint32_t first = 0; first < count; first += chunk) {
     const uint32_t n = std::min(chunk, count - first);
     gpu::BufferRange in(*positions.buffer, positions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);

@@ -22,14 +22,9 @@ constexpr uint32_t kHeadLocal = 64;
 constexpr uint32_t kInferenceRows = 16384;  // rows of the internal scratch used without a workspace
 
 // Rows per chunk such that a matrix of `maxStride` floats per row fits one storage binding and one
-// texel view; a multiple of 64 rows so row offsets keep any sane offset alignment.
+// texel view.
 uint32_t deviceChunkRows(const Context& ctx, uint32_t maxStride) {
-  const auto& lim = ctx.properties().limits;
-  uint64_t bytesPerRow = uint64_t(maxStride) * 4;
-  uint64_t rows = std::min<uint64_t>(lim.maxStorageBufferRange / bytesPerRow, uint64_t(lim.maxTexelBufferElements) * 16 / bytesPerRow);
-  rows = std::min<uint64_t>(rows, 1u << 30) / 64 * 64;
-  if (rows == 0) throw Error("MLP: one row of " + std::to_string(maxStride) + " floats exceeds the device's buffer range");
-  return uint32_t(rows);
+  return gpu::rowsPerBinding(ctx, VkDeviceSize(maxStride) * 4, std::max<uint64_t>(maxStride / 4, 1));
 }
 
 gpu::Buffer rowsBuffer(Context& ctx, uint32_t rows, uint32_t stride) {

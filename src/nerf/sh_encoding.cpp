@@ -36,11 +36,9 @@ void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, 
   const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
   if (gpu::boundBytes(features) < count * rowBytes || gpu::boundBytes(directions) < VkDeviceSize(count) * 16)
     throw Error("ShEncoding: buffers too small for " + std::to_string(count) + " rows");
-  // Matrices beyond one binding are encoded in chunks of rows bound at their own offsets;
-  // 64-row multiples keep the texel-buffer offsets aligned.
-  const auto& lim = ctx_.properties().limits;
-  const VkDeviceSize rows = std::min<VkDeviceSize>(lim.maxStorageBufferRange / rowBytes, lim.maxTexelBufferElements);
-  const uint32_t chunk = uint32_t(std::min<VkDeviceSize>(count, rows / 64 * 64));
+  // Matrices beyond one binding are encoded in chunks of rows bound at their own offsets (the
+  // directions are read as one texel per row).
+  const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes, 1));
   for (uint32_t first = 0; first < count; first += chunk) {
     const uint32_t n = std::min(chunk, count - first);
     gpu::BufferRange in(*directions.buffer, directions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);

@@ -19,6 +19,15 @@ struct ModelConfig {
   DensityActivation density = DensityActivation::Relu;
   uint32_t coarseSamples = 64, fineSamples = 128;  // per ray
   bool separateFineNetwork = true;                 // paper: two networks; false: one network queried twice
+
+  // "fast" (instant-ngp style): multiresolution hash grid -> trunk of `depth` x `width` (sigma and a
+  // feature) -> with SH(d) -> colour layer; samples marched through an occupancy grid.
+  uint32_t hashLevels = 16, hashFeatures = 2, hashLog2Size = 19, hashBaseResolution = 16;
+  float hashGrowth = 1.5f;            // per-level resolution factor b
+  uint32_t shDegree = 4;              // direction encoding: shDegree^2 coefficients
+  uint32_t gridResolution = 64;       // occupancy cells per axis over the scene box
+  uint32_t marchSteps = 512;          // march step = box diagonal / marchSteps
+  uint32_t maxSamplesPerRay = 512;
 };
 
 struct TrainConfig {
@@ -31,7 +40,16 @@ struct TrainConfig {
   std::array<float, 3> background{1, 1, 1};               // for evaluation and rendering
   uint32_t seed = 0;
 
+  // fast model only
+  uint32_t samplesPerBatch = 1u << 16;   // rays per step adapt to march about this many samples
+  uint32_t gridUpdateInterval = 16;      // steps between occupancy updates
+  uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
+  float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's
+
   static TrainConfig vanilla(const Context& ctx);  // sized for the device
+  static TrainConfig fast(const Context& ctx);
+  // "vanilla" or "fast"; throws vknerf::Error for anything else.
+  static TrainConfig named(const std::string& name, const Context& ctx);
   std::string describe() const;                    // one line, printed at the start of training
 };
 

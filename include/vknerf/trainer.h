@@ -32,6 +32,7 @@ struct StepStats {
   bool hasLoss = false;  // loss is read back only when asked (every K steps)
   double loss = 0;       // fine-pass MSE of this step's batch
   double psnr = 0;
+  uint32_t rays = 0;     // rays in this step's batch (the fast model adapts it)
 };
 
 // A trained field: the model configuration, its parameters and the scene box.
@@ -64,6 +65,8 @@ class Trainer {
   const Model& model() const;
   // Device milliseconds per kernel of the last step (GPU timestamps), in recording order.
   std::vector<std::pair<std::string, double>> lastStepTimings() const;
+  // What the model spends, as named numbers (fast model: occupied fraction, samples per ray, ...).
+  std::vector<std::pair<std::string, double>> statistics() const;
 
   // Checkpoint: config, parameters, Adam state and the step, written atomically.
   void save(const std::string& path) const;

@@ -1,6 +1,9 @@
 #include "vknerf/config.h"
 
+#include <cmath>
 #include <sstream>
+
+#include "vknerf/error.h"
 
 namespace vknerf {
 
@@ -25,8 +28,65 @@ TrainConfig TrainConfig::vanilla(const Context& ctx) {
   return c;
 }
 
+TrainConfig TrainConfig::fast(const Context& ctx) {
+  TrainConfig c;
+  ModelConfig& m = c.model;
+  m.name = "fast";
+  m.depth = 1;  // instant-ngp: one hidden layer for density, the colour layer after it
+  m.width = 64;
+  m.skipLayer = 0;
+  m.density = DensityActivation::TruncExp;
+  m.separateFineNetwork = false;
+  m.hashLevels = 16;
+  m.hashFeatures = 2;
+  m.hashLog2Size = 19;
+  m.hashBaseResolution = 16;
+  m.hashGrowth = 1.447f;  // 16 -> ~4096 cells over 16 levels (instant-ngp's 2048 per unit of a 2-unit box)
+  m.gridResolution = 128;
+  m.marchSteps = 1024;
+  m.maxSamplesPerRay = 1024;
+  c.raysPerBatch = 1u << 18;  // the most rays a step may take; samplesPerBatch decides
+  c.samplesPerBatch = 1u << 18;
+  c.learningRate = 1e-2f;
+  c.learningRateFinal = 1e-3f;
+  c.decaySteps = 20000;
+  c.beta1 = 0.9f;
+  c.beta2 = 0.99f;
+  c.epsilon = 1e-15f;
+  if (ctx.isCpu()) {
+    // 100x100 views resolve ~2 cm on a 2 m box: 8 levels up to 256 cells and a 64^3 occupancy grid
+    // hold all the detail they show, at a fraction of the work per sample.
+    m.hashLevels = 8;
+    m.hashLog2Size = 17;
+    m.hashGrowth = float(std::pow(256.0 / 16.0, 1.0 / 7.0));
+    m.gridResolution = 64;
+    m.marchSteps = 256;
+    m.maxSamplesPerRay = 256;
+    c.raysPerBatch = 1u << 14;
+    c.samplesPerBatch = 1u << 15;
+    c.decaySteps = 4000;
+    c.gridUpdateInterval = 16;
+    c.gridWarmupSteps = 64;
+  }
+  return c;
+}
+
+TrainConfig TrainConfig::named(const std::string& name, const Context& ctx) {
+  if (name == "vanilla") return vanilla(ctx);
+  if (name == "fast") return fast(ctx);
+  throw Error("unknown model configuration \"" + name + "\" (expected vanilla or fast)");
+}
+
 std::string TrainConfig::describe() const {
   std::ostringstream os;
+  if (model.name == "fast") {
+    os << "fast: hash grid L=" << model.hashLevels << " F=" << model.hashFeatures << " T=" << model.hashLog2Size
+       << " N=" << model.hashBaseResolution << " b=" << model.hashGrowth << ", MLP " << model.depth << "x"
+       << model.width << ", SH degree " << model.shDegree << ", occupancy " << model.gridResolution << "^3, "
+       << model.marchSteps << " steps per diagonal, ~" << samplesPerBatch << " samples/step, Adam lr "
+       << learningRate << " -> " << learningRateFinal << " over " << decaySteps << " steps";
+    return os.str();
+  }
   os << model.name << ": MLP " << model.depth << "x" << model.width << " (skip at " << model.skipLayer << "), gamma L="
      << model.posLevels << "/" << model.dirLevels << ", samples " << model.coarseSamples << "+" << model.fineSamples
      << (model.separateFineNetwork ? ", coarse+fine networks" : ", one network") << ", " << raysPerBatch

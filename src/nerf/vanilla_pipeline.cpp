@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "reference/rng.h"
+
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
@@ -136,6 +138,46 @@ void VanillaPipeline::recordTrainStep(gpu::Recorder& rec, uint32_t numRays, cons
   if (separateFine())
     adam_->record(rec, fine_.params, fine_.grads, fine_.m, fine_.v, uint32_t(fine_.mlp->parameterCount()), step,
                   learningRate);
+}
+
+void VanillaPipeline::recordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
+                                   uint32_t count, const std::array<float, 3>& background, bool) {
+  rayGen_.recordImage(rec, cameras, camera, first, count, box_, kNearPlane, rays_, pixelIds_);
+  backgrounds_.recordConstant(rec, background_, count, background);
+  recordForward(rec, count, 0, false);
+}
+
+uint32_t VanillaPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
+  const uint32_t R = capacity_;
+  const uint32_t seed = ref::pcgHash(config_.seed * 7919u + step);
+  const float lr = config_.learningRate *
+                   std::pow(config_.learningRateFinal / config_.learningRate, float(step) / float(config_.decaySteps));
+  rec.begin();
+  rayGen_.recordRandom(rec, *data.cameras, data.numCameras, seed, R, box_, kNearPlane, rays_, pixelIds_);
+  if (config_.randomBackground)
+    backgrounds_.recordRandom(rec, background_, R, seed);
+  else
+    backgrounds_.recordConstant(rec, background_, R, config_.background);
+  recordForward(rec, R, seed, true);
+  recordTrainStep(rec, R, *data.images, *data.cameras, step + 1, lr);
+  rec.end();
+  rec.submitAndWait();
+  return R;
+}
+
+std::vector<StateArray> VanillaPipeline::state() {
+  std::vector<StateArray> out;
+  auto add = [&](const std::string& prefix, NetworkState& n) {
+    const size_t count = n.mlp->parameterCount();
+    out.push_back({prefix + ".params", &n.params, count, false});
+    if (training_) {
+      out.push_back({prefix + ".adam_m", &n.m, count, true});
+      out.push_back({prefix + ".adam_v", &n.v, count, true});
+    }
+  };
+  add("coarse", coarse_);
+  if (separateFine()) add("fine", fine_);
+  return out;
 }
 
 }  // namespace vknerf::nerf

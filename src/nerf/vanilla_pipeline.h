@@ -11,6 +11,7 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "nerf/composite.h"
+#include "nerf/field_pipeline.h"
 #include "nerf/encoding.h"
 #include "nerf/loss.h"
 #include "nerf/mlp.h"
@@ -38,16 +39,25 @@ struct LevelBuffers {
   std::unique_ptr<NerfMlp::Workspace> workspace;  // activations kept for backward (training only)
 };
 
-class VanillaPipeline {
+class VanillaPipeline final : public FieldPipeline {
  public:
   VanillaPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity, bool training);
+
+  // FieldPipeline
+  uint32_t rayCapacity() const override { return capacity_; }
+  void recordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
+                    uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
+  const gpu::Buffer& color() const override { return levels_[1].color; }
+  const gpu::Buffer& depth() const override { return levels_[1].depth; }
+  uint32_t trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
+  std::vector<StateArray> state() override;
 
   NetworkState& coarse() { return coarse_; }
   NetworkState& fine() { return config_.model.separateFineNetwork ? fine_ : coarse_; }
   const NetworkState& coarse() const { return coarse_; }
   const NetworkState& fine() const { return config_.model.separateFineNetwork ? fine_ : coarse_; }
   bool separateFine() const { return config_.model.separateFineNetwork; }
-  uint32_t rayCapacity() const { return capacity_; }
 
   gpu::Buffer& rays() { return rays_; }
   gpu::Buffer& pixelIds() { return pixelIds_; }

@@ -60,7 +60,7 @@ int train(const Options& o, const Globals& g) {
               data.images.size(), data.images[0].width, data.images[0].height, o.scene.c_str(), data.bounds.min[0],
               data.bounds.min[1], data.bounds.min[2], data.bounds.max[0], data.bounds.max[1], data.bounds.max[2],
               data.boundsSource.c_str());
-  TrainConfig cfg = TrainConfig::vanilla(*ctx);
+  TrainConfig cfg = TrainConfig::named(o.config, *ctx);
   if (o.rays) cfg.raysPerBatch = o.rays;
   if (o.width) cfg.model.width = o.width;
   if (o.depth) cfg.model.depth = o.depth, cfg.model.skipLayer = std::min(cfg.model.skipLayer, o.depth - 1);
@@ -94,7 +94,7 @@ int train(const Options& o, const Globals& g) {
       double eta = frac > 0 ? s / frac - s : 0;
       char line[256];
       std::snprintf(line, sizeof line, "step %6u  loss %.5f  train PSNR %5.2f dB  %7.0f rays/s  %s elapsed  ETA %s",
-                    trainer.steps(), st.loss, st.psnr, rate * cfg.raysPerBatch, clock(s).c_str(), clock(eta).c_str());
+                    trainer.steps(), st.loss, st.psnr, rate * st.rays, clock(s).c_str(), clock(eta).c_str());
       if (tty) {
         int bar = int(std::min(1.0, frac) * 20);
         std::printf("\r[%.*s%*s] %s", bar, "####################", 20 - bar, "", line);
@@ -106,6 +106,7 @@ int train(const Options& o, const Globals& g) {
     if (o.saveEvery && trainer.steps() % o.saveEvery == 0) trainer.save(o.output);
   }
   if (tty) std::printf("\n");
+  for (auto& [name, value] : trainer.statistics()) std::printf("  %-28s %g\n", name.c_str(), value);
   if (o.profile) {
     std::map<std::string, double> perKernel;
     double total = 0;
@@ -124,7 +125,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      auto o = std::make_shared<Options>();
                      app.add_option("scene", o->scene, "Scene folder, transforms JSON file, or COLMAP text model")->required();
                      app.add_option("-o,--output", o->output, "Model checkpoint to write (default: <scene name>.vknerf)");
-                     app.add_option("--config", o->config, "Model configuration")->check(CLI::IsMember({"vanilla"}));
+                     app.add_option("--config", o->config, "Model configuration: vanilla (NeRF paper) or fast (hash grid + occupancy grid)")->check(CLI::IsMember({"vanilla", "fast"}));
                      app.add_option("--steps", o->steps, "Number of training steps");
                      app.add_option("--time", o->seconds, "Wall-clock budget in seconds (default without --steps: 300)")->check(CLI::PositiveNumber);
                      app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));

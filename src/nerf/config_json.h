@@ -1,0 +1,16 @@
+#pragma once
+// TrainConfig <-> JSON, as stored in checkpoints.
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "vknerf/config.h"
+
+namespace vknerf::nerf {
+
+nlohmann::json toJson(const TrainConfig& c);
+// Keys added after the first checkpoint version fall back to the defaults; a missing or mistyped
+// original key throws vknerf::Error naming `file`.
+TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& file);
+
+}  // namespace vknerf::nerf

@@ -17,6 +17,7 @@
 #include "vknerf/config.h"
 #include "vknerf/context.h"
 #include "vknerf/dataset.h"
+#include "vknerf/render_target.h"
 
 namespace vknerf {
 
@@ -45,7 +46,16 @@ class Model {
 
   const TrainConfig& config() const;
   const Aabb& bounds() const;
+  // Renders on the device, waits, and reads the image back.
   RenderedImage render(const Camera& camera) const;
+  // Records the render of `camera` into the caller's command buffer `cmd` (primary, recording, from
+  // a pool of the context's queue family), writing `target`; nothing is submitted. Contract (see
+  // docs/embedding.md): before the commands, the caller makes earlier writes to the target visible
+  // to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_WRITE_BIT (and transitions an image
+  // to GENERAL); after them, it barriers from COMPUTE_SHADER / SHADER_WRITE to its own use. The
+  // model's scratch buffers are reused by every recording: one render of a model may be in flight
+  // at a time, and the model must outlive the commands' execution.
+  void recordRender(VkCommandBuffer cmd, const Camera& camera, const RenderTarget& target) const;
 
  private:
   friend class Trainer;

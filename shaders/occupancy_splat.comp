@@ -13,10 +13,12 @@ layout(std430, binding = 2) buffer Fresh { uint freshBits[]; };  // float bits, 
 
 layout(push_constant) uniform Push {
   uint count;
+  uint stride;     // floats per point in density[] (4 when reading sigma out of a field vec4)
+  uint component;  // which of them is the density
 } pc;
 
 void main() {
   uint j = flatIndex(256u);
   if (j >= pc.count) return;
-  atomicMax(freshBits[cells[j]], floatBitsToUint(sanitizeDensity(density[j])));
+  atomicMax(freshBits[cells[j]], floatBitsToUint(sanitizeDensity(density[j * pc.stride + pc.component])));
 }

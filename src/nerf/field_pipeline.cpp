@@ -1,3 +1,4 @@
+#include "nerf/fast_pipeline.h"
 #include "nerf/model_impl.h"
 #include "nerf/vanilla_pipeline.h"
 #include "vknerf/error.h"
@@ -7,6 +8,7 @@ namespace vknerf::nerf {
 std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig& config, const Aabb& box,
                                                  uint32_t rayCapacity, bool training) {
   if (config.model.name == "vanilla") return std::make_unique<VanillaPipeline>(ctx, config, box, rayCapacity, training);
+  if (config.model.name == "fast") return std::make_unique<FastPipeline>(ctx, config, box, rayCapacity, training);
   throw Error("unknown model configuration \"" + config.model.name + "\" (expected vanilla or fast)");
 }
 

@@ -12,7 +12,7 @@ struct PointsPush {
   uint32_t resolution, count, seed, randomCells;
 };
 struct SplatPush {
-  uint32_t count;
+  uint32_t count, stride, component;
 };
 struct EmaPush {
   uint32_t numCells;
@@ -83,14 +83,18 @@ void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, ui
 }
 
 void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density,
-                                 uint32_t count, float decay, float threshold) {
+                                 uint32_t count, float decay, float threshold, uint32_t densityStride,
+                                 uint32_t densityComponent) {
+  if (densityStride == 0 || densityComponent >= densityStride)
+    throw Error("OccupancyGrid: density component " + std::to_string(densityComponent) + " of stride " +
+                std::to_string(densityStride));
   if (!(decay >= 0.0f && decay <= 1.0f)) throw Error("OccupancyGrid: decay " + std::to_string(decay) + " is outside [0, 1]");
   if (!(threshold >= 0.0f && std::isfinite(threshold)))
     throw Error("OccupancyGrid: threshold " + std::to_string(threshold) + " must be finite and >= 0");
   requireBytes("cells", cells, uint64_t(count) * 4);
-  requireBytes("density", density, uint64_t(count) * 4);
+  requireBytes("density", density, uint64_t(count) * densityStride * 4);
   rec.fill(fresh_, 0u);
-  SplatPush sp{count};
+  SplatPush sp{count, densityStride, densityComponent};
   dispatchFlat(rec, splat_, {cells, density, fresh_}, &sp, sizeof sp, count, kSplatLocal, "occupancy_splat");
   EmaPush ep{numCells_, decay, threshold};
   dispatchFlat(rec, ema_, {density_, fresh_, bits_}, &ep, sizeof ep, numWords(), kEmaLocal, "occupancy_ema");

@@ -45,10 +45,11 @@ class OccupancyGrid {
   // `count` points in cells drawn uniformly at random (with repetition), cell rngUint(seed, j, 3) % R^3.
   void recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, uint32_t count, const gpu::BufferRange& positions,
                               const gpu::BufferRange& cells);
-  // EMA and bits from the densities measured at `count` points of `cells`. NaN and negative
-  // densities count as 0, +inf as FLT_MAX. decay in [0, 1], threshold >= 0.
+  // EMA and bits from the densities measured at `count` points of `cells`: point j's density is
+  // density[j * densityStride + densityComponent] (stride 4, component 3: sigma of a field vec4).
+  // NaN and negative densities count as 0, +inf as FLT_MAX. decay in [0, 1], threshold >= 0.
   void recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density, uint32_t count,
-                    float decay, float threshold);
+                    float decay, float threshold, uint32_t densityStride = 1, uint32_t densityComponent = 0);
 
   // Number of occupied cells into counter (one uint, overwritten).
   void recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter);

@@ -28,6 +28,7 @@ struct ModelConfig {
   uint32_t gridResolution = 64;       // occupancy cells per axis over the scene box
   uint32_t marchSteps = 512;          // march step = box diagonal / marchSteps
   uint32_t maxSamplesPerRay = 512;
+  uint32_t renderMarchSteps = 0;      // runtime override of marchSteps when rendering (not saved)
 };
 
 struct TrainConfig {

@@ -34,12 +34,19 @@ struct StepStats {
   double loss = 0;       // fine-pass MSE of this step's batch
   double psnr = 0;
   uint32_t rays = 0;     // rays in this step's batch (the fast model adapts it)
+  uint64_t samples = 0;  // field evaluations (points through the MLP) in this step
+};
+
+// Sampling when rendering a loaded model; 0 keeps what the model was trained with.
+struct RenderSettings {
+  uint32_t coarseSamples = 0, fineSamples = 0;  // vanilla: stratified + importance samples per ray
+  uint32_t marchSteps = 0;                      // fast: march steps per scene-box diagonal
 };
 
 // A trained field: the model configuration, its parameters and the scene box.
 class Model {
  public:
-  static Model load(std::shared_ptr<Context> ctx, const std::string& checkpoint);
+  static Model load(std::shared_ptr<Context> ctx, const std::string& checkpoint, const RenderSettings& settings = {});
   ~Model();
   Model(Model&&) noexcept;
   Model& operator=(Model&&) noexcept;

@@ -53,7 +53,9 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       box_(box),
       rayCapacity_(std::max(rayCapacity, kRayAlign)),
       training_(training),
-      dt_(diagonal(box) / float(std::max(config.model.marchSteps, 1u))),
+      dt_(diagonal(box) / float(std::max(config.model.renderMarchSteps ? config.model.renderMarchSteps
+                                                                         : config.model.marchSteps, 1u))),
+      trainedDt_(diagonal(box) / float(std::max(config.model.marchSteps, 1u))),
       hash_(ctx, hashGridConfigFor(config.model)),
       sh_(ctx, config.model.shDegree),
       mlp_(ctx, fastMlpConfig(config.model, hash_.outputDims(), sh_.outputDims(), config.seed)),
@@ -229,10 +231,10 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   sh_.record(rec, occDirections_, count, occDirFeatures_, mlp_.dirStride(), 0);
   mlp_.recordForward(rec, count, mlpParams_, occPosFeatures_, occDirFeatures_, occField_, nullptr);
   grid_.recordUpdate(rec, occCells_, occField_, count, kOccupancyDecay,
-                     OccupancyGrid::densityThreshold(kOccupancyThickness, dt_), 4, 3);
+                     OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_), 4, 3);
 }
 
-uint32_t FastPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
+FieldPipeline::StepSize FastPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
   if (!training_) throw Error("fast model: pipeline was not built for training");
   const uint32_t seed = ref::pcgHash(config_.seed * 7919u + step);
   const float lr = config_.learningRate *
@@ -273,14 +275,14 @@ uint32_t FastPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data, u
   const double samplesPerRay = rays ? std::max(1.0, double(samples) / rays) : 1.0;
   lastSamplesPerRay_ = rays ? double(samples) / rays : 0.0;
   raysNext_ = uint32_t(std::clamp(double(config_.samplesPerBatch) / samplesPerRay, double(kRayAlign), double(rayCapacity_)));
-  return rays;
+  return {rays, samples};
 }
 
 void FastPipeline::stateLoaded() {
   // The bits follow from the loaded densities: an update with no new points re-thresholds them.
   gpu::Recorder rec(ctx_);
   rec.begin();
-  grid_.recordUpdate(rec, occCells_, grid_.density(), 0, 1.0f, OccupancyGrid::densityThreshold(kOccupancyThickness, dt_));
+  grid_.recordUpdate(rec, occCells_, grid_.density(), 0, 1.0f, OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_));
   rec.end();
   rec.submitAndWait();
 }

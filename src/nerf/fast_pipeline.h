@@ -37,7 +37,7 @@ class FastPipeline final : public FieldPipeline {
                     uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
   const gpu::Buffer& color() const override { return color_; }
   const gpu::Buffer& depth() const override { return depth_; }
-  uint32_t trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   const gpu::Buffer& lossPartials() const override { return partials_; }
   void stateLoaded() override;
   std::vector<StateArray> state() override;
@@ -65,7 +65,7 @@ class FastPipeline final : public FieldPipeline {
   Aabb box_;
   uint32_t rayCapacity_, sampleCapacity_ = 0;
   bool training_;
-  float dt_;
+  float dt_, trainedDt_;  // march step now, and in training (the occupancy threshold's)
   HashEncoding hash_;
   ShEncoding sh_;
   NerfMlp mlp_;

@@ -49,8 +49,12 @@ class FieldPipeline {
   virtual const gpu::Buffer& depth() const = 0;
 
   // One optimisation step (`step` counts from 0), recorded into `rec`, submitted, waited for. Returns
-  // the number of rays whose loss partials lossPartials() holds.
-  virtual uint32_t trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) = 0;
+  // the rays whose loss partials lossPartials() holds and the field evaluations the step made.
+  struct StepSize {
+    uint32_t rays = 0;
+    uint64_t samples = 0;
+  };
+  virtual StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) = 0;
   virtual const gpu::Buffer& lossPartials() const = 0;
   // Called after resume() loads the state: rebuild anything derived from it.
   virtual void stateLoaded() {}

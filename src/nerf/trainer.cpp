@@ -90,7 +90,7 @@ void uploadChecked(const nerf::Checkpoint& ck, const std::string& name, gpu::Buf
 
 }  // namespace
 
-Model Model::load(std::shared_ptr<Context> ctx, const std::string& path) {
+Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const RenderSettings& settings) {
   auto ck = nerf::Checkpoint::load(path);
   json j = configJson(ck, path);
   auto impl = std::make_unique<Impl>();
@@ -101,7 +101,14 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path) {
   } catch (const json::exception& e) {
     throw Error(path + ": checkpoint bounds: " + e.what());
   }
-  impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false);
+  TrainConfig sampling = impl->config;
+  if (settings.coarseSamples) sampling.model.coarseSamples = settings.coarseSamples;
+  if (settings.fineSamples) sampling.model.fineSamples = settings.fineSamples;
+  if (settings.marchSteps) {
+    sampling.model.renderMarchSteps = settings.marchSteps;
+    sampling.model.maxSamplesPerRay = std::max(sampling.model.maxSamplesPerRay, settings.marchSteps);
+  }
+  impl->own = nerf::makeFieldPipeline(*ctx, sampling, impl->box, nerf::kRenderRays, false);
   impl->pipe = impl->own.get();
   for (auto& a : impl->pipe->state()) uploadChecked(ck, a.name, *a.buffer, a.count);
   impl->pipe->stateLoaded();
@@ -154,11 +161,13 @@ const Model& Trainer::model() const { return *impl_->model; }
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
-  const uint32_t R = s.pipe->trainStep(*s.rec, {&s.images, &s.cameras, s.numCameras}, s.step);
+  const auto size = s.pipe->trainStep(*s.rec, {&s.images, &s.cameras, s.numCameras}, s.step);
+  const uint32_t R = size.rays;
   ++s.step;
   StepStats st;
   st.step = s.step;
   st.rays = R;
+  st.samples = size.samples;
   if (readLoss) {
     auto stats = nerf::PhotometricLoss::summarize(
         s.pipe->lossPartials().download<float>(gpu::groupsFor(R, nerf::PhotometricLoss::kRaysPerPartial)), R);

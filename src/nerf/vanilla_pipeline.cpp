@@ -147,7 +147,7 @@ void VanillaPipeline::recordRender(gpu::Recorder& rec, const gpu::BufferRange& c
   recordForward(rec, count, 0, false);
 }
 
-uint32_t VanillaPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
+FieldPipeline::StepSize VanillaPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
   const uint32_t R = capacity_;
   const uint32_t seed = ref::pcgHash(config_.seed * 7919u + step);
   const float lr = config_.learningRate *
@@ -162,7 +162,7 @@ uint32_t VanillaPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data
   recordTrainStep(rec, R, *data.images, *data.cameras, step + 1, lr);
   rec.end();
   rec.submitAndWait();
-  return R;
+  return {R, uint64_t(R) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay)};
 }
 
 std::vector<StateArray> VanillaPipeline::state() {

@@ -49,7 +49,7 @@ class VanillaPipeline final : public FieldPipeline {
                     uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
   const gpu::Buffer& color() const override { return levels_[1].color; }
   const gpu::Buffer& depth() const override { return levels_[1].depth; }
-  uint32_t trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
   std::vector<StateArray> state() override;
 

@@ -201,3 +201,32 @@ TEST_F(Occupancy, RejectsBadArguments) {
   rec.end();
   EXPECT_FLOAT_EQ(nerf::OccupancyGrid::densityThreshold(0.01f, 0.002f), 5.0f);
 }
+
+TEST_F(Occupancy, StridedDensityReadsTheChosenComponent) {
+  // The fast pipeline feeds sigma straight out of the field's vec4 (r, g, b, sigma): stride 4,
+  // component 3 must give exactly what the same densities give packed one per point.
+  const uint32_t r = 8;
+  std::vector<uint32_t> cells;
+  std::vector<float> packed, field;
+  for (uint32_t j = 0; j < 700; ++j) {
+    cells.push_back((j * 37u) % (r * r * r));
+    const float sigma = float((j * 13u) % 29u) * 0.1f;
+    packed.push_back(sigma);
+    // Decoys in the other components: reading the wrong one changes the bits.
+    field.insert(field.end(), {5.0f - sigma, 100.0f, 0.0f, sigma});
+  }
+  nerf::OccupancyGrid one(ctx(), r), four(ctx(), r);
+  runUpdate(ctx(), one, cells, packed, 0.5f, 1.2f);
+  auto cellBuf = gpu::Buffer::of(ctx(), cells);
+  auto fieldBuf = gpu::Buffer::of(ctx(), field);
+  gpu::Recorder rec(ctx());
+  rec.begin();
+  four.recordUpdate(rec, cellBuf, fieldBuf, uint32_t(cells.size()), 0.5f, 1.2f, 4, 3);
+  rec.end();
+  rec.submitAndWait();
+  EXPECT_EQ(one.density().download<float>(one.numCells()), four.density().download<float>(four.numCells()));
+  EXPECT_EQ(one.bits().download<uint32_t>(one.numWords()), four.bits().download<uint32_t>(four.numWords()));
+  EXPECT_GT(one.occupiedFraction(), 0.0f);
+  EXPECT_LT(one.occupiedFraction(), 1.0f);
+  EXPECT_THROW(four.recordUpdate(rec, cellBuf, fieldBuf, 4, 0.5f, 1.2f, 4, 4), Error);
+}

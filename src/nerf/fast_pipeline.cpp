@@ -227,11 +227,19 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
     count = step < config_.gridWarmupSteps ? occPoints_ : std::max(1u, occPoints_ / 4);
     grid_.recordRandomCellPoints(rec, seed, count, occPositions_, occCells_);
   }
+  // instant-ngp's threshold: the density at which one step is 1% opaque, or the grid's mean density
+  // when that is lower, so that a young field whose densities are all small is not declared empty
+  // everywhere (nothing would be sampled, and nothing learnt). The mean is the last update's; the
+  // grid is host-visible or small, and this runs every K steps.
+  auto density = grid_.density().download<float>(grid_.numCells());
+  double sum = 0;
+  for (float d : density) sum += std::isfinite(d) ? d : 0.0f;
+  const float threshold = std::min(OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_),
+                                   float(sum / double(density.size())));
   hash_.recordForward(rec, occPositions_, count, hashParams_, occPosFeatures_, mlp_.posStride(), 0);
   sh_.record(rec, occDirections_, count, occDirFeatures_, mlp_.dirStride(), 0);
   mlp_.recordForward(rec, count, mlpParams_, occPosFeatures_, occDirFeatures_, occField_, nullptr);
-  grid_.recordUpdate(rec, occCells_, occField_, count, kOccupancyDecay,
-                     OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_), 4, 3);
+  grid_.recordUpdate(rec, occCells_, occField_, count, kOccupancyDecay, threshold, 4, 3);
 }
 
 FieldPipeline::StepSize FastPipeline::trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
@@ -278,19 +286,12 @@ FieldPipeline::StepSize FastPipeline::trainStep(gpu::Recorder& rec, const Traini
   return {rays, samples};
 }
 
-void FastPipeline::stateLoaded() {
-  // The bits follow from the loaded densities: an update with no new points re-thresholds them.
-  gpu::Recorder rec(ctx_);
-  rec.begin();
-  grid_.recordUpdate(rec, occCells_, grid_.density(), 0, 1.0f, OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_));
-  rec.end();
-  rec.submitAndWait();
-}
-
 std::vector<StateArray> FastPipeline::state() {
   std::vector<StateArray> s = {{"encoding.params", &hashParams_, hash_.parameterCount(), false},
                                {"mlp.params", &mlpParams_, mlp_.parameterCount(), false},
-                               {"occupancy.density", &grid_.density(), grid_.numCells(), false}};
+                               {"occupancy.density", &grid_.density(), grid_.numCells(), false},
+                               // uint words, carried bit for bit through the float section
+                               {"occupancy.bits", &grid_.bits(), grid_.numWords(), false}};
   if (training_) {
     s.push_back({"encoding.adam_m", &hashM_, hash_.parameterCount(), true});
     s.push_back({"encoding.adam_v", &hashV_, hash_.parameterCount(), true});

@@ -39,7 +39,6 @@ class FastPipeline final : public FieldPipeline {
   const gpu::Buffer& depth() const override { return depth_; }
   StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   const gpu::Buffer& lossPartials() const override { return partials_; }
-  void stateLoaded() override;
   std::vector<StateArray> state() override;
   std::vector<std::pair<std::string, double>> statistics() override;
 

@@ -310,7 +310,19 @@ std::vector<std::pair<std::string, double>> FastPipeline::statistics() {
                                &occCells_, &occDirections_, &occPosFeatures_, &occDirFeatures_, &occField_,
                                &grid_.density(), &grid_.bits()})
     bytes += b->valid() ? b->size() : 0;
+  // The box the occupied cells span: what the scene needs of the box it was given.
+  auto bits = grid_.bits().download<uint32_t>(grid_.numWords());
+  const uint32_t res = grid_.resolution();
+  uint32_t lo[3] = {res, res, res}, hi[3] = {0, 0, 0};
+  for (uint32_t i = 0; i < grid_.numCells(); ++i) {
+    if (!((bits[i >> 5] >> (i & 31)) & 1u)) continue;
+    const uint32_t c[3] = {i % res, (i / res) % res, i / (res * res)};
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k]), hi[k] = std::max(hi[k], c[k] + 1);
+  }
+  double boxFraction = 1;
+  for (int k = 0; k < 3; ++k) boxFraction *= hi[k] > lo[k] ? double(hi[k] - lo[k]) / res : 0.0;
   return {{"occupied fraction", grid_.occupiedFraction()},
+          {"occupied cells' bounding box / scene box (volume)", boxFraction},
           {"samples per ray (last step)", lastSamplesPerRay_},
           {"rays per step (last step)", double(lastRays_)},
           {"samples per step (last step)", double(lastSamples_)},

@@ -22,7 +22,7 @@ struct Options {
   std::string scene, out = "bench-out";
   std::vector<std::string> configs{"vanilla", "fast"};
   double seconds = 120;
-  uint32_t points = 8, evalViews = 5, finalViews = 0, seed = 0;
+  uint32_t points = 6, evalViews = 3, finalViews = 0, renderViews = 5, seed = 0;
   std::vector<std::string> vanillaBudgets{"16+32", "32+64", "64+128"};
   std::vector<uint32_t> fastBudgets{128, 256, 512};
 };
@@ -80,7 +80,7 @@ int run(const Options& o, const Globals& g) {
   std::filesystem::create_directories(o.out);
   std::vector<TrainRow> rows;
   std::vector<RenderRow> renders;
-  std::vector<std::string> described;
+  std::vector<std::string> described, statistics;
   for (const std::string& name : o.configs) {
     TrainConfig cfg = TrainConfig::named(name, *ctx);
     cfg.seed = o.seed;
@@ -111,7 +111,13 @@ int run(const Options& o, const Globals& g) {
                   rows.back().raysPerSecond, rows.back().samplesPerSecond);
       lastSteps = trainer.steps(), lastSeconds = trained, lastRays = rays, lastSamples = samples;
     }
-    for (auto& [key, value] : trainer.statistics()) std::printf("  %-40s %g\n", key.c_str(), value);
+    std::ostringstream stats;
+    stats << "- " << name << " after " << trainer.steps() << " steps:";
+    for (auto& [key, value] : trainer.statistics()) {
+      std::printf("  %-40s %g\n", key.c_str(), value);
+      stats << " " << key << " " << value << ";";
+    }
+    statistics.push_back(stats.str());
     const std::string ckpt = (std::filesystem::path(o.out) / (name + ".vknerf")).string();
     trainer.save(ckpt);
     std::vector<std::string> budgets = o.vanillaBudgets;
@@ -122,7 +128,7 @@ int run(const Options& o, const Globals& g) {
     for (const std::string& b : budgets) {
       Model m = Model::load(ctx, ckpt, parseBudget(name, b));
       m.render(test.cameras[0]);  // first use pays one-off costs; time the steady state
-      Score s = evaluate([&](const Camera& c) { return m.render(c); }, test, o.finalViews, cfg.background);
+      Score s = evaluate([&](const Camera& c) { return m.render(c); }, test, o.renderViews, cfg.background);
       renders.push_back({name, b, s});
       std::printf("%-8s render %-8s %.3f s/frame  PSNR %6.2f dB  SSIM %.4f\n", name.c_str(), b.c_str(),
                   s.secondsPerImage, s.psnr, s.ssim);
@@ -150,7 +156,8 @@ int run(const Options& o, const Globals& g) {
   md << "Device: " << ctx->describe() << "  \nScene: `" << o.scene << "`, " << train.cameras.size() << " training and "
      << test.cameras.size() << " test views of " << test.cameras[0].width << "x" << test.cameras[0].height
      << "; budget " << o.seconds << " s of training per configuration (evaluation not counted); intermediate points on "
-     << o.evalViews << " test views, the last on " << (o.finalViews ? o.finalViews : test.cameras.size()) << ".\n\n";
+     << o.evalViews << " test views, the last on " << (o.finalViews ? o.finalViews : test.cameras.size())
+     << "; render budgets on " << (o.renderViews ? o.renderViews : test.cameras.size()) << ".\n\n";
   for (size_t i = 0; i < o.configs.size(); ++i) md << "- " << described[i] << "\n";
   md << "\n| config | train s | steps | PSNR dB | SSIM | steps/s | rays/s | samples/s |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (auto& r : rows) {
@@ -159,6 +166,8 @@ int run(const Options& o, const Globals& g) {
                   r.samplesPerSecond);
     md << line;
   }
+  md << "\n";
+  for (auto& s : statistics) md << s << "\n";
   md << "\n| config | render budget | s/frame | PSNR dB | SSIM |\n|---|---|---:|---:|---:|\n";
   for (auto& r : renders) {
     std::snprintf(line, sizeof line, "| %s | %s | %.3f | %.2f | %.3f |\n", r.config.c_str(),
@@ -184,6 +193,7 @@ Registration benchTrain(
       app.add_option("--points", o->points, "Evaluation points over the budget")->check(CLI::Range(1u, 1000u));
       app.add_option("--eval-views", o->evalViews, "Test views at intermediate points")->check(CLI::Range(1u, 100000u));
       app.add_option("--final-views", o->finalViews, "Test views at the last point and for rendering (0: all)");
+      app.add_option("--render-views", o->renderViews, "Test views per render budget (0: all)");
       app.add_option("--vanilla-budgets", o->vanillaBudgets, "Render sample budgets COARSE+FINE for vanilla");
       app.add_option("--fast-budgets", o->fastBudgets, "Render march steps per box diagonal for fast");
       app.add_option("--seed", o->seed, "Random seed");

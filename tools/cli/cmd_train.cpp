@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +23,7 @@ extern "C" void onSigint(int) { interrupted = true; }
 struct Options {
   std::string scene, output, config = "vanilla";
   uint32_t width = 0, depth = 0, coarse = 0, fine = 0;
+  uint32_t hashLevels = 0, hashLog2Size = 0, hashMaxResolution = 0, grid = 0, marchSteps = 0, samplesPerStep = 0;
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
   double seconds = 0;
   bool resume = false, profile = false;
@@ -66,6 +68,20 @@ int train(const Options& o, const Globals& g) {
   if (o.depth) cfg.model.depth = o.depth, cfg.model.skipLayer = std::min(cfg.model.skipLayer, o.depth - 1);
   if (o.coarse) cfg.model.coarseSamples = o.coarse;
   if (o.fine) cfg.model.fineSamples = o.fine;
+  if (o.hashLevels) cfg.model.hashLevels = o.hashLevels;
+  if (o.hashLog2Size) cfg.model.hashLog2Size = o.hashLog2Size;
+  if (o.hashLevels || o.hashMaxResolution) {
+    // keep N_min and the finest resolution, spread the levels geometrically between them
+    const double finest = o.hashMaxResolution ? o.hashMaxResolution
+                                               : cfg.model.hashBaseResolution *
+                                                     std::pow(double(cfg.model.hashGrowth), 7.0);
+    cfg.model.hashGrowth = cfg.model.hashLevels > 1
+                               ? float(std::pow(finest / cfg.model.hashBaseResolution, 1.0 / (cfg.model.hashLevels - 1)))
+                               : 1.0f;
+  }
+  if (o.grid) cfg.model.gridResolution = o.grid;
+  if (o.marchSteps) cfg.model.marchSteps = o.marchSteps, cfg.model.maxSamplesPerRay = o.marchSteps;
+  if (o.samplesPerStep) cfg.samplesPerBatch = o.samplesPerStep;
   cfg.seed = o.seed;
   const bool resuming = o.resume && std::filesystem::exists(o.output);
   if (resuming) cfg = Trainer::configOf(o.output);
@@ -134,6 +150,12 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--depth", o->depth, "MLP trunk layers")->check(CLI::Range(2u, 16u));
                      app.add_option("--coarse", o->coarse, "Stratified samples per ray")->check(CLI::Range(1u, 1024u));
                      app.add_option("--fine", o->fine, "Importance samples per ray")->check(CLI::Range(1u, 1024u));
+                     app.add_option("--hash-levels", o->hashLevels, "fast: hash grid levels")->check(CLI::Range(1u, 24u));
+                     app.add_option("--hash-log2-size", o->hashLog2Size, "fast: log2 of the hash table entries per level")->check(CLI::Range(2u, 24u));
+                     app.add_option("--hash-max-resolution", o->hashMaxResolution, "fast: finest grid level's cells per axis")->check(CLI::Range(2u, 65536u));
+                     app.add_option("--grid", o->grid, "fast: occupancy grid cells per axis")->check(CLI::Range(1u, 256u));
+                     app.add_option("--march-steps", o->marchSteps, "fast: march steps per scene-box diagonal")->check(CLI::Range(1u, 65536u));
+                     app.add_option("--samples-per-step", o->samplesPerStep, "fast: samples a training step aims for")->check(CLI::Range(256u, 1u << 26));
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");

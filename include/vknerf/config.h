@@ -46,6 +46,7 @@ struct TrainConfig {
   uint32_t gridUpdateInterval = 16;      // steps between occupancy updates
   uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
   float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's
+  bool earlyTermination = true;          // train only on samples in front of transmittance 1e-4
 
   static TrainConfig vanilla(const Context& ctx);  // sized for the device
   static TrainConfig fast(const Context& ctx);

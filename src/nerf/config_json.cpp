@@ -21,7 +21,8 @@ json toJson(const TrainConfig& c) {
           {"decay_steps", c.decaySteps}, {"beta1", c.beta1}, {"beta2", c.beta2}, {"epsilon", c.epsilon},
           {"random_background", c.randomBackground}, {"background", c.background}, {"seed", c.seed},
           {"samples_per_batch", c.samplesPerBatch}, {"grid_update_interval", c.gridUpdateInterval},
-          {"grid_warmup_steps", c.gridWarmupSteps}, {"hash_lr_scale", c.hashLearningRateScale}};
+          {"grid_warmup_steps", c.gridWarmupSteps}, {"hash_lr_scale", c.hashLearningRateScale},
+          {"early_termination", c.earlyTermination}};
 }
 
 TrainConfig trainConfigFromJson(const json& j, const std::string& file) {
@@ -62,6 +63,7 @@ TrainConfig trainConfigFromJson(const json& j, const std::string& file) {
     c.gridUpdateInterval = j.value("grid_update_interval", c.gridUpdateInterval);
     c.gridWarmupSteps = j.value("grid_warmup_steps", c.gridWarmupSteps);
     c.hashLearningRateScale = j.value("hash_lr_scale", c.hashLearningRateScale);
+    c.earlyTermination = j.value("early_termination", c.earlyTermination);
     if (mc.name != "vanilla" && mc.name != "fast") throw Error(file + ": checkpoint config: unknown model \"" + mc.name + "\"");
     return c;
   } catch (const json::exception& e) {

@@ -98,6 +98,18 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
     mlpM_ = zeros(mlp_.parameterCount());
     mlpV_ = zeros(mlp_.parameterCount());
     workspace_ = std::make_unique<NerfMlp::Workspace>(ctx, mlp_, sampleCapacity_);
+    if (config.earlyTermination) {
+      termination_.emplace(ctx, rayCapacity_);
+      auto zeros = [&](VkDeviceSize bytes) {
+        gpu::Buffer b(ctx, bytes);
+        b.zero();
+        return b;
+      };
+      termOffsets_ = zeros((VkDeviceSize(rayCapacity_) + 1) * 4);
+      termSamples_ = zeros(VkDeviceSize(sampleCapacity_) * kSampleBytes);
+      termSampleRay_ = zeros(VkDeviceSize(sampleCapacity_) * 4);
+      termTotals_ = zeros(RayMarcher::kTotalsBytes);
+    }
   }
   gpu::Recorder rec(ctx);
   rec.begin();
@@ -166,18 +178,19 @@ std::pair<uint32_t, uint32_t> FastPipeline::wholeRays(uint32_t numRays) {
   return {whole, off[whole]};
 }
 
-void FastPipeline::recordField(gpu::Recorder& rec, uint32_t rayOffset, uint32_t count, NerfMlp::Workspace* keep) {
-  points_.record(rec, gpu::BufferRange(rays_, VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE), samples_,
-                 sampleRay_, totals_, sampleCapacity_, box_, positions_, directions_);
+void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count,
+                               NerfMlp::Workspace* keep) {
+  points_.record(rec, gpu::BufferRange(rays_, VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE), *batch.samples,
+                 *batch.sampleRay, *batch.totals, sampleCapacity_, box_, positions_, directions_);
   hash_.recordForward(rec, positions_, count, hashParams_, posFeatures_, mlp_.posStride(), 0);
   sh_.record(rec, directions_, count, dirFeatures_, mlp_.dirStride(), 0);
   mlp_.recordForward(rec, count, mlpParams_, posFeatures_, dirFeatures_, field_, keep);
 }
 
-void FastPipeline::recordComposite(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays,
+void FastPipeline::recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
                                    const std::array<float, 3>& bg) {
   gpu::BufferRange perRay(background_, VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16);
-  compositor_.recordForward(rec, numRays, 0, offsets_, samples_, field_, bg, &perRay,
+  compositor_.recordForward(rec, numRays, 0, *batch.offsets, *batch.samples, field_, bg, &perRay,
                             gpu::BufferRange(color_, VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16),
                             gpu::BufferRange(depth_, VkDeviceSize(rayOffset) * 4, VkDeviceSize(numRays) * 4), weights_);
 }
@@ -194,8 +207,8 @@ void FastPipeline::recordRender(gpu::Recorder& rec, const gpu::BufferRange& came
     // nothing is cut, and the field is evaluated over the whole capacity (the count is on the device).
     const uint32_t maxSamples = std::max(1u, std::min(config_.model.maxSamplesPerRay, sampleCapacity_ / count));
     recordMarch(rec, 0, count, maxSamples, 0, false);
-    recordField(rec, 0, sampleCapacity_, nullptr);
-    recordComposite(rec, 0, count, background);
+    recordField(rec, marched(), 0, sampleCapacity_, nullptr);
+    recordComposite(rec, marched(), 0, count, background);
     return;
   }
   for (uint32_t done = 0; done < count;) {
@@ -205,8 +218,8 @@ void FastPipeline::recordRender(gpu::Recorder& rec, const gpu::BufferRange& came
     rec.submitAndWait();
     auto [whole, samples] = wholeRays(n);
     rec.begin();
-    recordField(rec, done, samples, nullptr);
-    recordComposite(rec, done, whole, background);
+    recordField(rec, marched(), done, samples, nullptr);
+    recordComposite(rec, marched(), done, whole, background);
     done += whole;
     if (done < count) {
       rec.end();
@@ -259,14 +272,32 @@ FieldPipeline::StepSize FastPipeline::trainStep(gpu::Recorder& rec, const Traini
   rec.end();
   rec.submitAndWait();
   auto [rays, samples] = wholeRays(R);
+  const uint32_t marchedCount = samples;
+  marchedSamples_ += samples;
+
+  Packed batch = marched();
+  if (termination_) {
+    // instant-ngp's two passes: the field without gradients over everything marched, then the
+    // training pass (forward with activations kept, backward) only over the samples in front of
+    // T < 1e-4 — behind an opaque surface the gradient is ~0 and the backward costs most.
+    rec.begin();
+    recordField(rec, batch, 0, samples, nullptr);
+    termination_->record(rec, rays, offsets_, samples_, sampleRay_, field_, 1e-4f, termOffsets_, termSamples_,
+                         termSampleRay_, dField_, termTotals_);
+    rec.end();
+    rec.submitAndWait();
+    batch = terminated();
+    samples = termTotals_.download<uint32_t>(1)[0];
+  }
+  keptSamples_ += samples;
 
   rec.begin();
-  recordField(rec, 0, samples, workspace_.get());
-  recordComposite(rec, 0, rays, config_.background);
+  recordField(rec, batch, 0, samples, workspace_.get());
+  recordComposite(rec, batch, 0, rays, config_.background);
   loss_->record(rec, rays, color_, pixelIds_, *data.images, *data.cameras, background_, dColor_, partials_);
   gpu::BufferRange perRay(background_, 0, VkDeviceSize(rays) * 16);
-  compositor_.recordBackward(rec, rays, 0, offsets_, samples_, field_, config_.background, &perRay, dColor_,
-                             zeroDepthGrad_, dField_);
+  compositor_.recordBackward(rec, rays, 0, *batch.offsets, *batch.samples, field_, config_.background, &perRay,
+                             dColor_, zeroDepthGrad_, dField_);
   gpu::BufferRange dPos(dPos_);
   mlp_.recordBackward(rec, samples, mlpParams_, posFeatures_, dirFeatures_, field_, dField_, mlpGrads_, *workspace_,
                       &dPos);
@@ -278,10 +309,10 @@ FieldPipeline::StepSize FastPipeline::trainStep(gpu::Recorder& rec, const Traini
   rec.submitAndWait();
 
   lastRays_ = rays;
-  lastSamples_ = samples;
-  // Next step: as many rays as this step's samples per ray say fit the sample budget.
-  const double samplesPerRay = rays ? std::max(1.0, double(samples) / rays) : 1.0;
-  lastSamplesPerRay_ = rays ? double(samples) / rays : 0.0;
+  lastSamples_ = marchedCount;
+  // Next step: as many rays as this step's marched samples per ray say fit the sample budget.
+  const double samplesPerRay = rays ? std::max(1.0, double(marchedCount) / rays) : 1.0;
+  lastSamplesPerRay_ = rays ? double(marchedCount) / rays : 0.0;
   raysNext_ = uint32_t(std::clamp(double(config_.samplesPerBatch) / samplesPerRay, double(kRayAlign), double(rayCapacity_)));
   return {rays, samples};
 }
@@ -308,6 +339,7 @@ std::vector<std::pair<std::string, double>> FastPipeline::statistics() {
                                &partials_, &offsets_, &samples_, &sampleRay_, &totals_, &positions_, &directions_,
                                &posFeatures_, &dirFeatures_, &field_, &weights_, &dField_, &dPos_, &occPositions_,
                                &occCells_, &occDirections_, &occPosFeatures_, &occDirFeatures_, &occField_,
+                               &termOffsets_, &termSamples_, &termSampleRay_, &termTotals_,
                                &grid_.density(), &grid_.bits()})
     bytes += b->valid() ? b->size() : 0;
   // The box the occupied cells span: what the scene needs of the box it was given.
@@ -326,6 +358,8 @@ std::vector<std::pair<std::string, double>> FastPipeline::statistics() {
           {"samples per ray (last step)", lastSamplesPerRay_},
           {"rays per step (last step)", double(lastRays_)},
           {"samples per step (last step)", double(lastSamples_)},
+          {"samples kept by early termination (all steps)",
+           marchedSamples_ ? double(keptSamples_) / double(marchedSamples_) : 1.0},
           {"parameters (hash grid)", double(hash_.parameterCount())},
           {"parameters (MLP)", double(mlp_.parameterCount())},
           {"device buffers MiB (excl. MLP workspace)", double(bytes) / (1 << 20)}};

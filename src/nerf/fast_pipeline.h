@@ -53,9 +53,17 @@ class FastPipeline final : public FieldPipeline {
   // How many of the marched rays are whole within the sample capacity (all when nothing was cut),
   // and their sample total. Reads offsets on the host (after the march was submitted and waited).
   std::pair<uint32_t, uint32_t> wholeRays(uint32_t numRays);
+  // The packed batch the field and the compositor read: the march's, or its early-terminated copy.
+  struct Packed {
+    gpu::Buffer *offsets, *samples, *sampleRay, *totals;
+  };
+  Packed marched() { return {&offsets_, &samples_, &sampleRay_, &totals_}; }
+  Packed terminated() { return {&termOffsets_, &termSamples_, &termSampleRay_, &termTotals_}; }
   // Field at `count` packed samples of the rays at rayOffset: points, encodings, MLP.
-  void recordField(gpu::Recorder& rec, uint32_t rayOffset, uint32_t count, NerfMlp::Workspace* keep);
-  void recordComposite(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, const std::array<float, 3>& bg);
+  void recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count,
+                   NerfMlp::Workspace* keep);
+  void recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
+                       const std::array<float, 3>& bg);
   void recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step);
   void allocate(uint32_t sampleCapacity);
 
@@ -73,6 +81,7 @@ class FastPipeline final : public FieldPipeline {
   RayMarcher marcher_;
   PackedSamplePoints points_;
   Compositor compositor_;
+  std::optional<EarlyTermination> termination_;
   BackgroundColors backgrounds_;
   std::optional<PhotometricLoss> loss_;
   std::optional<Adam> adamMlp_, adamHash_;
@@ -86,6 +95,9 @@ class FastPipeline final : public FieldPipeline {
   // per sample
   gpu::Buffer samples_, sampleRay_, totals_, positions_, directions_, posFeatures_, dirFeatures_, field_, weights_,
       dField_, dPos_;
+  // early termination (training): the samples in front of T < 1e-4
+  gpu::Buffer termOffsets_, termSamples_, termSampleRay_, termTotals_;
+  uint64_t marchedSamples_ = 0, keptSamples_ = 0;
   // occupancy update
   uint32_t occPoints_ = 0;
   gpu::Buffer occPositions_, occCells_, occDirections_, occPosFeatures_, occDirFeatures_, occField_;

@@ -26,7 +26,7 @@ struct Options {
   uint32_t hashLevels = 0, hashLog2Size = 0, hashMaxResolution = 0, grid = 0, marchSteps = 0, samplesPerStep = 0;
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
   double seconds = 0;
-  bool resume = false, profile = false;
+  bool resume = false, profile = false, noEarlyTermination = false;
 };
 
 std::string clock(double s) {
@@ -82,6 +82,7 @@ int train(const Options& o, const Globals& g) {
   if (o.grid) cfg.model.gridResolution = o.grid;
   if (o.marchSteps) cfg.model.marchSteps = o.marchSteps, cfg.model.maxSamplesPerRay = o.marchSteps;
   if (o.samplesPerStep) cfg.samplesPerBatch = o.samplesPerStep;
+  if (o.noEarlyTermination) cfg.earlyTermination = false;
   cfg.seed = o.seed;
   const bool resuming = o.resume && std::filesystem::exists(o.output);
   if (resuming) cfg = Trainer::configOf(o.output);
@@ -156,6 +157,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--grid", o->grid, "fast: occupancy grid cells per axis")->check(CLI::Range(1u, 256u));
                      app.add_option("--march-steps", o->marchSteps, "fast: march steps per scene-box diagonal")->check(CLI::Range(1u, 65536u));
                      app.add_option("--samples-per-step", o->samplesPerStep, "fast: samples a training step aims for")->check(CLI::Range(256u, 1u << 26));
+                     app.add_flag("--no-early-termination", o->noEarlyTermination, "fast: train on every marched sample, also behind opaque surfaces");
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");

@@ -725,3 +725,29 @@ TEST_F(EmbeddingTest, CallerResourcesBindThroughARingNotTheCache) {
   EXPECT_NE(sets[0], sets[1]);
   EXPECT_EQ(sets[0], sets[gpu::Kernel::kTransientSets]) << "the ring wraps after kTransientSets calls";
 }
+
+TEST_F(EmbeddingTest, FastModelRecordsWhatItRenders) {
+  // The fast model sizes a host render from the march's sample count; recorded into a command
+  // buffer it cannot, and evaluates its whole sample capacity instead. Rows are independent in
+  // every kernel on the way, so the real samples give exactly the same image.
+  TrainConfig c = TrainConfig::fast(ctx());
+  c.model.hashLevels = 4;
+  c.model.hashLog2Size = 12;
+  c.model.hashGrowth = 1.5f;
+  c.model.width = 16;
+  c.model.gridResolution = 16;
+  c.model.marchSteps = 32;
+  c.model.maxSamplesPerRay = 32;
+  c.samplesPerBatch = 4096;
+  c.raysPerBatch = 128;  // the 20x14 view takes three blocks
+  c.gridUpdateInterval = 2;
+  c.gridWarmupSteps = 4;
+  c.background = {0.25f, 0.5f, 0.75f};
+  Trainer trainer(sharedContext(), tinyDataset(), c);
+  for (int i = 0; i < 8; ++i) trainer.step();
+  const Camera cam = lookAtOrigin(0.8f, 0.6f, 2.8f, 20, 14);
+  const RenderedImage ref = trainer.model().render(cam);
+  expectStructure(ref);
+  AppDevice d = AppDevice::of(ctx());
+  expectColourEqualsRender(renderIntoBuffer(trainer.model(), d, cam), ref);
+}

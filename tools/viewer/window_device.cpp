@@ -67,8 +67,9 @@ std::string lower(std::string s) {
 WindowDevice::WindowDevice(const WindowOptions& o) {
   glfwSetErrorCallback(onGlfwError);
   if (!glfwInit()) throw vknerf::Error("cannot open a window (is DISPLAY set?)");
+  glfwInitialized_ = true;
   if (!glfwVulkanSupported()) {
-    glfwTerminate();
+    shutdown();
     throw vknerf::Error("GLFW finds no Vulkan loader with surface support (install libvulkan1 and mesa-vulkan-drivers)");
   }
   try {
@@ -98,7 +99,8 @@ void WindowDevice::shutdown() {
   }
   if (instance_) vkDestroyInstance(instance_, nullptr);
   if (window_) glfwDestroyWindow(window_);
-  if (window_ || instance_) glfwTerminate();
+  if (glfwInitialized_) glfwTerminate();
+  glfwInitialized_ = false;
   device_ = VK_NULL_HANDLE;
   surface_ = VK_NULL_HANDLE;
   messenger_ = VK_NULL_HANDLE;

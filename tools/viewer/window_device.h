@@ -53,6 +53,7 @@ class WindowDevice {
   void pickDevice(const std::string& want);
   void createDevice();
 
+  bool glfwInitialized_ = false;
   GLFWwindow* window_ = nullptr;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

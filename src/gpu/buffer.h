@@ -57,17 +57,37 @@ class Buffer {
 };
 
 // A bound range of a buffer: large arrays are split into ranges within maxStorageBufferRange.
+// It can also name a resource the embedding application owns (Model::recordRender's target): a raw
+// VkBuffer range or a storage image view. Those bind only through Kernel::transientSet, never the
+// descriptor cache, because a destroyed handle's value may come back for a new object.
 struct BufferRange {
   const Buffer* buffer = nullptr;
   VkDeviceSize offset = 0;
   VkDeviceSize range = VK_WHOLE_SIZE;
+  VkBuffer external = VK_NULL_HANDLE;  // a caller's buffer (then `buffer` is null; offset/range apply)
+  VkImageView image = VK_NULL_HANDLE;  // a caller's storage image view, in VK_IMAGE_LAYOUT_GENERAL
   BufferRange() = default;
   BufferRange(const Buffer& b) : buffer(&b) {}  // NOLINT: a whole buffer binds implicitly
   BufferRange(const Buffer& b, VkDeviceSize off, VkDeviceSize len) : buffer(&b), offset(off), range(len) {}
+  static BufferRange externalBuffer(VkBuffer handle, VkDeviceSize off, VkDeviceSize len) {
+    BufferRange r;
+    r.external = handle;
+    r.offset = off;
+    r.range = len;
+    return r;
+  }
+  static BufferRange storageImage(VkImageView view) {
+    BufferRange r;
+    r.image = view;
+    return r;
+  }
+  bool isExternal() const { return external != VK_NULL_HANDLE || image != VK_NULL_HANDLE; }
+  VkBuffer handle() const { return buffer ? buffer->handle() : external; }
 };
 
-// Bytes a range binds (0 for an empty or invalid one).
+// Bytes a range binds (0 for an empty or invalid one; an external buffer range binds its `range`).
 inline VkDeviceSize boundBytes(const BufferRange& r) {
+  if (r.external) return r.range == VK_WHOLE_SIZE ? 0 : r.range;
   if (!r.buffer || !r.buffer->valid()) return 0;
   if (r.range != VK_WHOLE_SIZE) return r.range;
   return r.offset < r.buffer->size() ? r.buffer->size() - r.offset : 0;

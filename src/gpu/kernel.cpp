@@ -9,7 +9,29 @@ namespace {
 constexpr uint32_t kSetsPerPool = 64;
 
 VkDescriptorType descriptorType(Binding b) {
-  return b == Binding::Storage ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+  switch (b) {
+    case Binding::Storage: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    case Binding::TexelRgba32f: return VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+    case Binding::StorageImage: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  }
+  return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+void requireBindingCount(const KernelDesc& d, size_t n) {
+  if (n != d.bindings.size())
+    throw Error("kernel " + d.shader + " takes " + std::to_string(d.bindings.size()) + " buffers, got " +
+                std::to_string(n));
+}
+
+// The storage-buffer range a binding spans, checked against maxStorageBufferRange.
+VkDeviceSize storageRange(const Context& ctx, const KernelDesc& d, size_t i, const BufferRange& b, VkDeviceSize size) {
+  VkDeviceSize range = b.range == VK_WHOLE_SIZE ? size - b.offset : b.range;
+  range = std::max<VkDeviceSize>(range, 16);  // empty arrays bind a valid minimal range
+  const auto limit = ctx.properties().limits.maxStorageBufferRange;
+  if (range > limit)
+    throw Error("kernel " + d.shader + ": binding " + std::to_string(i) + " spans " + std::to_string(range) +
+                " bytes, over maxStorageBufferRange " + std::to_string(limit) + "; split the batch");
+  return range;
 }
 }  // namespace
 
@@ -60,6 +82,7 @@ void Kernel::destroy() {
   VkDevice dev = ctx_->device();
   for (auto v : views_) vkDestroyBufferView(dev, v, nullptr);
   for (auto p : pools_) vkDestroyDescriptorPool(dev, p, nullptr);
+  if (transientPool_) vkDestroyDescriptorPool(dev, transientPool_, nullptr);
   if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
   if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
   if (setLayout_) vkDestroyDescriptorSetLayout(dev, setLayout_, nullptr);
@@ -67,6 +90,9 @@ void Kernel::destroy() {
   views_.clear();
   pools_.clear();
   sets_.clear();
+  transientPool_ = VK_NULL_HANDLE;
+  transientSets_.clear();
+  nextTransient_ = 0;
   ctx_ = nullptr;
 }
 
@@ -83,14 +109,19 @@ Kernel& Kernel::operator=(Kernel&& o) noexcept {
     setsInLastPool_ = o.setsInLastPool_;
     views_ = std::move(o.views_);
     sets_ = std::move(o.sets_);
+    transientPool_ = std::exchange(o.transientPool_, VK_NULL_HANDLE);
+    transientSets_ = std::move(o.transientSets_);
+    nextTransient_ = o.nextTransient_;
   }
   return *this;
 }
 
 VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
-  if (bindings.size() != desc_.bindings.size())
-    throw Error("kernel " + desc_.shader + " takes " + std::to_string(desc_.bindings.size()) + " buffers, got " +
-                std::to_string(bindings.size()));
+  requireBindingCount(desc_, bindings.size());
+  for (size_t i = 0; i < bindings.size(); ++i)
+    if (bindings[i].isExternal() || desc_.bindings[i] == Binding::StorageImage)
+      throw Error("kernel " + desc_.shader + ": binding " + std::to_string(i) +
+                  " is a caller's resource; bind it through Kernel::transientSet");
   std::vector<uint64_t> key;
   for (auto& b : bindings) key.insert(key.end(), {b.buffer->id(), b.offset, b.range});
   if (auto it = sets_.find(key); it != sets_.end()) return it->second;
@@ -130,9 +161,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = descriptorType(desc_.bindings[i]);
     if (desc_.bindings[i] == Binding::Storage) {
-      if (range > limits.maxStorageBufferRange)
-        throw Error("kernel " + desc_.shader + ": binding " + std::to_string(i) + " spans " + std::to_string(range) +
-                    " bytes, over maxStorageBufferRange " + std::to_string(limits.maxStorageBufferRange) + "; split the batch");
+      range = storageRange(*ctx_, desc_, i, b, b.buffer->size());
       infos[i] = {b.buffer->handle(), b.offset, range};
       writes[i].pBufferInfo = &infos[i];
     } else {
@@ -152,6 +181,64 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
   }
   vkUpdateDescriptorSets(dev, uint32_t(writes.size()), writes.data(), 0, nullptr);
   sets_.emplace(std::move(key), set);
+  return set;
+}
+
+VkDescriptorSet Kernel::transientSet(std::span<const BufferRange> bindings) {
+  requireBindingCount(desc_, bindings.size());
+  VkDevice dev = ctx_->device();
+  if (transientSets_.empty()) {
+    const uint32_t n = uint32_t(desc_.bindings.size());
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kTransientSets * n},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kTransientSets * n}};
+    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pi.maxSets = kTransientSets;
+    pi.poolSizeCount = 2;
+    pi.pPoolSizes = sizes;
+    check(vkCreateDescriptorPool(dev, &pi, nullptr, &transientPool_), "vkCreateDescriptorPool");
+    std::vector<VkDescriptorSetLayout> layouts(kTransientSets, setLayout_);
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = transientPool_;
+    ai.descriptorSetCount = kTransientSets;
+    ai.pSetLayouts = layouts.data();
+    transientSets_.resize(kTransientSets);
+    VkResult r = vkAllocateDescriptorSets(dev, &ai, transientSets_.data());
+    if (r != VK_SUCCESS) transientSets_.clear();
+    check(r, "vkAllocateDescriptorSets");
+  }
+
+  std::vector<VkDescriptorBufferInfo> buffers(bindings.size());
+  std::vector<VkDescriptorImageInfo> images(bindings.size());
+  std::vector<VkWriteDescriptorSet> writes(bindings.size());
+  VkDescriptorSet set = transientSets_[nextTransient_];
+  for (size_t i = 0; i < bindings.size(); ++i) {
+    const BufferRange& b = bindings[i];
+    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    writes[i].dstSet = set;
+    writes[i].dstBinding = uint32_t(i);
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = descriptorType(desc_.bindings[i]);
+    const std::string where = "kernel " + desc_.shader + ": binding " + std::to_string(i);
+    switch (desc_.bindings[i]) {
+      case Binding::Storage: {
+        if (b.image || !b.handle()) throw Error(where + " needs a buffer");
+        if (!b.buffer && b.range == VK_WHOLE_SIZE) throw Error(where + ": a caller's buffer binds an explicit range");
+        const VkDeviceSize range = storageRange(*ctx_, desc_, i, b, b.buffer ? b.buffer->size() : b.range);
+        buffers[i] = {b.handle(), b.offset, range};
+        writes[i].pBufferInfo = &buffers[i];
+        break;
+      }
+      case Binding::StorageImage:
+        if (!b.image) throw Error(where + " needs a storage image view");
+        images[i] = {VK_NULL_HANDLE, b.image, VK_IMAGE_LAYOUT_GENERAL};
+        writes[i].pImageInfo = &images[i];
+        break;
+      case Binding::TexelRgba32f:
+        throw Error(where + ": texel buffers are not supported in transient sets");
+    }
+  }
+  vkUpdateDescriptorSets(dev, uint32_t(writes.size()), writes.data(), 0, nullptr);
+  nextTransient_ = (nextTransient_ + 1) % kTransientSets;
   return set;
 }
 

@@ -21,6 +21,7 @@ std::span<const uint32_t> findShader(std::string_view name);  // generated from 
 enum class Binding {
   Storage,       // GLSL: layout(std430) buffer
   TexelRgba32f,  // GLSL: layout(rgba32f) uniform readonly imageBuffer (vectorised loads on lavapipe)
+  StorageImage,  // GLSL: layout(<format>) uniform writeonly image2D; a caller's view (transientSet only)
 };
 
 struct KernelDesc {
@@ -43,8 +44,17 @@ class Kernel {
   VkPipeline pipeline() const { return pipeline_; }
   VkPipelineLayout layout() const { return layout_; }
   const KernelDesc& desc() const { return desc_; }
-  // The descriptor set binding exactly these ranges, created on first use.
+  // The descriptor set binding exactly these ranges, created on first use. vknerf's own buffers only.
   VkDescriptorSet descriptorSet(std::span<const BufferRange> bindings);
+
+  // A descriptor set for bindings that include a caller's resources (BufferRange::externalBuffer,
+  // BufferRange::storageImage), written on every call: such handles cannot key the cache above,
+  // since a destroyed handle's value may be reused for a new object. Calls rewrite a ring of
+  // kTransientSets sets in turn, so the set returned stays valid until kTransientSets further calls;
+  // by then, the commands that bound it must have finished executing (or never be submitted again).
+  // Storage buffers and storage images only.
+  static constexpr uint32_t kTransientSets = 64;
+  VkDescriptorSet transientSet(std::span<const BufferRange> bindings);
 
  private:
   void destroy();
@@ -58,6 +68,9 @@ class Kernel {
   uint32_t setsInLastPool_ = 0;
   std::vector<VkBufferView> views_;
   std::map<std::vector<uint64_t>, VkDescriptorSet> sets_;
+  VkDescriptorPool transientPool_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSet> transientSets_;  // allocated on first use
+  uint32_t nextTransient_ = 0;
 };
 
 // Workgroups needed to cover n items with groups of `local`.

@@ -23,7 +23,10 @@ Recorder::Recorder(Context& ctx, bool timestamps, uint32_t maxTimestamps) : ctx_
   }
 }
 
-Recorder::Recorder(Context& ctx, VkCommandBuffer external) : ctx_(ctx), cmd_(external), owned_(false) {}
+Recorder::Recorder(Context& ctx, VkCommandBuffer external)
+    : ctx_(ctx), cmd_(external), owned_(false), pending_(true) {
+  if (!external) throw Error("Recorder: the caller's command buffer is VK_NULL_HANDLE");
+}
 
 Recorder::~Recorder() {
   if (!owned_) return;
@@ -60,13 +63,15 @@ void Recorder::barrierIfNeeded(bool indirectNext) {
   pending_ = false;
 }
 
-void Recorder::recordKernel(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
-                            uint32_t pushBytes, const char* label, bool indirect,
-                            const std::function<void()>& issue) {
+VkDescriptorSet Recorder::cachedSet(Kernel& k, std::initializer_list<BufferRange> bindings) {
+  return k.descriptorSet(std::span<const BufferRange>(bindings.begin(), bindings.size()));
+}
+
+void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
+                            bool indirect, const std::function<void()>& issue) {
   if (pushBytes != k.desc().pushConstantBytes)
     throw Error("kernel " + k.desc().shader + " expects " + std::to_string(k.desc().pushConstantBytes) +
                 " bytes of push constants, got " + std::to_string(pushBytes));
-  VkDescriptorSet set = k.descriptorSet(std::span<const BufferRange>(bindings.begin(), bindings.size()));
   barrierIfNeeded(indirect);
   bool timed = queries_ && label && labels_.size() < maxTimestamps_;
   uint32_t q = uint32_t(labels_.size()) * 2;
@@ -85,13 +90,19 @@ void Recorder::recordKernel(Kernel& k, std::initializer_list<BufferRange> bindin
 void Recorder::dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
                         uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
-  recordKernel(k, bindings, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
+  recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
+}
+
+void Recorder::dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
+                               uint32_t gy, uint32_t gz, const char* label) {
+  if (gx == 0 || gy == 0 || gz == 0) return;
+  recordKernel(k, set, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
 void Recorder::dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
                                 uint32_t pushBytes, const Buffer& args, VkDeviceSize offset, const char* label) {
   if (offset % 4 || offset + 12 > args.size()) throw Error("dispatchIndirect: arguments lie outside the buffer");
-  recordKernel(k, bindings, push, pushBytes, label, true,
+  recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, true,
                [&] { vkCmdDispatchIndirect(cmd_, args.handle(), offset); });
 }
 
@@ -107,6 +118,16 @@ void Recorder::fill(Buffer& dst, uint32_t value, VkDeviceSize offset, VkDeviceSi
   if (dst.size() == 0) return;
   barrierIfNeeded();
   vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes == VK_WHOLE_SIZE ? VK_WHOLE_SIZE : bytes / 4 * 4, value);
+  pending_ = true;
+}
+
+void Recorder::update(Buffer& dst, VkDeviceSize offset, const void* data, VkDeviceSize bytes) {
+  if (bytes == 0) return;
+  if (bytes % 4 || offset % 4 || bytes > 65536 || offset + bytes > dst.size())
+    throw Error("Recorder::update: " + std::to_string(bytes) + " bytes at offset " + std::to_string(offset) +
+                " do not fit vkCmdUpdateBuffer's rules or the buffer");
+  barrierIfNeeded();
+  vkCmdUpdateBuffer(cmd_, dst.handle(), offset, bytes, data);
   pending_ = true;
 }
 

@@ -20,7 +20,9 @@ class Recorder {
  public:
   // Owns a command buffer and fence; `timestamps` enables per-dispatch GPU timing.
   explicit Recorder(Context& ctx, bool timestamps = false, uint32_t maxTimestamps = 256);
-  // Records into the caller's command buffer (already begun); the caller submits it.
+  // Records into the caller's command buffer (already begun); the caller submits it. The first
+  // command is preceded by a full compute/transfer barrier: earlier commands of the caller's buffer,
+  // or of earlier submissions to the queue, may still use the same vknerf buffers.
   Recorder(Context& ctx, VkCommandBuffer external);
   ~Recorder();
   Recorder(const Recorder&) = delete;
@@ -34,12 +36,18 @@ class Recorder {
                 uint32_t gz = 1, const char* label = nullptr) {
     dispatch(k, bindings, &push, sizeof(P), gx, gy, gz, label);
   }
+  // With a descriptor set the caller prepared (Kernel::transientSet: a caller's resources).
+  void dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
+                       uint32_t gy = 1, uint32_t gz = 1, const char* label = nullptr);
   // Workgroup counts read on the device from a VkDispatchIndirectCommand at `offset` (e.g. written
   // by the marcher from its sample total), so a step needs no host round trip.
   void dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
                         const Buffer& args, VkDeviceSize offset, const char* label = nullptr);
   void copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset = 0, VkDeviceSize dstOffset = 0);
   void fill(Buffer& dst, uint32_t value, VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
+  // vkCmdUpdateBuffer: `bytes` (a multiple of 4, at most 65536) copied into the command buffer now,
+  // written to `dst` when it executes. Small per-recording data (a camera) without a host upload.
+  void update(Buffer& dst, VkDeviceSize offset, const void* data, VkDeviceSize bytes);
   void end();
   void submitAndWait();  // owned command buffer only; may be called repeatedly after one recording
   // One record + submit, for tests and one-off work.
@@ -50,8 +58,9 @@ class Recorder {
 
  private:
   void barrierIfNeeded(bool indirectNext = false);
-  void recordKernel(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
-                    const char* label, bool indirect, const std::function<void()>& issue);
+  void recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
+                    bool indirect, const std::function<void()>& issue);
+  static VkDescriptorSet cachedSet(Kernel& k, std::initializer_list<BufferRange> bindings);
   Context& ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

@@ -1,0 +1,727 @@
+// The embedding API: Model::recordRender into command buffers, buffers and images that the test
+// creates itself, as an application would, on vknerf's context and on an adopted device.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+#include "gpu_test.h"
+#include "vknerf/error.h"
+#include "vknerf/trainer.h"
+
+using namespace vknerf;
+
+namespace {
+
+// ------------------------------------------------------------------ a small model
+
+// The vanilla recipe at a tiny size. 128 rays per block: the 20x14 views below take three blocks,
+// the last one partial, so block offsets are exercised.
+TrainConfig tinyConfig(const Context& ctx) {
+  TrainConfig c = TrainConfig::vanilla(ctx);
+  c.model.width = 16;
+  c.model.depth = 2;
+  c.model.skipLayer = 1;
+  c.model.posLevels = 4;
+  c.model.dirLevels = 2;
+  c.model.coarseSamples = 8;
+  c.model.fineSamples = 8;
+  c.raysPerBatch = 128;
+  c.learningRate = 1e-2f;
+  c.background = {0.25f, 0.5f, 0.75f};  // not white: the background must reach the target
+  return c;
+}
+
+// Camera at `eye` looking at the origin (OpenGL convention: -Z forward, +Y up).
+Camera lookAtOrigin(float ex, float ey, float ez, uint32_t w, uint32_t h) {
+  const float len = std::sqrt(ex * ex + ey * ey + ez * ez);
+  const float z[3] = {ex / len, ey / len, ez / len};  // backwards
+  float x[3] = {z[2], 0, -z[0]};                      // cross((0, 1, 0), z)
+  const float xl = std::sqrt(x[0] * x[0] + x[2] * x[2]);
+  x[0] /= xl, x[2] /= xl;
+  const float y[3] = {z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]};
+  Camera c;
+  c.width = w;
+  c.height = h;
+  c.fx = c.fy = 1.2f * float(w);
+  c.cx = 0.5f * float(w);
+  c.cy = 0.5f * float(h);
+  c.c2w = {x[0], y[0], z[0], ex, x[1], y[1], z[1], ey, x[2], y[2], z[2], ez, 0, 0, 0, 1};
+  return c;
+}
+
+// Four 16x16 views of a coloured pattern around the unit box: enough for a few training steps to
+// give the field structure (depth, opacity and colour that vary over the image).
+Dataset tinyDataset() {
+  Dataset d;
+  const float eyes[4][3] = {{0, 0.5f, 3}, {3, 0.5f, 0}, {0, 0.5f, -3}, {-3, 0.5f, 0}};
+  for (int i = 0; i < 4; ++i) {
+    d.cameras.push_back(lookAtOrigin(eyes[i][0], eyes[i][1], eyes[i][2], 16, 16));
+    ImageRGBA8 img{16, 16, std::vector<uint8_t>(16 * 16 * 4)};
+    for (uint32_t y = 0; y < 16; ++y)
+      for (uint32_t x = 0; x < 16; ++x) {
+        uint8_t* p = &img.rgba[(y * 16 + x) * 4];
+        const bool inside = x >= 4 && x < 12 && y >= 4 && y < 12;  // an object in the middle
+        p[0] = inside ? uint8_t(40 + 20 * i) : 0;
+        p[1] = inside ? uint8_t(200 - 10 * x) : 0;
+        p[2] = inside ? uint8_t(60 + 10 * y) : 0;
+        p[3] = inside ? 255 : 0;
+      }
+    d.images.push_back(std::move(img));
+    d.names.push_back("view" + std::to_string(i));
+  }
+  d.boundsSource = "test";
+  return d;
+}
+
+std::shared_ptr<Context> sharedContext() {
+  return std::shared_ptr<Context>(&test::context(), [](Context*) {});  // the harness owns it
+}
+
+std::unique_ptr<Trainer> trainedTinyModel(std::shared_ptr<Context> ctx) {
+  auto t = std::make_unique<Trainer>(ctx, tinyDataset(), tinyConfig(*ctx));
+  for (int i = 0; i < 8; ++i) t->step();
+  return t;
+}
+
+std::string tempCheckpoint() {
+  auto dir = std::filesystem::temp_directory_path() / ("vknerf_embedding_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / "tiny.vknerf").string();
+}
+
+// ------------------------------------------------------------------ the application's side
+
+uint32_t memoryType(VkPhysicalDevice phys, uint32_t bits, VkMemoryPropertyFlags want) {
+  VkPhysicalDeviceMemoryProperties mp;
+  vkGetPhysicalDeviceMemoryProperties(phys, &mp);
+  for (uint32_t i = 0; i < mp.memoryTypeCount; ++i)
+    if ((bits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) return i;
+  ADD_FAILURE() << "no memory type";
+  return 0;
+}
+
+// The application's device handles (vknerf's context, or the test's own adopted device).
+struct AppDevice {
+  VkPhysicalDevice phys;
+  VkDevice dev;
+  VkQueue queue;
+  uint32_t family;
+  static AppDevice of(const Context& c) { return {c.physicalDevice(), c.device(), c.queue(), c.queueFamily()}; }
+};
+
+// A host-visible buffer the application owns (storage target and readback), mapped.
+struct AppBuffer {
+  AppDevice d;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  void* mapped = nullptr;
+  VkDeviceSize size;
+  AppBuffer(AppDevice dev, VkDeviceSize bytes) : d(dev), size(bytes) {
+    VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bi.size = bytes;
+    bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    EXPECT_EQ(vkCreateBuffer(d.dev, &bi, nullptr, &buffer), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(d.dev, buffer, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = memoryType(d.phys, req.memoryTypeBits,
+                                    VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    EXPECT_EQ(vkAllocateMemory(d.dev, &ai, nullptr, &memory), VK_SUCCESS);
+    EXPECT_EQ(vkBindBufferMemory(d.dev, buffer, memory, 0), VK_SUCCESS);
+    EXPECT_EQ(vkMapMemory(d.dev, memory, 0, VK_WHOLE_SIZE, 0, &mapped), VK_SUCCESS);
+  }
+  ~AppBuffer() {
+    vkDestroyBuffer(d.dev, buffer, nullptr);
+    vkFreeMemory(d.dev, memory, nullptr);
+  }
+  std::vector<float> floats(VkDeviceSize offset, size_t count) const {
+    std::vector<float> v(count);
+    std::memcpy(v.data(), static_cast<const char*>(mapped) + offset, count * sizeof(float));
+    return v;
+  }
+};
+
+// A 2D storage image the application owns (read back by copying it into a buffer).
+struct AppImage {
+  AppDevice d;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  AppImage(AppDevice dev, uint32_t w, uint32_t h, VkFormat format) : d(dev) {
+    VkImageCreateInfo ii{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ii.imageType = VK_IMAGE_TYPE_2D;
+    ii.format = format;
+    ii.extent = {w, h, 1};
+    ii.mipLevels = ii.arrayLayers = 1;
+    ii.samples = VK_SAMPLE_COUNT_1_BIT;
+    ii.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ii.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    ii.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    EXPECT_EQ(vkCreateImage(d.dev, &ii, nullptr, &image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(d.dev, image, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = memoryType(d.phys, req.memoryTypeBits, 0);
+    EXPECT_EQ(vkAllocateMemory(d.dev, &ai, nullptr, &memory), VK_SUCCESS);
+    EXPECT_EQ(vkBindImageMemory(d.dev, image, memory, 0), VK_SUCCESS);
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    EXPECT_EQ(vkCreateImageView(d.dev, &vi, nullptr, &view), VK_SUCCESS);
+  }
+  ~AppImage() {
+    vkDestroyImageView(d.dev, view, nullptr);
+    vkDestroyImage(d.dev, image, nullptr);
+    vkFreeMemory(d.dev, memory, nullptr);
+  }
+};
+
+// The application's command pool, one primary command buffer, and a fence.
+struct AppCommands {
+  AppDevice d;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  explicit AppCommands(AppDevice dev) : d(dev) {
+    VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pi.queueFamilyIndex = d.family;
+    EXPECT_EQ(vkCreateCommandPool(d.dev, &pi, nullptr, &pool), VK_SUCCESS);
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = pool;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    EXPECT_EQ(vkAllocateCommandBuffers(d.dev, &ai, &cmd), VK_SUCCESS);
+    VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    EXPECT_EQ(vkCreateFence(d.dev, &fi, nullptr, &fence), VK_SUCCESS);
+  }
+  ~AppCommands() {
+    vkDestroyFence(d.dev, fence, nullptr);
+    vkDestroyCommandPool(d.dev, pool, nullptr);
+  }
+  void begin() {
+    ASSERT_EQ(vkResetCommandBuffer(cmd, 0), VK_SUCCESS);
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    ASSERT_EQ(vkBeginCommandBuffer(cmd, &bi), VK_SUCCESS);
+  }
+  void submitAndWait() {
+    ASSERT_EQ(vkEndCommandBuffer(cmd), VK_SUCCESS);
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    ASSERT_EQ(vkResetFences(d.dev, 1, &fence), VK_SUCCESS);
+    ASSERT_EQ(vkQueueSubmit(d.queue, 1, &si, fence), VK_SUCCESS);
+    ASSERT_EQ(vkWaitForFences(d.dev, 1, &fence, VK_TRUE, UINT64_MAX), VK_SUCCESS);
+  }
+};
+
+// The contract's barriers, as the application records them.
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags srcAccess, VkPipelineStageFlags dst,
+                   VkAccessFlags dstAccess) {
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = srcAccess;
+  mb.dstAccessMask = dstAccess;
+  vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+// Before: a sentinel fill (so an unwritten texel shows) made visible to the render's shader writes.
+void fillBeforeRender(VkCommandBuffer cmd, const AppBuffer& b, float sentinel) {
+  uint32_t bits;
+  std::memcpy(&bits, &sentinel, 4);
+  vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, bits);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+// After: the render's writes made visible to the host (a mapped buffer read after the fence).
+void renderToHost(VkCommandBuffer cmd) {
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                VK_ACCESS_HOST_READ_BIT);
+}
+
+void imageLayout(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to, VkPipelineStageFlags src,
+                 VkAccessFlags srcAccess, VkPipelineStageFlags dst, VkAccessFlags dstAccess) {
+  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  ib.srcAccessMask = srcAccess;
+  ib.dstAccessMask = dstAccess;
+  ib.oldLayout = from;
+  ib.newLayout = to;
+  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  ib.image = image;
+  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, src, dst, 0, 0, nullptr, 0, nullptr, 1, &ib);
+}
+
+// Renders `cam` into a storage image of `format` and copies it into `readback` (tightly packed).
+void renderIntoImage(const Model& model, AppDevice d, const Camera& cam, VkFormat format, const AppBuffer& readback) {
+  AppImage img(d, cam.width, cam.height, format);
+  AppCommands app(d);
+  app.begin();
+  imageLayout(app.cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+              0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
+  RenderTarget t;
+  t.width = cam.width;
+  t.height = cam.height;
+  t.imageView = img.view;
+  t.imageFormat = format;
+  model.recordRender(app.cmd, cam, t);
+  imageLayout(app.cmd, img.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+              VK_ACCESS_TRANSFER_READ_BIT);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {cam.width, cam.height, 1};
+  vkCmdCopyImageToBuffer(app.cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
+  memoryBarrier(app.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                VK_ACCESS_HOST_READ_BIT);
+  app.submitAndWait();
+}
+
+// Records one render into a fresh application buffer (at `offset`) and returns its texels.
+std::vector<float> renderIntoBuffer(const Model& model, AppDevice d, const Camera& cam,
+                                    RenderChannel channel = RenderChannel::Color, float depthScale = 1.0f) {
+  const VkDeviceSize bytes = VkDeviceSize(cam.width) * cam.height * 16;
+  AppBuffer target(d, bytes);
+  AppCommands app(d);
+  app.begin();
+  fillBeforeRender(app.cmd, target, -7.0f);
+  RenderTarget t;
+  t.width = cam.width;
+  t.height = cam.height;
+  t.channel = channel;
+  t.depthScale = depthScale;
+  t.buffer = target.buffer;
+  model.recordRender(app.cmd, cam, t);
+  renderToHost(app.cmd);
+  app.submitAndWait();
+  return target.floats(0, size_t(cam.width) * cam.height * 4);
+}
+
+// The colour channel (rgb, opacity per texel) equals Model::render exactly: the same kernels run on
+// the same inputs in the same blocks, and the writer copies the floats unchanged.
+void expectColourEqualsRender(const std::vector<float>& texels, const RenderedImage& ref) {
+  const size_t n = size_t(ref.width) * ref.height;
+  ASSERT_EQ(texels.size(), n * 4);
+  for (size_t p = 0; p < n; ++p) {
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(texels[p * 4 + k], ref.rgb[p * 3 + k]) << "pixel " << p << " channel " << k;
+    ASSERT_EQ(texels[p * 4 + 3], ref.opacity[p]) << "pixel " << p << " opacity";
+  }
+}
+
+// A render worth comparing: colour, opacity and depth vary over the image.
+void expectStructure(const RenderedImage& img) {
+  float omin = 1, omax = 0, dmax = 0;
+  for (float o : img.opacity) omin = std::min(omin, o), omax = std::max(omax, o);
+  for (float d : img.depth) dmax = std::max(dmax, d);
+  EXPECT_GT(omax - omin, 0.05f) << "opacity is flat: the test would not see misplaced pixels";
+  EXPECT_GT(dmax, 0.5f) << "no depth anywhere";
+}
+
+class EmbeddingTest : public test::GpuTest {};
+
+}  // namespace
+
+// ------------------------------------------------------------------ the tests
+
+TEST_F(EmbeddingTest, RenderIntoCallerBufferEqualsModelRender) {
+  auto trainer = trainedTinyModel(sharedContext());
+  const Model& model = trainer->model();
+  const Camera cam = lookAtOrigin(0.8f, 0.6f, 2.8f, 20, 14);
+  const RenderedImage ref = model.render(cam);
+  expectStructure(ref);
+
+  // At an offset into a larger buffer: the bytes before the target keep the sentinel.
+  const VkDeviceSize offset = std::max<VkDeviceSize>(ctx().properties().limits.minStorageBufferOffsetAlignment, 64);
+  const size_t texels = size_t(cam.width) * cam.height;
+  AppDevice d = AppDevice::of(ctx());
+  AppBuffer target(d, offset + texels * 16 + 64);
+  AppCommands app(d);
+  app.begin();
+  fillBeforeRender(app.cmd, target, -7.0f);
+  RenderTarget t;
+  t.width = cam.width;
+  t.height = cam.height;
+  t.buffer = target.buffer;
+  t.offset = offset;
+  model.recordRender(app.cmd, cam, t);
+  renderToHost(app.cmd);
+  app.submitAndWait();
+
+  expectColourEqualsRender(target.floats(offset, texels * 4), ref);
+  for (float v : target.floats(0, offset / 4)) ASSERT_EQ(v, -7.0f) << "written before the target's offset";
+  for (float v : target.floats(offset + texels * 16, 16)) ASSERT_EQ(v, -7.0f) << "written past the target";
+
+  // A loaded model (one block per view: its capacity is larger) records the same image.
+  const auto path = tempCheckpoint();
+  trainer->save(path);
+  Model loaded = Model::load(sharedContext(), path);
+  expectColourEqualsRender(renderIntoBuffer(loaded, d, cam), ref);
+  std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+TEST_F(EmbeddingTest, RenderIntoStorageImages) {
+  auto trainer = trainedTinyModel(sharedContext());
+  const Model& model = trainer->model();
+  const Camera cam = lookAtOrigin(-1.0f, 1.0f, 2.6f, 20, 14);  // not square: rows and columns must not swap
+  const RenderedImage ref = model.render(cam);
+  expectStructure(ref);
+  const size_t n = size_t(cam.width) * cam.height;
+  AppDevice d = AppDevice::of(ctx());
+
+  AppBuffer floats(d, n * 16);
+  renderIntoImage(model, d, cam, VK_FORMAT_R32G32B32A32_SFLOAT, floats);
+  expectColourEqualsRender(floats.floats(0, n * 4), ref);
+
+  // UNORM: the store converts each value to 8 bits; Vulkan leaves the rounding direction to the
+  // implementation, so a texel is within one step (1/255) of the reference, plus float rounding.
+  AppBuffer bytes(d, n * 4);
+  renderIntoImage(model, d, cam, VK_FORMAT_R8G8B8A8_UNORM, bytes);
+  const auto* px = static_cast<const uint8_t*>(bytes.mapped);
+  for (size_t p = 0; p < n; ++p) {
+    const float want[4] = {ref.rgb[p * 3], ref.rgb[p * 3 + 1], ref.rgb[p * 3 + 2], ref.opacity[p]};
+    for (int k = 0; k < 4; ++k)
+      ASSERT_TRUE(test::near(px[p * 4 + k] / 255.0, std::clamp(want[k], 0.0f, 1.0f), 0, 1.0 / 255 + 1e-6))
+          << "pixel " << p << " channel " << k;
+  }
+}
+
+TEST_F(EmbeddingTest, DepthChannel) {
+  auto trainer = trainedTinyModel(sharedContext());
+  const Model& model = trainer->model();
+  const Camera cam = lookAtOrigin(0.8f, 0.6f, 2.8f, 20, 14);
+  const RenderedImage ref = model.render(cam);
+  expectStructure(ref);
+  const float scale = 0.25f;
+  const auto texels = renderIntoBuffer(model, AppDevice::of(ctx()), cam, RenderChannel::Depth, scale);
+  for (size_t p = 0; p < size_t(cam.width) * cam.height; ++p) {
+    // Depth = sum / opacity on the device vs on the host: Vulkan allows a division 2.5 ulp off the
+    // correctly rounded quotient, and the scale adds one rounding: 1e-6 relative covers both.
+    for (int k = 0; k < 3; ++k)
+      ASSERT_TRUE(test::near(texels[p * 4 + k], double(ref.depth[p]) * scale, 1e-6, 1e-7)) << "pixel " << p;
+    ASSERT_EQ(texels[p * 4 + 3], ref.opacity[p]) << "pixel " << p;
+  }
+}
+
+TEST_F(EmbeddingTest, TwoCamerasInOneCommandBuffer) {
+  auto trainer = trainedTinyModel(sharedContext());
+  const Model& model = trainer->model();
+  const Camera a = lookAtOrigin(0.8f, 0.6f, 2.8f, 20, 14), b = lookAtOrigin(2.8f, -0.5f, -0.9f, 20, 14);
+  const RenderedImage refA = model.render(a), refB = model.render(b);
+  ASSERT_NE(refA.rgb, refB.rgb) << "the two views must differ for the test to mean anything";
+  const size_t n = size_t(a.width) * a.height;
+  AppDevice d = AppDevice::of(ctx());
+  AppBuffer targetA(d, n * 16), targetB(d, n * 16);
+  AppCommands app(d);
+  app.begin();
+  fillBeforeRender(app.cmd, targetA, -7.0f);
+  fillBeforeRender(app.cmd, targetB, -7.0f);
+  RenderTarget t;
+  t.width = a.width;
+  t.height = a.height;
+  t.buffer = targetA.buffer;
+  model.recordRender(app.cmd, a, t);
+  t.buffer = targetB.buffer;
+  model.recordRender(app.cmd, b, t);  // reuses the model's scratch and camera buffer
+  renderToHost(app.cmd);
+  app.submitAndWait();
+  expectColourEqualsRender(targetA.floats(0, n * 4), refA);
+  expectColourEqualsRender(targetB.floats(0, n * 4), refB);
+}
+
+TEST_F(EmbeddingTest, TwoContextsInOneProcessRenderTheSame) {
+  auto trainer = trainedTinyModel(sharedContext());
+  const auto path = tempCheckpoint();
+  trainer->save(path);
+  const Camera cam = lookAtOrigin(0.8f, 0.6f, 2.8f, 20, 14);
+  std::vector<float> first, second;
+  {
+    auto c1 = Context::create(), c2 = Context::create();
+    Model m1 = Model::load(c1, path), m2 = Model::load(c2, path);
+    // Interleaved: each context's model keeps its own record state.
+    first = renderIntoBuffer(m1, AppDevice::of(*c1), cam);
+    second = renderIntoBuffer(m2, AppDevice::of(*c2), cam);
+    expectColourEqualsRender(first, m1.render(cam));
+    EXPECT_EQ(c1->validationMessages(), 0u);
+    EXPECT_EQ(c2->validationMessages(), 0u);
+  }
+  EXPECT_EQ(first, second);
+  std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+namespace {
+
+// The application's own instance and device. With VKNERF_VALIDATION=1 it enables the validation
+// layer itself and counts the layer's messages with its own messenger: an adopted context has no
+// messenger of vknerf's.
+struct OwnDevice {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+  VkPhysicalDevice phys = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  uint32_t family = 0;
+  bool floatAtomics = false;
+  bool validating = false;
+  uint32_t& messages;  // outlives the device: vkDestroyDevice reports objects left on it
+
+  static VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
+                                                  VkDebugUtilsMessageTypeFlagsEXT,
+                                                  const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    std::fprintf(stderr, "test device: validation: %s\n", data->pMessage);
+    ++*static_cast<uint32_t*>(user);
+    return VK_FALSE;
+  }
+
+  explicit OwnDevice(uint32_t& counter) : messages(counter) {
+    validating = std::getenv("VKNERF_VALIDATION") && std::string(std::getenv("VKNERF_VALIDATION")) == "1";
+    const bool validate = validating;
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.apiVersion = VK_API_VERSION_1_2;
+    VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    mi.pfnUserCallback = onMessage;
+    mi.pUserData = &messages;
+    const char* layer = "VK_LAYER_KHRONOS_validation";
+    const char* instanceExts[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
+    VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ci.pApplicationInfo = &app;
+    // Synchronization validation too: it checks the barriers recordRender records (between its own
+    // commands, and against the application's commands before it) for read/write hazards.
+    VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = &sync;
+    features.pNext = &mi;  // the messenger in the chain also covers instance creation and destruction
+    if (validate) {
+      ci.enabledLayerCount = 1;
+      ci.ppEnabledLayerNames = &layer;
+      ci.enabledExtensionCount = 2;
+      ci.ppEnabledExtensionNames = instanceExts;
+      ci.pNext = &features;
+    }
+    EXPECT_EQ(vkCreateInstance(&ci, nullptr, &instance), VK_SUCCESS);
+    if (validate) {
+      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+      EXPECT_NE(create, nullptr);
+      if (create) EXPECT_EQ(create(instance, &mi, nullptr, &messenger), VK_SUCCESS);
+    }
+    uint32_t n = 1;
+    vkEnumeratePhysicalDevices(instance, &n, &phys);  // the first device: any Vulkan 1.2 device works
+    uint32_t nf = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(phys, &nf, nullptr);
+    std::vector<VkQueueFamilyProperties> fams(nf);
+    vkGetPhysicalDeviceQueueFamilyProperties(phys, &nf, fams.data());
+    while (family < nf && !(fams[family].queueFlags & VK_QUEUE_COMPUTE_BIT)) ++family;
+    EXPECT_LT(family, nf) << "no compute queue";
+
+    // Float atomics when the device has them (training needs them; rendering does not).
+    uint32_t ne = 0;
+    vkEnumerateDeviceExtensionProperties(phys, nullptr, &ne, nullptr);
+    std::vector<VkExtensionProperties> exts(ne);
+    vkEnumerateDeviceExtensionProperties(phys, nullptr, &ne, exts.data());
+    bool hasExt = false;
+    for (auto& e : exts) hasExt |= std::strcmp(e.extensionName, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) == 0;
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+    VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    if (hasExt) supported.pNext = &atomics;
+    vkGetPhysicalDeviceFeatures2(phys, &supported);
+    floatAtomics = hasExt && atomics.shaderBufferFloat32AtomicAdd;
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT enableAtomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+    enableAtomics.shaderBufferFloat32AtomicAdd = floatAtomics;
+    VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    enable.features.shaderInt64 = supported.features.shaderInt64;
+    if (floatAtomics) enable.pNext = &enableAtomics;
+    const char* atomicExt = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
+
+    float priority = 1;
+    VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qi.queueFamilyIndex = family;
+    qi.queueCount = 1;
+    qi.pQueuePriorities = &priority;
+    VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    di.pNext = &enable;
+    di.queueCreateInfoCount = 1;
+    di.pQueueCreateInfos = &qi;
+    di.enabledExtensionCount = floatAtomics ? 1 : 0;
+    di.ppEnabledExtensionNames = &atomicExt;
+    EXPECT_EQ(vkCreateDevice(phys, &di, nullptr, &device), VK_SUCCESS);
+    vkGetDeviceQueue(device, family, 0, &queue);
+  }
+  ~OwnDevice() {
+    if (device) vkDestroyDevice(device, nullptr);  // the layer reports any object left on it
+    if (messenger) {
+      auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+      destroy(instance, messenger, nullptr);
+    }
+    if (instance) vkDestroyInstance(instance, nullptr);
+  }
+  AppDevice app() const { return {phys, device, queue, family}; }
+};
+
+}  // namespace
+
+TEST_F(EmbeddingTest, AdoptedDeviceRendersAndKeepsTheCallersObjects) {
+  auto trainer = trainedTinyModel(sharedContext());
+  const auto path = tempCheckpoint();
+  trainer->save(path);
+  const Camera cam = lookAtOrigin(0.8f, 0.6f, 2.8f, 20, 14), cam2 = lookAtOrigin(2.8f, -0.5f, -0.9f, 20, 14);
+  const size_t n = size_t(cam.width) * cam.height;
+  uint32_t messages = 0, probeMessages = 0;
+  {
+    OwnDevice own(messages);
+    ASSERT_NE(own.device, VK_NULL_HANDLE);
+    const AppDevice d = own.app();
+    AppBuffer target(d, n * 16), target2(d, n * 16);  // created before the context, used after it
+    AppCommands app(d);
+    {
+      auto adopted = Context::adopt({own.instance, own.phys, own.device, own.family, own.queue, own.floatAtomics});
+      Model model = Model::load(adopted, path);
+      // Two renders in one command buffer, under synchronization validation: the second one's
+      // commands reuse the first one's scratch and camera buffers.
+      app.begin();
+      fillBeforeRender(app.cmd, target, -7.0f);
+      fillBeforeRender(app.cmd, target2, -7.0f);
+      RenderTarget t;
+      t.width = cam.width;
+      t.height = cam.height;
+      t.buffer = target.buffer;
+      model.recordRender(app.cmd, cam, t);
+      t.buffer = target2.buffer;
+      model.recordRender(app.cmd, cam2, t);
+      renderToHost(app.cmd);
+      app.submitAndWait();
+      expectColourEqualsRender(target.floats(0, n * 4), model.render(cam));
+      expectColourEqualsRender(target2.floats(0, n * 4), model.render(cam2));
+    }
+    // vknerf is gone: the application's device, queue, pool and buffer still work.
+    app.begin();
+    fillBeforeRender(app.cmd, target, 3.0f);
+    app.submitAndWait();
+    EXPECT_EQ(target.floats(0, 1)[0], 3.0f);
+    if (own.validating) {
+      // Probe: a deliberate write-after-write hazard (never submitted) must be reported, so zero
+      // messages means a clean run, not a layer that is absent or a counter that is not wired.
+      const uint32_t before = messages;
+      std::fprintf(stderr, "(the next synchronization hazard is deliberate)\n");
+      app.begin();
+      vkCmdFillBuffer(app.cmd, target.buffer, 0, VK_WHOLE_SIZE, 0);
+      vkCmdFillBuffer(app.cmd, target.buffer, 0, VK_WHOLE_SIZE, 0);
+      ASSERT_EQ(vkEndCommandBuffer(app.cmd), VK_SUCCESS);
+      probeMessages = messages - before;
+      EXPECT_GT(probeMessages, 0u) << "synchronization validation did not report the deliberate hazard";
+    }
+  }  // device, messenger and instance destroyed here; the layer reports vknerf objects left behind
+  EXPECT_EQ(messages - probeMessages, 0u)
+      << "the validation layer of the test's own instance reported messages (see stderr)";
+  std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+TEST_F(EmbeddingTest, BadTargetsAreClearErrors) {
+  auto trainer = trainedTinyModel(sharedContext());
+  const Model& model = trainer->model();
+  const Camera cam = lookAtOrigin(0.8f, 0.6f, 2.8f, 20, 14);
+  AppDevice d = AppDevice::of(ctx());
+  AppBuffer target(d, size_t(cam.width) * cam.height * 16);
+  AppImage image(d, cam.width, cam.height, VK_FORMAT_R32G32B32A32_SFLOAT);
+  AppCommands app(d);
+  app.begin();
+
+  auto message = [&](const Camera& c, const RenderTarget& t, VkCommandBuffer cmd) -> std::string {
+    try {
+      model.recordRender(cmd, c, t);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  RenderTarget good;
+  good.width = cam.width;
+  good.height = cam.height;
+  good.buffer = target.buffer;
+  auto expectError = [&](const RenderTarget& t, const std::string& field, const Camera& c, VkCommandBuffer cmd) {
+    const std::string m = message(c, t, cmd);
+    std::fprintf(stderr, "  %s\n", m.c_str());
+    EXPECT_NE(m.find(field), std::string::npos) << "message '" << m << "' does not name '" << field << "'";
+    EXPECT_EQ(m.find('\n'), std::string::npos) << "not one line: " << m;
+  };
+
+  RenderTarget t = good;
+  t.width = cam.width + 1;
+  expectError(t, "width/height", cam, app.cmd);
+  t = good;
+  t.imageView = image.view;
+  t.imageFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+  expectError(t, "both buffer and imageView", cam, app.cmd);
+  t = good;
+  t.buffer = VK_NULL_HANDLE;
+  expectError(t, "neither buffer nor imageView", cam, app.cmd);
+  t.imageView = image.view;
+  t.imageFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+  expectError(t, "imageFormat", cam, app.cmd);
+  t.imageFormat = VK_FORMAT_UNDEFINED;
+  expectError(t, "imageFormat", cam, app.cmd);
+  t = good;
+  t.channel = RenderChannel(7);
+  expectError(t, "channel", cam, app.cmd);
+  t = good;
+  t.channel = RenderChannel::Depth;
+  t.depthScale = std::numeric_limits<float>::infinity();
+  expectError(t, "depthScale", cam, app.cmd);
+  const VkDeviceSize align = ctx().properties().limits.minStorageBufferOffsetAlignment;
+  if (align > 1) {
+    t = good;
+    t.offset = align / 2;
+    expectError(t, "offset", cam, app.cmd);
+  }
+  Camera flat = cam;
+  flat.fx = 0;
+  expectError(good, "focal length", flat, app.cmd);
+  Camera empty = cam;
+  empty.width = 0;
+  t = good;
+  t.width = 0;
+  expectError(t, "empty image size", empty, app.cmd);
+  expectError(good, "command buffer", cam, VK_NULL_HANDLE);
+
+  // Every check runs before the first command: the application's command buffer is untouched
+  // and still submits cleanly (the fixture fails on any validation message).
+  app.submitAndWait();
+}
+
+TEST_F(EmbeddingTest, CallerResourcesBindThroughARingNotTheCache) {
+  // A caller's handle may be destroyed and its value reused for a new object, so it must never key
+  // the descriptor cache; transient sets are rewritten on every call, in a ring.
+  gpu::Kernel k(ctx(), gpu::KernelDesc{"write_render_target",
+                                       {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                                       20,
+                                       {}});
+  gpu::Buffer color(ctx(), 64), depth(ctx(), 16), target(ctx(), 64);
+  const gpu::BufferRange external = gpu::BufferRange::externalBuffer(target.handle(), 0, 64);
+  const gpu::BufferRange cachedOnly[] = {color, depth, external};
+  EXPECT_THROW(k.descriptorSet(cachedOnly), Error);
+  const gpu::BufferRange wholeExternal[] = {color, depth, gpu::BufferRange::externalBuffer(target.handle(), 0, VK_WHOLE_SIZE)};
+  EXPECT_THROW(k.transientSet(wholeExternal), Error) << "a caller's buffer has no size vknerf could see";
+  std::vector<VkDescriptorSet> sets;
+  for (uint32_t i = 0; i <= gpu::Kernel::kTransientSets; ++i) sets.push_back(k.transientSet(cachedOnly));
+  EXPECT_NE(sets[0], sets[1]);
+  EXPECT_EQ(sets[0], sets[gpu::Kernel::kTransientSets]) << "the ring wraps after kTransientSets calls";
+}

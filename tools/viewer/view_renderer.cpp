@@ -56,7 +56,7 @@ ViewRenderer::ViewRenderer(const WindowDevice& wd, uint32_t width, uint32_t heig
 
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = VkDeviceSize(width) * height * 4;
-  bi.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  bi.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   check(vkCreateBuffer(dev, &bi, nullptr, &staging_), "vkCreateBuffer");
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(dev, staging_, &req);
@@ -156,21 +156,11 @@ void ViewRenderer::recordRender(VkCommandBuffer cmd, const RenderRequest& reques
   if (request.camera.width != target.width || request.camera.height != target.height)
     throw vknerf::Error("viewer: camera " + std::to_string(request.camera.width) + "x" + std::to_string(request.camera.height) +
                         " does not match its render target " + std::to_string(target.width) + "x" + std::to_string(target.height));
-  // Earlier writes to anything the render reads or writes — the previous frame's use of the target,
-  // a training step's parameter updates in an earlier submission — are made visible to the kernels.
-  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  // vknerf's own buffers (scratch, parameters a training step updated) are synchronised by the
+  // barrier its recording begins with; the target is ours to hand over.
   // The target: the last frame's blit read it (write-after-read), then vknerf writes it as storage.
   transition(cmd, target, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
              VK_ACCESS_SHADER_WRITE_BIT);
-#if !VKNERF_VIEW_RECORD_RENDER
-  // Interim path until Model::recordRender exists: render on the host side and upload.
-  recordHostRender(cmd, request, target);
-  return;
-#endif
   vknerf::RenderTarget rt;
   rt.width = target.width;
   rt.height = target.height;
@@ -183,28 +173,6 @@ void ViewRenderer::recordRender(VkCommandBuffer cmd, const RenderRequest& reques
   transition(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
              VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
 }
-
-#if !VKNERF_VIEW_RECORD_RENDER
-void ViewRenderer::recordHostRender(VkCommandBuffer cmd, const RenderRequest& request, Target& target) {
-  const vknerf::RenderedImage img = request.model->render(request.camera);
-  auto toByte = [](float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
-  auto* out = static_cast<uint8_t*>(stagingMapped_);
-  for (size_t p = 0; p < size_t(img.width) * img.height; ++p) {
-    for (int k = 0; k < 3; ++k)
-      out[p * 4 + k] = request.channel == vknerf::RenderChannel::Depth ? toByte(img.depth[p] * request.depthScale)
-                                                                       : toByte(img.rgb[p * 3 + k]);
-    out[p * 4 + 3] = toByte(img.opacity[p]);
-  }
-  transition(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
-             VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {target.width, target.height, 1};
-  vkCmdCopyBufferToImage(cmd, staging_, target.image, target.layout, 1, &region);
-  transition(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
-             VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-}
-#endif
 
 void ViewRenderer::recordBlit(VkCommandBuffer cmd, VkImage swapImage, VkExtent2D extent) {
   // The swapchain image's old contents are not needed: UNDEFINED -> TRANSFER_DST. The acquire

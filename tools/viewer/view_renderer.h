@@ -61,9 +61,6 @@ class ViewRenderer {
   void createTarget(Target& t, uint32_t width, uint32_t height);
   void destroyTarget(Target& t);
   void recordRender(VkCommandBuffer cmd, const RenderRequest& request, Target& target);
-#if !VKNERF_VIEW_RECORD_RENDER
-  void recordHostRender(VkCommandBuffer cmd, const RenderRequest& request, Target& target);
-#endif
   void recordBlit(VkCommandBuffer cmd, VkImage swapImage, VkExtent2D extent);
   void submitAndWait(VkCommandBuffer cmd);
 
@@ -75,7 +72,7 @@ class ViewRenderer {
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   VkSemaphore acquired_ = VK_NULL_HANDLE;
-  // Host-visible RGBA8 buffer of the full image: screenshot readback (and host-rendered uploads).
+  // Host-visible RGBA8 buffer of the full image: the screenshot's readback.
   VkBuffer staging_ = VK_NULL_HANDLE;
   VkDeviceMemory stagingMemory_ = VK_NULL_HANDLE;
   void* stagingMapped_ = nullptr;

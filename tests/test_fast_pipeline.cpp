@@ -9,8 +9,7 @@
 #include "gpu/recorder.h"
 #include "gpu_test.h"
 #include "nerf/fast_pipeline.h"
-#include "nerf/image_io.h"
-#include "nerf/metrics.h"
+#include "held_out.h"
 #include "nerf/rays.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
@@ -102,24 +101,8 @@ TEST_F(FastPipelineTest, LearnsTheSampleSceneAndSkipsEmptySpace) {
   ASSERT_TRUE(st.hasLoss);
   EXPECT_TRUE(std::isfinite(st.loss));
 
-  const size_t views = 4;
-  std::vector<float> mean(3, 0.0f);
-  size_t pixels = 0;
-  for (size_t i = 0; i < views; ++i) {
-    auto gt = nerf::compositeOver(test.images[i], cfg.background);
-    for (size_t p = 0; p < gt.size(); ++p) mean[p % 3] += gt[p];
-    pixels += gt.size() / 3;
-  }
-  for (float& m : mean) m /= float(pixels);
-  double psnr = 0, baseline = 0;
-  for (size_t i = 0; i < views; ++i) {
-    auto gt = nerf::compositeOver(test.images[i], cfg.background);
-    RenderedImage img = trainer.model().render(test.cameras[i]);
-    std::vector<float> constant(gt.size());
-    for (size_t p = 0; p < gt.size(); ++p) constant[p] = mean[p % 3];
-    psnr += nerf::psnr(img.rgb, gt) / views;
-    baseline += nerf::psnr(constant, gt) / views;
-  }
+  const auto score = test::scoreHeldOut(trainer.model(), test, 4);
+  const double psnr = score.psnr, baseline = score.constantPsnr;
   const double occupied = statistic(trainer, "occupied fraction");
   const double perRay = statistic(trainer, "samples per ray (last step)");
   const double perStep = statistic(trainer, "samples per step (last step)");

@@ -78,11 +78,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
   mlpParams_ = gpu::Buffer::of(ctx, mlp_.initialParameters());
   if (training) {
     loss_.emplace(ctx);
-    AdamConfig ac;
-    ac.initialLearningRate = config.learningRate;
-    ac.beta1 = config.beta1;
-    ac.beta2 = config.beta2;
-    ac.epsilon = config.epsilon;
+    AdamConfig ac = adamConfigOf(config);
     adamMlp_.emplace(ctx, ac);
     ac.skipZeroGradients = true;  // table entries no sample touched keep their moments (instant-ngp)
     adamHash_.emplace(ctx, ac);

@@ -5,6 +5,15 @@
 
 namespace vknerf::nerf {
 
+AdamConfig adamConfigOf(const TrainConfig& config) {
+  AdamConfig ac;
+  ac.initialLearningRate = config.learningRate;
+  ac.beta1 = config.beta1;
+  ac.beta2 = config.beta2;
+  ac.epsilon = config.epsilon;
+  return ac;
+}
+
 std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig& config, const Aabb& box,
                                                  uint32_t rayCapacity, bool training) {
   if (config.model.name == "vanilla") return std::make_unique<VanillaPipeline>(ctx, config, box, rayCapacity, training);

@@ -10,12 +10,17 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "nerf/loss.h"
+#include "nerf/optimizer.h"
+#include "vknerf/config.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
 
 // Rays start this far in front of the camera (or at the scene box, whichever is further).
 constexpr float kNearPlane = 0.05f;
+
+// Adam's rate and moments as a training configuration sets them.
+AdamConfig adamConfigOf(const TrainConfig& config);
 
 // A named float array of the model's state, for checkpoints.
 struct StateArray {

@@ -77,11 +77,7 @@ VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const 
       backgrounds_(ctx) {
   if (training) {
     loss_.emplace(ctx);
-    AdamConfig ac;
-    ac.initialLearningRate = config.learningRate;
-    ac.beta1 = config.beta1;
-    ac.beta2 = config.beta2;
-    ac.epsilon = config.epsilon;
+    AdamConfig ac = adamConfigOf(config);
     ac.decayRate = config.learningRateFinal / config.learningRate;
     ac.decaySteps = float(config.decaySteps);
     adam_.emplace(ctx, ac);

@@ -8,6 +8,8 @@
 // an imageLoad at per-lane coordinates is a vectorised gather, where an SSBO load is a scalar loop
 // over the lanes (shared/LAVAPIPE.md). An entry of F = 2 is half a texel, F = 1 a quarter.
 #include "hash_grid.glsl"
+#define ROW_LIMIT_BINDING 3
+#include "row_limit.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -31,11 +33,12 @@ layout(push_constant) uniform Push {
   uint offsetVec4;   // first column / 4
   uint denseMask;    // bit l: level l is densely indexed
   uvec4 res[6];      // resolution of level l at res[l / 4][l % 4]
+  uint limitBase;    // row_limit.glsl
 } pc;
 
 void main() {
   uint row = gl_GlobalInvocationID.x;
-  if (row >= pc.count) return;
+  if (row >= limitedRows(pc.count, pc.limitBase)) return;
   vec3 p = imageLoad(positions, int(row)).xyz;
   uint dst = row * pc.strideVec4 + pc.offsetVec4;
   for (uint g = 0u; g < GROUPS; ++g) {

@@ -1,5 +1,6 @@
 #version 450
 #extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
 // Real spherical harmonics of unit directions up to DEGREE bands (DEGREE^2 <= 16 coefficients),
 // instant-ngp's basis; constants and order in src/reference/sh_encoding.h. One invocation per row,
 // written as whole vec4s into a row-major feature matrix at a 4-aligned column offset, the
@@ -12,16 +13,19 @@ const uint OUT_VEC4 = (OUT_DIMS + 3u) / 4u;
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer directions;
 layout(std430, binding = 1) writeonly buffer Features { vec4 features[]; };
+#define ROW_LIMIT_BINDING 2
+#include "row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideVec4;
   uint offsetVec4;
+  uint limitBase;  // row_limit.glsl
 } pc;
 
 void main() {
   uint row = gl_GlobalInvocationID.x;
-  if (row >= pc.count) return;
+  if (row >= limitedRows(pc.count, pc.limitBase)) return;
   vec3 d = imageLoad(directions, int(row)).xyz;
   float x = d.x, y = d.y, z = d.z;
   float xy = x * y, xz = x * z, yz = y * z, x2 = x * x, y2 = y * y, z2 = z * z;

@@ -27,10 +27,13 @@ layout(binding = 0, rgba32f) uniform readonly imageBuffer A;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer B;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) writeonly buffer Y { vec4 y4[]; };
+#define ROW_LIMIT_BINDING 4
+#include "row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideA4, strideB4, strideY4;  // row strides in vec4
+  uint limitBase;                     // row_limit.glsl
 } pc;
 
 const uint K4 = KA4 + KB4;
@@ -67,7 +70,7 @@ const uint BOFF4 = WOFF4 + K4 * N4 / 4u;
       [[unroll]] for (uint j = 0; j < BLK; j += 4) DENSE_K4(xb, k, KA4 + k, n0, j)                 \
     [[unroll]] for (uint r = 0; r < R; r++) {                                                      \
       uint row = row0 + r * G;                                                                     \
-      if (row < pc.count)                                                                          \
+      if (row < count)                                                                          \
         [[unroll]] for (uint j = 0; j < BLK; j += 4) {                                             \
           vec4 v = mlpActivate(ACT, vec4(acc[r][j], acc[r][j + 1], acc[r][j + 2], acc[r][j + 3])); \
           uint col = (n0) + j;                                                                     \
@@ -80,10 +83,15 @@ const uint BOFF4 = WOFF4 + K4 * N4 / 4u;
 void main() {
   uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   uint row0 = gl_GlobalInvocationID.x;
+  uint count = limitedRows(pc.count, pc.limitBase);
+  // Under a device row limit the dispatch was sized for the capacity: only the invocations that
+  // the limited rows need run, R rows each, strided by their own (smaller) count.
+  if (count < pc.count) G = min(G, (((count + R - 1u) / R) + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x * gl_WorkGroupSize.x);
+  if (row0 >= G) return;
   float xa[R][KA4];
   float xb[R][KB4 > 0u ? KB4 : 1u];
   [[unroll]] for (uint r = 0; r < R; r++) {
-    uint row = min(row0 + r * G, pc.count - 1u);
+    uint row = min(row0 + r * G, count - 1u);
     [[unroll]] for (uint q = 0; q < KA4 / 4u; q++) {
       vec4 v = imageLoad(A, int(row * pc.strideA4 + q));
       xa[r][4 * q] = v.x; xa[r][4 * q + 1] = v.y; xa[r][4 * q + 2] = v.z; xa[r][4 * q + 3] = v.w;

@@ -16,15 +16,20 @@ layout(binding = 0, rgba32f) uniform readonly imageBuffer C;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer F;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) writeonly buffer Out { vec4 out4[]; };
+#define ROW_LIMIT_BINDING 4
+#include "row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideC4, strideF4, strideOut4;
+  uint limitBase;  // row_limit.glsl
 } pc;
 
 void main() {
   uint row = gl_GlobalInvocationID.x;
-  uint rc = min(row, pc.count - 1u);
+  uint count = limitedRows(pc.count, pc.limitBase);
+  if (count == 0u) return;
+  uint rc = min(row, count - 1u);
   vec4 acc = imageLoad(P, int(WOFF4 + K4));  // bias
   [[unroll]] for (uint q = 0; q < K4 / 4u; q++) {
     vec4 c = imageLoad(C, int(rc * pc.strideC4 + q));
@@ -32,5 +37,5 @@ void main() {
            c.z * imageLoad(P, int(WOFF4 + 4u * q + 2u)) + c.w * imageLoad(P, int(WOFF4 + 4u * q + 3u));
   }
   float sigmaPre = imageLoad(F, int(rc * pc.strideF4 + SIGMA_COL / 4u)).x;
-  if (row < pc.count) out4[row * pc.strideOut4] = vec4(mlpSigmoid(acc).xyz, mlpDensity(DENSITY, sigmaPre));
+  if (row < count) out4[row * pc.strideOut4] = vec4(mlpSigmoid(acc).xyz, mlpDensity(DENSITY, sigmaPre));
 }

@@ -175,12 +175,15 @@ std::pair<uint32_t, uint32_t> FastPipeline::wholeRays(uint32_t numRays) {
 }
 
 void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count,
-                               NerfMlp::Workspace* keep) {
+                               NerfMlp::Workspace* keep, bool limitToTotal) {
   points_.record(rec, gpu::BufferRange(rays_, VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE), *batch.samples,
                  *batch.sampleRay, *batch.totals, sampleCapacity_, box_, positions_, directions_);
-  hash_.recordForward(rec, positions_, count, hashParams_, posFeatures_, mlp_.posStride(), 0);
-  sh_.record(rec, directions_, count, dirFeatures_, mlp_.dirStride(), 0);
-  mlp_.recordForward(rec, count, mlpParams_, posFeatures_, dirFeatures_, field_, keep);
+  // The sample total is the first uint of the totals (RayMarcher::kTotalsBytes).
+  const gpu::BufferRange total(*batch.totals, 0, 4);
+  const gpu::BufferRange* limit = limitToTotal ? &total : nullptr;
+  hash_.recordForward(rec, positions_, count, hashParams_, posFeatures_, mlp_.posStride(), 0, limit);
+  sh_.record(rec, directions_, count, dirFeatures_, mlp_.dirStride(), 0, limit);
+  mlp_.recordForward(rec, count, mlpParams_, posFeatures_, dirFeatures_, field_, keep, limit);
 }
 
 void FastPipeline::recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
@@ -200,10 +203,11 @@ void FastPipeline::recordRender(gpu::Recorder& rec, const gpu::BufferRange& came
   backgrounds_.recordConstant(rec, background_, count, background);
   if (!mayWait) {
     // Everything in the caller's command buffer: each ray gets at most capacity / count samples, so
-    // nothing is cut, and the field is evaluated over the whole capacity (the count is on the device).
+    // nothing is cut. The sample total is known only on the device: the field's kernels are
+    // recorded for the whole capacity and skip the rows past the total (shaders/row_limit.glsl).
     const uint32_t maxSamples = std::max(1u, std::min(config_.model.maxSamplesPerRay, sampleCapacity_ / count));
     recordMarch(rec, 0, count, maxSamples, 0, false);
-    recordField(rec, marched(), 0, sampleCapacity_, nullptr);
+    recordField(rec, marched(), 0, sampleCapacity_, nullptr, true);
     recordComposite(rec, marched(), 0, count, background);
     return;
   }

@@ -59,9 +59,10 @@ class FastPipeline final : public FieldPipeline {
   };
   Packed marched() { return {&offsets_, &samples_, &sampleRay_, &totals_}; }
   Packed terminated() { return {&termOffsets_, &termSamples_, &termSampleRay_, &termTotals_}; }
-  // Field at `count` packed samples of the rays at rayOffset: points, encodings, MLP.
+  // Field at `count` packed samples of the rays at rayOffset: points, encodings, MLP. With
+  // limitToTotal, only the samples below the batch's device total are evaluated (count: capacity).
   void recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count,
-                   NerfMlp::Workspace* keep);
+                   NerfMlp::Workspace* keep, bool limitToTotal = false);
   void recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
                        const std::array<float, 3>& bg);
   void recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step);

@@ -8,6 +8,7 @@
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
+constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
 
 const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
   auto fail = [](const std::string& m) { throw Error("HashEncoding: " + m); };
@@ -33,8 +34,11 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
     : ctx_(ctx),
       config_(checked(config, ctx)),
       mode_(mode),
-      forward_(ctx, {"encode_hash", {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
-                     sizeof(Push), {config.levels, config.featuresPerLevel, config.log2TableSize}}) {
+      forward_(ctx, {"encode_hash",
+                     {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
+                      gpu::Binding::Storage},
+                     sizeof(Push), {config.levels, config.featuresPerLevel, config.log2TableSize}}),
+      noLimit_(ctx, 16) {
   for (uint32_t l = 0; l < config_.levels; ++l) {
     push_.res[l] = resolution(l);
     if (dense(l)) push_.denseMask |= 1u << l;
@@ -79,20 +83,23 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
     gpu::BufferRange in(*positions.buffer, positions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);
     gpu::BufferRange m(*matrix.buffer, matrix.offset + first * rowBytes, n * rowBytes);
     Push p = push_;
-    p.count = n, p.strideVec4 = stride / 4, p.offsetVec4 = columnOffset / 4;
+    p.count = n, p.strideVec4 = stride / 4, p.offsetVec4 = columnOffset / 4, p.limitBase = first;
     fn(in, m, p, gpu::groupsFor(n, kLocal));
   }
 }
 
 void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
                                  const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
-                                 uint32_t columnOffset) {
+                                 uint32_t columnOffset, const gpu::BufferRange* rowLimit) {
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("HashEncoding::recordForward: row limit binding holds no uint");
   if (params.offset % ctx_.properties().limits.minTexelBufferOffsetAlignment)
     throw Error("HashEncoding::recordForward: parameter offset " + std::to_string(params.offset) +
                 " is not a multiple of minTexelBufferOffsetAlignment");
   forChunks(count, stride, columnOffset, positions, features, params, "recordForward",
-            [&](const gpu::BufferRange& in, const gpu::BufferRange& out, const Push& p, uint32_t groups) {
-              rec.dispatch(forward_, {in, exactly(params), out}, p, groups, 1, 1, "encode_hash");
+            [&](const gpu::BufferRange& in, const gpu::BufferRange& out, Push p, uint32_t groups) {
+              if (!rowLimit) p.limitBase = kNoRowLimit;
+              rec.dispatch(forward_, {in, exactly(params), out, rowLimit ? *rowLimit : gpu::BufferRange(noLimit_)}, p,
+                           groups, 1, 1, "encode_hash");
             });
 }
 

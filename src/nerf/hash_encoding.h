@@ -48,9 +48,11 @@ class HashEncoding {
   // positions: `count` vec4; params: parameterCount() floats (both bound as texel buffers: offsets
   // multiples of minTexelBufferOffsetAlignment);
   // features: `count` rows of `stride` floats, block at columnOffset (both multiples of 4).
+  // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are encoded,
+  // the rest of the `count` rows are left untouched (shaders/row_limit.glsl).
   void recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
                      const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
-                     uint32_t columnOffset);
+                     uint32_t columnOffset, const gpu::BufferRange* rowLimit = nullptr);
   // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params.
   // dFeatures has the features' layout; its padding columns are ignored. Needs float atomics.
   void recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
@@ -61,6 +63,7 @@ class HashEncoding {
   struct Push {
     uint32_t count, strideVec4, offsetVec4, denseMask;
     uint32_t res[24];
+    uint32_t limitBase;  // forward only: shaders/row_limit.glsl
   };
   gpu::BufferRange exactly(const gpu::BufferRange& table) const;
   template <class Fn>
@@ -72,6 +75,7 @@ class HashEncoding {
   HashBackwardMode mode_;
   Push push_{};
   gpu::Kernel forward_, backward_;
+  gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
 };
 
 }  // namespace vknerf::nerf

@@ -9,8 +9,9 @@ namespace vknerf::nerf {
 namespace {
 
 struct HeadPush {  // mlp_nerf_head.comp
-  uint32_t count, strideC4, strideF4, strideOut4;
+  uint32_t count, strideC4, strideF4, strideOut4, limitBase;
 };
+constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
 struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
   uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
 };
@@ -76,7 +77,7 @@ NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacit
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config) : NerfMlp(ctx, config, MlpTuning::forDevice(ctx)) {}
 
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning)
-    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning) {
+    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), noLimit_(ctx, 16) {
   if (!ctx.floatAtomics()) throw Error("NeRF MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
   for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
   chunkRows_ = deviceChunkRows(ctx, std::max({posStride(), dirStride(), config.width + 4}));
@@ -94,8 +95,9 @@ void NerfMlp::setChunkRows(uint32_t rows) {
 
 void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
                             const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
-                            Workspace* keep) {
+                            Workspace* keep, const gpu::BufferRange* rowLimit) {
   if (count == 0) return;
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (keep && keep->capacity_ < count)
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
   if (!keep && !scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
@@ -107,7 +109,7 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     head_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{"mlp_nerf_head",
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
-                               gpu::Binding::Storage},
+                               gpu::Binding::Storage, gpu::Binding::Storage},
                               sizeof(HeadPush),
                               {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
   }
@@ -117,11 +119,13 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     Mat o = Mat{out, 4}.rows(first, n);
     auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], W}.rows(row, n); };
     Mat F = Mat{ws.f_, W + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
-    for (uint32_t l = 0; l < D; ++l) layers_[l].forward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk");
-    layers_[D].forward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma");
-    layers_[D + 1].forward(rec, n, params, F, d, C, "nerf colour");
-    HeadPush hp{n, C.stride / 4, F.stride / 4, 1};
-    rec.dispatch(*head_, {C.range, F.range, params, o.range}, hp, gpu::groupsFor(n, kHeadLocal), 1, 1, "nerf head");
+    for (uint32_t l = 0; l < D; ++l)
+      layers_[l].forward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk", rowLimit, first);
+    layers_[D].forward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma", rowLimit, first);
+    layers_[D + 1].forward(rec, n, params, F, d, C, "nerf colour", rowLimit, first);
+    HeadPush hp{n, C.stride / 4, F.stride / 4, 1, rowLimit ? first : kNoRowLimit};
+    rec.dispatch(*head_, {C.range, F.range, params, o.range, rowLimit ? *rowLimit : gpu::BufferRange(noLimit_)}, hp,
+                 gpu::groupsFor(n, kHeadLocal), 1, 1, "nerf head");
   });
 }
 

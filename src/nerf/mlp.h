@@ -64,8 +64,11 @@ class NerfMlp {
 
   // out = f(pos, dir). With a workspace (capacity >= count) the activations are kept for
   // recordBackward; without one an internal scratch is used and nothing is kept.
+  // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are
+  // computed, the rest of `out` is left untouched (shaders/row_limit.glsl).
   void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
-                     const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keepForBackward);
+                     const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keepForBackward,
+                     const gpu::BufferRange* rowLimit = nullptr);
   // grads += dL/dparams for the batch last run forward into `ws` (out: what that forward wrote).
   // dPos (optional, posStride() per row) receives dL/dgamma(x), overwritten.
   void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
@@ -84,6 +87,7 @@ class NerfMlp {
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_;
+  gpu::Buffer noLimit_;  // bound as the head's row limit when there is none (never read)
   std::unique_ptr<Workspace> scratch_;
   uint32_t chunkRows_ = 0;
 };

@@ -10,8 +10,9 @@ namespace vknerf::nerf {
 namespace {
 
 struct RowPush {  // mlp_dense.comp
-  uint32_t count, strideA4, strideB4, strideY4;
+  uint32_t count, strideA4, strideB4, strideY4, limitBase;
 };
+constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
 struct DxPush {  // mlp_dense_dx.comp
   uint32_t count, strideZ4, strideA4, strideDA4, strideDB4;
 };
@@ -77,22 +78,25 @@ DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuni
 }
 
 void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-                         const Mat& y, const char* label) {
+                         const Mat& y, const char* label, const gpu::BufferRange* rowLimit, uint32_t limitBase) {
   if (count == 0) return;
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("MLP: row limit binding holds no uint");
   const auto& s = shape_;
   if (!forward_) {
     uint32_t act = uint32_t(s.act);
     forward_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{"mlp_dense",
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
-                               gpu::Binding::Storage},
+                               gpu::Binding::Storage, gpu::Binding::Storage},
                               sizeof(RowPush),
                               {t_.local, s.ka4(), s.kb4(), s.n4(), s.n, act, u32(s.offset / 4, "weight offset"), t_.rows,
                                std::min(t_.block, s.n4())}});
+    noLimit_ = std::make_unique<gpu::Buffer>(ctx_, 16);
   }
   const Mat& bb = s.kb ? b : a;
-  RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4};
-  rec.dispatch(*forward_, {a.range, bb.range, params, y.range}, p, gpu::groupsFor(count, t_.local * t_.rows), 1, 1, label);
+  RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4, rowLimit ? limitBase : kNoRowLimit};
+  rec.dispatch(*forward_, {a.range, bb.range, params, y.range, rowLimit ? *rowLimit : gpu::BufferRange(*noLimit_)}, p,
+               gpu::groupsFor(count, t_.local * t_.rows), 1, 1, label);
 }
 
 void DenseLayer::inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,

@@ -44,8 +44,11 @@ class DenseLayer {
   const ref::DenseShape& shape() const { return shape_; }
 
   // y[rows][n4] = act(concat(a, b) W + bias); columns >= n are stored as 0. `b` is ignored when kb == 0.
+  // rowLimit (optional): a uint on the device; of these rows, which are rows [limitBase, limitBase +
+  // count) of the limited batch, only those below it are computed (shaders/row_limit.glsl).
   void forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-               const Mat& y, const char* label = "mlp forward");
+               const Mat& y, const char* label = "mlp forward", const gpu::BufferRange* rowLimit = nullptr,
+               uint32_t limitBase = 0);
   // From dz = dL/d(pre-activation): da (ka4 columns) and db (kb4 columns) per GradMode; StoreReluMasked
   // multiplies by [a > 0]. Skipped parts need no buffer (pass any Mat).
   void inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,
@@ -65,6 +68,7 @@ class DenseLayer {
   ref::DenseShape shape_;
   MlpTuning t_;
   std::unique_ptr<gpu::Kernel> forward_;
+  std::unique_ptr<gpu::Buffer> noLimit_;  // bound as the row limit when there is none (never read)
   std::map<std::pair<GradMode, GradMode>, gpu::Kernel> dx_;
   std::vector<std::unique_ptr<DwPart>> dwA_, dwB_, dwBias_;
 };

@@ -8,9 +8,10 @@
 namespace vknerf::nerf {
 namespace {
 struct Push {
-  uint32_t count, strideVec4, offsetVec4;
+  uint32_t count, strideVec4, offsetVec4, limitBase;
 };
 constexpr uint32_t kLocal = 64;
+constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
 
 uint32_t checkedDegree(uint32_t degree) {
   if (degree < 1 || degree > 4) throw Error("ShEncoding: degree must be 1..4, got " + std::to_string(degree));
@@ -22,10 +23,13 @@ uint32_t checkedDegree(uint32_t degree) {
 ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
     : ctx_(ctx),
       degree_(checkedDegree(degree)),
-      kernel_(ctx, {"encode_sh", {gpu::Binding::TexelRgba32f, gpu::Binding::Storage}, sizeof(Push), {degree}}) {}
+      kernel_(ctx, {"encode_sh", {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push),
+                    {degree}}),
+      noLimit_(ctx, 16) {}
 
 void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, uint32_t count,
-                        const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset) {
+                        const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
+                        const gpu::BufferRange* rowLimit) {
   if (stride % 4 || columnOffset % 4)
     throw Error("ShEncoding: stride " + std::to_string(stride) + " and column offset " + std::to_string(columnOffset) +
                 " must be multiples of 4");
@@ -33,6 +37,7 @@ void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, 
     throw Error("ShEncoding: columns [" + std::to_string(columnOffset) + ", " +
                 std::to_string(columnOffset + paddedDims()) + ") do not fit a row of " + std::to_string(stride));
   if (count == 0) return;
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("ShEncoding: row limit binding holds no uint");
   const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
   if (gpu::boundBytes(features) < count * rowBytes || gpu::boundBytes(directions) < VkDeviceSize(count) * 16)
     throw Error("ShEncoding: buffers too small for " + std::to_string(count) + " rows");
@@ -43,8 +48,9 @@ void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, 
     const uint32_t n = std::min(chunk, count - first);
     gpu::BufferRange in(*directions.buffer, directions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);
     gpu::BufferRange out(*features.buffer, features.offset + first * rowBytes, n * rowBytes);
-    Push p{n, stride / 4, columnOffset / 4};
-    rec.dispatch(kernel_, {in, out}, p, gpu::groupsFor(n, kLocal), 1, 1, "encode_sh");
+    Push p{n, stride / 4, columnOffset / 4, rowLimit ? first : kNoRowLimit};
+    rec.dispatch(kernel_, {in, out, rowLimit ? *rowLimit : gpu::BufferRange(noLimit_)}, p, gpu::groupsFor(n, kLocal), 1, 1,
+                 "encode_sh");
   }
 }
 

@@ -1,0 +1,136 @@
+// Row limits (shaders/row_limit.glsl): the per-sample forward kernels recorded for a capacity but cut
+// to a row count that only the device knows (the marcher's sample total, in a render recorded into a
+// caller's command buffer). Below the limit a limited dispatch must write exactly what the unlimited
+// one writes (same kernel, same per-row arithmetic: bit for bit); at and past it nothing. Limits
+// cover 0, a single row, counts that are not workgroup or rows-per-invocation multiples, chunk
+// boundaries, the whole batch and more than the batch.
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/recorder.h"
+#include "gpu_test.h"
+#include "nerf/hash_encoding.h"
+#include "nerf/mlp.h"
+#include "nerf/sh_encoding.h"
+#include "vknerf/error.h"
+
+using namespace vknerf;
+
+namespace {
+
+constexpr float kSentinel = -777.0f;
+constexpr uint32_t kRows = 1000;
+
+using RowLimit = vknerf::test::GpuTest;
+
+std::vector<float> uniform(size_t n, uint32_t seed, float lo = -1, float hi = 1) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<float> u(lo, hi);
+  std::vector<float> v(n);
+  for (auto& x : v) x = u(gen);
+  return v;
+}
+
+// Runs `record` into an output of `rowFloats` floats per row prefilled with the sentinel, with no
+// limit (nullptr) or with the device uint `limit`; returns the output.
+using Record = std::function<void(gpu::Recorder&, const gpu::BufferRange& out, const gpu::BufferRange* limit)>;
+std::vector<float> run(Context& ctx, uint32_t rowFloats, const Record& record, const uint32_t* limit) {
+  auto out = gpu::Buffer::of(ctx, std::vector<float>(size_t(kRows) * rowFloats, kSentinel));
+  auto limitBuffer = gpu::Buffer::of(ctx, std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
+  gpu::BufferRange limitWord(limitBuffer, 0, 4);
+  gpu::Recorder rec(ctx);
+  rec.begin();
+  record(rec, out, limit ? &limitWord : nullptr);
+  rec.end();
+  rec.submitAndWait();
+  return out.download<float>();
+}
+
+void expectLimited(Context& ctx, uint32_t rowFloats, const Record& record, std::initializer_list<uint32_t> limits) {
+  const auto whole = run(ctx, rowFloats, record, nullptr);
+  for (uint32_t r = 0; r < kRows; ++r)
+    ASSERT_NE(whole[size_t(r) * rowFloats], kSentinel) << "the unlimited dispatch left row " << r << " unwritten";
+  for (uint32_t limit : limits) {
+    const auto cut = run(ctx, rowFloats, record, &limit);
+    for (uint32_t r = 0; r < kRows; ++r) {
+      const float* got = &cut[size_t(r) * rowFloats];
+      if (r < limit) {
+        ASSERT_EQ(std::memcmp(got, &whole[size_t(r) * rowFloats], rowFloats * 4), 0)
+            << "limit " << limit << ": row " << r << " differs from the unlimited dispatch";
+      } else {
+        for (uint32_t j = 0; j < rowFloats; ++j)
+          ASSERT_EQ(got[j], kSentinel) << "limit " << limit << ": row " << r << " past the limit was written";
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TEST_F(RowLimit, HashEncodingForward) {
+  nerf::HashEncoding enc(ctx(), ref::HashGridConfig{8, 2, 12, 4, 1.6});
+  auto pos = gpu::Buffer::of(ctx(), uniform(4 * size_t(kRows), 1));
+  auto table = gpu::Buffer::of(ctx(), uniform(enc.parameterCount(), 2, -1e-1f, 1e-1f));
+  const uint32_t stride = enc.paddedDims() + 4;  // a column past the block: untouched either way
+  expectLimited(ctx(), stride,
+                [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
+                  enc.recordForward(rec, pos, kRows, table, out, stride, 0, limit);
+                },
+                {0, 1, 63, 64, 333, kRows, kRows + 5000});
+}
+
+TEST_F(RowLimit, ShEncoding) {
+  nerf::ShEncoding enc(ctx(), 4);
+  auto dirs = uniform(4 * size_t(kRows), 3);
+  for (uint32_t r = 0; r < kRows; ++r) {
+    float* d = &dirs[4 * size_t(r)];
+    const float n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; ++k) d[k] /= n;
+  }
+  auto in = gpu::Buffer::of(ctx(), dirs);
+  expectLimited(ctx(), 16,
+                [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
+                  enc.record(rec, in, kRows, out, 16, 0, limit);
+                },
+                {0, 1, 65, 999, kRows, UINT32_MAX});
+}
+
+// The NeRF MLP in chunks of 256 rows (limits inside the first, on a boundary, inside a later chunk),
+// with and without a workspace, for the fast model's shape (one hidden layer, trunc-exp density)
+// and a deeper one with a skip layer (two-input dense layers).
+TEST_F(RowLimit, NerfMlpForwardInChunks) {
+  std::vector<nerf::MlpConfig> configs(2);
+  configs[0].depth = 1, configs[0].width = 64, configs[0].skipLayer = 0, configs[0].posDims = 16, configs[0].dirDims = 16;
+  configs[0].density = nerf::DensityActivation::TruncExp;
+  configs[1].depth = 3, configs[1].width = 32, configs[1].skipLayer = 2, configs[1].posDims = 21, configs[1].dirDims = 9;
+  for (const auto& cfg : configs) {
+    for (bool keep : {false, true}) {
+      SCOPED_TRACE(testing::Message() << "depth " << cfg.depth << (keep ? ", with a workspace" : ", inference"));
+      nerf::NerfMlp mlp(ctx(), cfg);
+      mlp.setChunkRows(256);
+      nerf::NerfMlp::Workspace ws(ctx(), mlp, kRows);
+      auto params = gpu::Buffer::of(ctx(), mlp.initialParameters());
+      auto pos = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * mlp.posStride(), 4));
+      auto dir = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * mlp.dirStride(), 5));
+      expectLimited(ctx(), 4,
+                    [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
+                      mlp.recordForward(rec, kRows, params, pos, dir, out, keep ? &ws : nullptr, limit);
+                    },
+                    {0, 1, 100, 256, 257, 700, kRows, kRows + 1});
+    }
+  }
+}
+
+TEST_F(RowLimit, LimitBindingMustHoldAUint) {
+  nerf::ShEncoding enc(ctx(), 2);
+  gpu::Buffer in(ctx(), 64 * 16), out(ctx(), 64 * 16), limit(ctx(), 16);
+  gpu::BufferRange tooSmall(limit, 0, 2);
+  gpu::Recorder rec(ctx());
+  rec.begin();
+  EXPECT_THROW(enc.record(rec, in, 64, out, 4, 0, &tooSmall), Error);
+  rec.end();
+}

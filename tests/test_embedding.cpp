@@ -728,8 +728,9 @@ TEST_F(EmbeddingTest, CallerResourcesBindThroughARingNotTheCache) {
 
 TEST_F(EmbeddingTest, FastModelRecordsWhatItRenders) {
   // The fast model sizes a host render from the march's sample count; recorded into a command
-  // buffer it cannot, and evaluates its whole sample capacity instead. Rows are independent in
-  // every kernel on the way, so the real samples give exactly the same image.
+  // buffer it cannot, and records its field kernels for the whole sample capacity, cut on the
+  // device to the marched total (row limits). Rows are independent in every kernel on the way, so
+  // the same samples give exactly the same image.
   TrainConfig c = TrainConfig::fast(ctx());
   c.model.hashLevels = 4;
   c.model.hashLog2Size = 12;

@@ -176,4 +176,22 @@ std::vector<StateArray> VanillaPipeline::state() {
   return out;
 }
 
+// The same keys as FastPipeline's where they mean the same, so bench.md compares them line by line.
+std::vector<std::pair<std::string, double>> VanillaPipeline::statistics() {
+  VkDeviceSize bytes = 0;
+  auto add = [&](const gpu::Buffer& b) { bytes += b.valid() ? b.size() : 0; };
+  for (const NetworkState* n : {&coarse_, &fine_})
+    for (const gpu::Buffer* b : {&n->params, &n->grads, &n->m, &n->v}) add(*b);
+  for (const LevelBuffers& l : levels_)
+    for (const gpu::Buffer* b : {&l.samples, &l.positions, &l.directions, &l.posFeatures, &l.dirFeatures, &l.field,
+                                 &l.color, &l.depth, &l.weights, &l.dField, &l.dColor, &l.partials})
+      add(*b);
+  for (const gpu::Buffer* b : {&rays_, &pixelIds_, &background_, &zeroDepthGrad_, &noOffsets_}) add(*b);
+  const double fineParams = separateFine() ? double(fine_.mlp->parameterCount()) : 0.0;
+  return {{"samples per ray (MLP queries: coarse + fine)", double(levels_[0].samplesPerRay + levels_[1].samplesPerRay)},
+          {"rays per step", double(config_.raysPerBatch)},
+          {"parameters (MLP)", double(coarse_.mlp->parameterCount()) + fineParams},
+          {"device buffers MiB (excl. MLP workspace)", double(bytes) / (1 << 20)}};
+}
+
 }  // namespace vknerf::nerf

@@ -52,6 +52,7 @@ class VanillaPipeline final : public FieldPipeline {
   StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
   std::vector<StateArray> state() override;
+  std::vector<std::pair<std::string, double>> statistics() override;
 
   NetworkState& coarse() { return coarse_; }
   NetworkState& fine() { return config_.model.separateFineNetwork ? fine_ : coarse_; }

@@ -130,8 +130,8 @@ int run(const Options& o, const Globals& g) {
     std::ostringstream stats;
     stats << "- " << name << " after " << trainer.steps() << " steps:";
     for (auto& [key, value] : trainer.statistics()) {
-      std::printf("  %-40s %g\n", key.c_str(), value);
-      stats << " " << key << " " << value << ";";
+      std::printf("  %-48s %g\n", key.c_str(), value);
+      stats << "\n  - " << key << ": " << value;
     }
     statistics.push_back(stats.str());
     const std::string ckpt = (std::filesystem::path(o.out) / (name + ".vknerf")).string();

@@ -84,8 +84,9 @@ void main() {
   uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   uint row0 = gl_GlobalInvocationID.x;
   uint count = limitedRows(pc.count, pc.limitBase);
-  // Under a device row limit the dispatch was sized for the capacity: only the invocations that
-  // the limited rows need run, R rows each, strided by their own (smaller) count.
+  // Under a device row limit only the invocations that the limited rows need run, R rows each,
+  // strided by their own count (the dispatch is indirect, sized for the limit, or direct, for the
+  // whole batch).
   if (count < pc.count) G = min(G, (((count + R - 1u) / R) + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x * gl_WorkGroupSize.x);
   if (row0 >= G) return;
   float xa[R][KA4];

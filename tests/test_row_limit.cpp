@@ -1,9 +1,11 @@
-// Row limits (shaders/row_limit.glsl): the per-sample forward kernels recorded for a capacity but cut
-// to a row count that only the device knows (the marcher's sample total, in a render recorded into a
-// caller's command buffer). Below the limit a limited dispatch must write exactly what the unlimited
+// Row limits (shaders/row_limit.glsl, gpu/limited_dispatch.h): the per-sample forward kernels
+// recorded for a capacity but cut to a row count that only the device knows (the marcher's sample
+// total, in a render recorded into a caller's command buffer), their workgroup counts written on
+// the device (indirect dispatch). Below the limit a limited dispatch must write exactly what the unlimited
 // one writes (same kernel, same per-row arithmetic: bit for bit); at and past it nothing. Limits
 // cover 0, a single row, counts that are not workgroup or rows-per-invocation multiples, chunk
 // boundaries, the whole batch and more than the batch.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "gpu/buffer.h"
+#include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
 #include "nerf/hash_encoding.h"
@@ -133,4 +136,31 @@ TEST_F(RowLimit, LimitBindingMustHoldAUint) {
   rec.begin();
   EXPECT_THROW(enc.record(rec, in, 64, out, 4, 0, &tooSmall), Error);
   rec.end();
+}
+
+// The indirect arguments themselves: chunk c of kind k covers min(chunkRows, limit - c * chunkRows)
+// rows (none past the limit or the batch) in workgroups of rowsPerGroup[k] rows.
+TEST_F(RowLimit, DispatchArgumentsFollowTheLimit) {
+  gpu::LimitedDispatch limited(ctx());
+  for (uint32_t limit : {0u, 1u, 300u, 512u, 999u, 5000u}) {
+    auto word = gpu::Buffer::of(ctx(), std::vector<uint32_t>{limit, 0, 0, 0});
+    gpu::Recorder rec(ctx());
+    rec.begin();
+    limited.recordArgs(rec, gpu::BufferRange(word, 0, 4), 1000, 256, {64, 256});
+    rec.end();
+    rec.submitAndWait();
+    const uint32_t rows = std::min(limit, 1000u);
+    for (uint32_t c = 0; c < 4; ++c)
+      for (uint32_t k = 0; k < 2; ++k) {
+        const gpu::LimitedRows l = limited.rows(c, k);
+        EXPECT_EQ(l.base, c * 256);
+        auto args = l.args->download<uint32_t>(l.argsOffset / 4 + 3);
+        const uint32_t n = rows > c * 256 ? std::min(256u, rows - c * 256) : 0u;
+        const uint32_t per = k ? 256 : 64;
+        EXPECT_EQ(args[l.argsOffset / 4], (n + per - 1) / per) << "limit " << limit << " chunk " << c << " kind " << k;
+        EXPECT_EQ(args[l.argsOffset / 4 + 1], 1u);
+        EXPECT_EQ(args[l.argsOffset / 4 + 2], 1u);
+      }
+  }
+  EXPECT_THROW(limited.rows(4, 0), Error);  // only 4 chunks were recorded
 }

@@ -8,7 +8,6 @@
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
-constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
 
 const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
   auto fail = [](const std::string& m) { throw Error("HashEncoding: " + m); };
@@ -38,7 +37,8 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                      {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                       gpu::Binding::Storage},
                      sizeof(Push), {config.levels, config.featuresPerLevel, config.log2TableSize}}),
-      noLimit_(ctx, 16) {
+      noLimit_(ctx, 16),
+      limited_(ctx) {
   for (uint32_t l = 0; l < config_.levels; ++l) {
     push_.res[l] = resolution(l);
     if (dense(l)) push_.denseMask |= 1u << l;
@@ -83,8 +83,8 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
     gpu::BufferRange in(*positions.buffer, positions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);
     gpu::BufferRange m(*matrix.buffer, matrix.offset + first * rowBytes, n * rowBytes);
     Push p = push_;
-    p.count = n, p.strideVec4 = stride / 4, p.offsetVec4 = columnOffset / 4, p.limitBase = first;
-    fn(in, m, p, gpu::groupsFor(n, kLocal));
+    p.count = n, p.strideVec4 = stride / 4, p.offsetVec4 = columnOffset / 4, p.limitBase = gpu::kNoRowLimit;
+    fn(in, m, p, gpu::groupsFor(n, kLocal), first / chunk, chunk);
   }
 }
 
@@ -96,10 +96,17 @@ void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& pos
     throw Error("HashEncoding::recordForward: parameter offset " + std::to_string(params.offset) +
                 " is not a multiple of minTexelBufferOffsetAlignment");
   forChunks(count, stride, columnOffset, positions, features, params, "recordForward",
-            [&](const gpu::BufferRange& in, const gpu::BufferRange& out, Push p, uint32_t groups) {
-              if (!rowLimit) p.limitBase = kNoRowLimit;
-              rec.dispatch(forward_, {in, exactly(params), out, rowLimit ? *rowLimit : gpu::BufferRange(noLimit_)}, p,
-                           groups, 1, 1, "encode_hash");
+            [&](const gpu::BufferRange& in, const gpu::BufferRange& out, Push p, uint32_t groups, uint32_t c,
+                uint32_t chunkRows) {
+              if (!rowLimit) {
+                rec.dispatch(forward_, {in, exactly(params), out, noLimit_}, p, groups, 1, 1, "encode_hash");
+                return;
+              }
+              if (c == 0) limited_.recordArgs(rec, *rowLimit, count, chunkRows, {kLocal});
+              const gpu::LimitedRows l = limited_.rows(c, 0);
+              p.limitBase = l.base;
+              rec.dispatchIndirect(forward_, {in, exactly(params), out, l.limit}, &p, sizeof p, *l.args, l.argsOffset,
+                                   "encode_hash");
             });
 }
 
@@ -110,7 +117,8 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, const gpu::BufferRange& po
     throw Error("HashEncoding::recordBackward: the device lacks float atomics (VK_EXT_shader_atomic_float "
                 "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs");
   forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
-            [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t groups) {
+            [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t groups, uint32_t,
+                uint32_t) {
               rec.dispatch(backward_, {in, dF, exactly(grads)}, p, groups, 1, 1, "encode_hash_backward");
             });
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gpu/kernel.h"
+#include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 #include "reference/hash_encoding.h"
 
@@ -76,6 +77,7 @@ class HashEncoding {
   Push push_{};
   gpu::Kernel forward_, backward_;
   gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
+  gpu::LimitedDispatch limited_;
 };
 
 }  // namespace vknerf::nerf

@@ -1,6 +1,7 @@
 #include "nerf/mlp.h"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 #include "vknerf/error.h"
@@ -11,7 +12,7 @@ namespace {
 struct HeadPush {  // mlp_nerf_head.comp
   uint32_t count, strideC4, strideF4, strideOut4, limitBase;
 };
-constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
+
 struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
   uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
 };
@@ -77,7 +78,7 @@ NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacit
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config) : NerfMlp(ctx, config, MlpTuning::forDevice(ctx)) {}
 
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning)
-    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), noLimit_(ctx, 16) {
+    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), noLimit_(ctx, 16), limited_(ctx) {
   if (!ctx.floatAtomics()) throw Error("NeRF MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
   for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
   chunkRows_ = deviceChunkRows(ctx, std::max({posStride(), dirStride(), config.width + 4}));
@@ -113,19 +114,27 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
                               sizeof(HeadPush),
                               {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
   }
+  // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
+  if (rowLimit) limited_.recordArgs(rec, *rowLimit, count, chunk, {layers_[0].rowsPerGroup(), kHeadLocal});
   forChunks(count, chunk, [&](uint32_t first, uint32_t n) {
     uint32_t row = keep ? first : 0;
     Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
     Mat o = Mat{out, 4}.rows(first, n);
+    std::optional<gpu::LimitedRows> dense, head;
+    if (rowLimit) dense = limited_.rows(first / chunk, 0), head = limited_.rows(first / chunk, 1);
+    const gpu::LimitedRows* L = dense ? &*dense : nullptr;
     auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], W}.rows(row, n); };
     Mat F = Mat{ws.f_, W + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
-    for (uint32_t l = 0; l < D; ++l)
-      layers_[l].forward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk", rowLimit, first);
-    layers_[D].forward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma", rowLimit, first);
-    layers_[D + 1].forward(rec, n, params, F, d, C, "nerf colour", rowLimit, first);
-    HeadPush hp{n, C.stride / 4, F.stride / 4, 1, rowLimit ? first : kNoRowLimit};
-    rec.dispatch(*head_, {C.range, F.range, params, o.range, rowLimit ? *rowLimit : gpu::BufferRange(noLimit_)}, hp,
-                 gpu::groupsFor(n, kHeadLocal), 1, 1, "nerf head");
+    for (uint32_t l = 0; l < D; ++l) layers_[l].forward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk", L);
+    layers_[D].forward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma", L);
+    layers_[D + 1].forward(rec, n, params, F, d, C, "nerf colour", L);
+    HeadPush hp{n, C.stride / 4, F.stride / 4, 1, head ? head->base : gpu::kNoRowLimit};
+    if (head)
+      rec.dispatchIndirect(*head_, {C.range, F.range, params, o.range, head->limit}, &hp, sizeof hp, *head->args,
+                           head->argsOffset, "nerf head");
+    else
+      rec.dispatch(*head_, {C.range, F.range, params, o.range, noLimit_}, hp, gpu::groupsFor(n, kHeadLocal), 1, 1,
+                   "nerf head");
   });
 }
 

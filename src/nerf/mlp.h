@@ -88,6 +88,7 @@ class NerfMlp {
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_;
   gpu::Buffer noLimit_;  // bound as the head's row limit when there is none (never read)
+  gpu::LimitedDispatch limited_;  // the forward's workgroup counts under a row limit
   std::unique_ptr<Workspace> scratch_;
   uint32_t chunkRows_ = 0;
 };

@@ -12,7 +12,7 @@ namespace {
 struct RowPush {  // mlp_dense.comp
   uint32_t count, strideA4, strideB4, strideY4, limitBase;
 };
-constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
+
 struct DxPush {  // mlp_dense_dx.comp
   uint32_t count, strideZ4, strideA4, strideDA4, strideDB4;
 };
@@ -78,9 +78,8 @@ DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuni
 }
 
 void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-                         const Mat& y, const char* label, const gpu::BufferRange* rowLimit, uint32_t limitBase) {
+                         const Mat& y, const char* label, const gpu::LimitedRows* limited) {
   if (count == 0) return;
-  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("MLP: row limit binding holds no uint");
   const auto& s = shape_;
   if (!forward_) {
     uint32_t act = uint32_t(s.act);
@@ -94,9 +93,13 @@ void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRa
     noLimit_ = std::make_unique<gpu::Buffer>(ctx_, 16);
   }
   const Mat& bb = s.kb ? b : a;
-  RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4, rowLimit ? limitBase : kNoRowLimit};
-  rec.dispatch(*forward_, {a.range, bb.range, params, y.range, rowLimit ? *rowLimit : gpu::BufferRange(*noLimit_)}, p,
-               gpu::groupsFor(count, t_.local * t_.rows), 1, 1, label);
+  RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4, limited ? limited->base : gpu::kNoRowLimit};
+  if (limited)
+    rec.dispatchIndirect(*forward_, {a.range, bb.range, params, y.range, limited->limit}, &p, sizeof p, *limited->args,
+                         limited->argsOffset, label);
+  else
+    rec.dispatch(*forward_, {a.range, bb.range, params, y.range, *noLimit_}, p, gpu::groupsFor(count, rowsPerGroup()), 1,
+                 1, label);
 }
 
 void DenseLayer::inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gpu/kernel.h"
+#include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 #include "reference/mlp.h"
 
@@ -44,11 +45,11 @@ class DenseLayer {
   const ref::DenseShape& shape() const { return shape_; }
 
   // y[rows][n4] = act(concat(a, b) W + bias); columns >= n are stored as 0. `b` is ignored when kb == 0.
-  // rowLimit (optional): a uint on the device; of these rows, which are rows [limitBase, limitBase +
-  // count) of the limited batch, only those below it are computed (shaders/row_limit.glsl).
+  // limited (optional): these rows are cut on the device to a limit (gpu/limited_dispatch.h), whose
+  // arguments were recorded for rowsPerGroup() rows per workgroup.
   void forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-               const Mat& y, const char* label = "mlp forward", const gpu::BufferRange* rowLimit = nullptr,
-               uint32_t limitBase = 0);
+               const Mat& y, const char* label = "mlp forward", const gpu::LimitedRows* limited = nullptr);
+  uint32_t rowsPerGroup() const { return t_.local * t_.rows; }
   // From dz = dL/d(pre-activation): da (ka4 columns) and db (kb4 columns) per GradMode; StoreReluMasked
   // multiplies by [a > 0]. Skipped parts need no buffer (pass any Mat).
   void inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,

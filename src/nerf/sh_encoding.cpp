@@ -11,7 +11,7 @@ struct Push {
   uint32_t count, strideVec4, offsetVec4, limitBase;
 };
 constexpr uint32_t kLocal = 64;
-constexpr uint32_t kNoRowLimit = 0xffffffffu;  // ROW_LIMIT_NONE in shaders/row_limit.glsl
+
 
 uint32_t checkedDegree(uint32_t degree) {
   if (degree < 1 || degree > 4) throw Error("ShEncoding: degree must be 1..4, got " + std::to_string(degree));
@@ -25,7 +25,8 @@ ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
       degree_(checkedDegree(degree)),
       kernel_(ctx, {"encode_sh", {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push),
                     {degree}}),
-      noLimit_(ctx, 16) {}
+      noLimit_(ctx, 16),
+      limited_(ctx) {}
 
 void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, uint32_t count,
                         const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
@@ -48,9 +49,15 @@ void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, 
     const uint32_t n = std::min(chunk, count - first);
     gpu::BufferRange in(*directions.buffer, directions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);
     gpu::BufferRange out(*features.buffer, features.offset + first * rowBytes, n * rowBytes);
-    Push p{n, stride / 4, columnOffset / 4, rowLimit ? first : kNoRowLimit};
-    rec.dispatch(kernel_, {in, out, rowLimit ? *rowLimit : gpu::BufferRange(noLimit_)}, p, gpu::groupsFor(n, kLocal), 1, 1,
-                 "encode_sh");
+    Push p{n, stride / 4, columnOffset / 4, gpu::kNoRowLimit};
+    if (!rowLimit) {
+      rec.dispatch(kernel_, {in, out, noLimit_}, p, gpu::groupsFor(n, kLocal), 1, 1, "encode_sh");
+      continue;
+    }
+    if (first == 0) limited_.recordArgs(rec, *rowLimit, count, chunk, {kLocal});
+    const gpu::LimitedRows l = limited_.rows(first / chunk, 0);
+    p.limitBase = l.base;
+    rec.dispatchIndirect(kernel_, {in, out, l.limit}, &p, sizeof p, *l.args, l.argsOffset, "encode_sh");
   }
 }
 

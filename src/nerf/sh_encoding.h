@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "gpu/kernel.h"
+#include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 
 namespace vknerf::nerf {
@@ -29,6 +30,7 @@ class ShEncoding {
   uint32_t degree_;
   gpu::Kernel kernel_;
   gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
+  gpu::LimitedDispatch limited_;
 };
 
 }  // namespace vknerf::nerf

@@ -136,6 +136,65 @@ void expectForwardMatches(Context& ctx, const HashGridConfig& c, uint32_t count,
               c.log2TableSize, maxErrD, maxErrF);
 }
 
+// recordBackward of two batches (n1 and n2 rows: not workgroup multiples), recorded back to back
+// into one gradient buffer that starts non-zero, against the double reference: the result must be
+// start + both batches. `onePass`: a SortReduce `enc` sorts each batch in one pass (the default
+// budget), which allows a tighter bound. Returns the gradients.
+std::vector<float> expectBackwardMatches(Context& ctx, nerf::HashEncoding& enc, uint32_t n1, uint32_t n2,
+                                         bool onePass, const std::vector<float>* positions = nullptr) {
+  const HashGridConfig& c = enc.config();
+  const uint32_t F = c.featuresPerLevel, D = enc.outputDims(), offset = 4, stride = offset + enc.paddedDims() + 4;
+  auto pos = positions ? *positions : dyadicPositions(n1 + n2, c.levels + F, true);
+  std::vector<float> dF(size_t(n1 + n2) * stride);
+  std::mt19937 gen(c.levels);
+  std::uniform_real_distribution<float> u(-1, 1);
+  for (auto& x : dF) x = u(gen);  // padding and outside columns hold noise that must be ignored
+  auto start = randomTable(c, 77);
+  auto pb = gpu::Buffer::of(ctx, pos), db = gpu::Buffer::of(ctx, dF), gb = gpu::Buffer::of(ctx, start);
+  gpu::Recorder rec(ctx);
+  rec.begin();
+  enc.recordBackward(rec, pb, n1, db, stride, offset, gb);
+  if (n2)
+    enc.recordBackward(rec, gpu::BufferRange(pb, 16 * n1, 16 * n2), n2,
+                       gpu::BufferRange(db, 4ull * stride * n1, 4ull * stride * n2), stride, offset, gb);
+  rec.end();
+  rec.submitAndWait();
+  auto g = gb.download<float>();
+  // Reference sum, the sum of |terms| and the number of terms per entry.
+  std::vector<double> want(start.begin(), start.end()), mag(start.size(), 0.0), terms(start.size(), 0.0);
+  for (uint32_t i = 0; i < n1 + n2; ++i) {
+    const double p[3] = {pos[4 * i], pos[4 * i + 1], pos[4 * i + 2]};
+    std::vector<double> d(D), a(D);
+    for (uint32_t j = 0; j < D; ++j) d[j] = dF[size_t(i) * stride + offset + j], a[j] = std::fabs(d[j]);
+    ref::hashEncodingBackward<double>(c, p, d.data(), want.data());
+    ref::hashEncodingBackward<double>(c, p, a.data(), mag.data());
+    for (uint32_t l = 0; l < c.levels; ++l)
+      for (auto& k : ref::hashGridCorners<double>(c, l, p))
+        for (uint32_t f = 0; f < F; ++f) terms[size_t(k.entry) * F + f] += 1;
+  }
+  const bool exactSum = onePass && enc.backwardMode() == nerf::HashBackwardMode::SortReduce;
+  double maxErr = 0;
+  for (size_t e = 0; e < g.size(); ++e) {
+    // With dyadic positions cell and w are exact in float, so each term w * dF is off by at most
+    // 3 roundings (two weight products, one by dF), and adding n terms plus the start value in
+    // any order by at most (n + 1) roundings of the partial sums, each <= start + sum |terms|.
+    double bound = (terms[e] + 4) * std::ldexp(1.0, -24) * (std::fabs(start[e]) + mag[e]);
+    // SortReduce in one pass per batch adds each batch's terms exactly in fixed point, after
+    // rounding each to a grid of 2^(b+e-61) (n <= 2^b terms, max |term| < 2^e): at most
+    // n * 2^(b+e-62) <= n^2 2^-60 max in all. Then 2 roundings converting the sum to float and one
+    // adding it per batch: independent of n, where the float sum's bound grows with n.
+    if (exactSum)
+      bound = 9 * std::ldexp(1.0, -24) * (std::fabs(start[e]) + mag[e]) + terms[e] * terms[e] * std::ldexp(mag[e], -60);
+    EXPECT_TRUE(test::near(g[e], want[e], 0, bound)) << "entry " << e << " (" << terms[e] << " terms), mode "
+                                                     << uint32_t(enc.backwardMode());
+    if (!test::near(g[e], want[e], 0, bound)) break;
+    maxErr = std::max(maxErr, std::fabs(g[e] - want[e]));
+  }
+  std::printf("encode_hash_backward mode %u L=%u F=%u: max |gpu - ref| = %.3g\n", uint32_t(enc.backwardMode()),
+              c.levels, F, maxErr);
+  return g;
+}
+
 }  // namespace
 
 TEST(HashEncodingReference, ResolutionsAndDenseLevels) {
@@ -264,52 +323,88 @@ TEST_F(HashEncoding, ForwardMatchesReference) {
 }
 
 TEST_F(HashEncoding, BackwardMatchesReferenceAndAccumulates) {
-  for (auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged})
+  for (auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged,
+                    nerf::HashBackwardMode::SortReduce})
     for (const auto& c : {kPow2, kOdd, kWide, kEight}) {
       nerf::HashEncoding enc(ctx(), c, mode);
-      const uint32_t F = c.featuresPerLevel, D = enc.outputDims(), offset = 4, stride = offset + enc.paddedDims() + 4;
-      // Two batches (777 and 130 rows: not workgroup multiples), recorded back to back into one
-      // gradient buffer that starts non-zero: the result must be start + both batches.
-      const uint32_t n1 = 777, n2 = 130;
-      auto pos = dyadicPositions(n1 + n2, c.levels + F, true);
-      std::vector<float> dF(size_t(n1 + n2) * stride);
-      std::mt19937 gen(c.levels);
-      std::uniform_real_distribution<float> u(-1, 1);
-      for (auto& x : dF) x = u(gen);  // padding and outside columns hold noise that must be ignored
-      auto start = randomTable(c, 77);
-      auto pb = gpu::Buffer::of(ctx(), pos), db = gpu::Buffer::of(ctx(), dF), gb = gpu::Buffer::of(ctx(), start);
-      gpu::Recorder rec(ctx());
-      rec.begin();
-      enc.recordBackward(rec, pb, n1, db, stride, offset, gb);
-      enc.recordBackward(rec, gpu::BufferRange(pb, 16 * n1, 16 * n2), n2,
-                         gpu::BufferRange(db, 4ull * stride * n1, 4ull * stride * n2), stride, offset, gb);
-      rec.end();
-      rec.submitAndWait();
-      auto g = gb.download<float>();
-      // Reference sum, the sum of |terms| and the number of terms per entry.
-      std::vector<double> want(start.begin(), start.end()), mag(start.size()), terms(start.size());
-      for (auto& x : mag) x = 0;
-      for (uint32_t i = 0; i < n1 + n2; ++i) {
-        const double p[3] = {pos[4 * i], pos[4 * i + 1], pos[4 * i + 2]};
-        std::vector<double> d(D), a(D), one(D, 1.0);
-        for (uint32_t j = 0; j < D; ++j) d[j] = dF[size_t(i) * stride + offset + j], a[j] = std::fabs(d[j]);
-        ref::hashEncodingBackward<double>(c, p, d.data(), want.data());
-        ref::hashEncodingBackward<double>(c, p, a.data(), mag.data());
-        for (uint32_t l = 0; l < c.levels; ++l)
-          for (auto& k : ref::hashGridCorners<double>(c, l, p))
-            for (uint32_t f = 0; f < F; ++f) terms[size_t(k.entry) * F + f] += 1;
-      }
-      // With dyadic positions cell and w are exact in float, so each term w * dF is off by at most
-      // 3 roundings (two weight products, one by dF), and adding n terms plus the start value in
-      // any order by at most (n + 1) roundings of the partial sums, each <= start + sum |terms|.
-      double maxErr = 0;
-      for (size_t e = 0; e < g.size(); ++e) {
-        const double bound = (terms[e] + 4) * std::ldexp(1.0, -24) * (std::fabs(start[e]) + mag[e]);
-        ASSERT_TRUE(test::near(g[e], want[e], 0, bound)) << "entry " << e << " (" << terms[e] << " terms)";
-        maxErr = std::max(maxErr, std::fabs(g[e] - want[e]));
-      }
-      std::printf("encode_hash_backward mode %u L=%u F=%u: max |gpu - ref| = %.3g\n", uint32_t(mode), c.levels, F, maxErr);
+      expectBackwardMatches(ctx(), enc, 777, 130, true);
     }
+}
+
+TEST_F(HashEncoding, SortReduceInManyPasses) {
+  // A slot budget of 800 contributions: 100 rows and one level per pass, so the 777 + 130 rows go
+  // in 8 + 2 row ranges of 4..6 level passes each, every pass adding into the same gradients.
+  for (const auto& c : {kPow2, kOdd, kEight}) {
+    nerf::HashEncoding enc(ctx(), c, nerf::HashBackwardMode::SortReduce);
+    enc.setSortSlotBudget(800);
+    expectBackwardMatches(ctx(), enc, 777, 130, false);
+  }
+  nerf::HashEncoding enc(ctx(), kOdd, nerf::HashBackwardMode::SortReduce);
+  EXPECT_THROW(enc.setSortSlotBudget(7), Error);  // not even one sample's 8 corners
+  // 2^24 entries in a level: more than one dispatch of the prefix sum covers on lavapipe (65535 * 256).
+  if ((uint64_t(1) << 24) > uint64_t(ctx().properties().limits.maxComputeWorkGroupCount[0]) * 256)
+    EXPECT_THROW(nerf::HashEncoding(ctx(), HashGridConfig{1, 1, 24, 4, 2.0}, nerf::HashBackwardMode::SortReduce), Error);
+}
+
+TEST_F(HashEncoding, SortReduceHotEntryIsCompleteAndDeterministic) {
+  // 70,000 samples in one cell of both (dense) levels: each of its 8 corner entries per level gets
+  // 70,000 contributions. lavapipe ends a shader's loops silently after 65,535 iterations in all,
+  // so a reduction looping over an entry's slots in one invocation would drop the terms past that
+  // (and pass with fewer samples); encode_hash_backward_reduce.comp splits entries into chunks.
+  const HashGridConfig hot{2, 2, 10, 2, 2.0};  // res 2 and 4, 27 and 125 entries: dense
+  const uint32_t n = 70000;
+  std::mt19937 gen(5);
+  std::uniform_int_distribution<int> k(0, 1023);
+  std::vector<float> pos(4 * size_t(n), 0.0f);
+  for (uint32_t i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a) pos[4 * i + a] = float(k(gen)) / 2048.0f - 1.0f;  // [-1, -0.5): cell 0 of both
+  nerf::HashEncoding enc(ctx(), hot, nerf::HashBackwardMode::SortReduce);
+  auto a = expectBackwardMatches(ctx(), enc, n, 0, true, &pos);
+  // Fixed-point sums do not depend on the order the scatter's atomics left the slots in (with 2
+  // threads it changes from run to run): a second run gives the same bits.
+  auto b = expectBackwardMatches(ctx(), enc, n, 0, true, &pos);
+  EXPECT_EQ(a, b);
+}
+
+TEST_F(HashEncoding, SortReduceOnBoxBoundaryAndOutside) {
+  // hardPositions: box corners and faces, vertices and cell faces of every level, points outside the
+  // box (clamped onto it). Against sums of the float reference's corners, which pick the shader's
+  // cells and weights (ref::hashGridCorners<float>, step for step): each GPU term is one rounding of
+  // w * dF from the reference's, the fixed-point sum adds n^2 2^-60 max, the conversion 2 roundings
+  // and the add into zeroed gradients none; 8 roundings of sum |terms| leave room for a last-bit
+  // difference in a weight from the compiler contracting the reference's arithmetic.
+  for (const auto& c : {kPow2, kOdd, kWide, kEight}) {
+    nerf::HashEncoding enc(ctx(), c, nerf::HashBackwardMode::SortReduce);
+    const uint32_t n = 600, D = enc.outputDims(), stride = enc.paddedDims(), F = c.featuresPerLevel;
+    auto pos = hardPositions(n, 11);
+    std::vector<float> dF(size_t(n) * stride);
+    std::mt19937 gen(3);
+    std::uniform_real_distribution<float> u(-1, 1);
+    for (auto& x : dF) x = u(gen);
+    auto pb = gpu::Buffer::of(ctx(), pos), db = gpu::Buffer::of(ctx(), dF);
+    gpu::Buffer gb(ctx(), enc.parameterCount() * 4);
+    gb.zero();
+    gpu::Recorder rec(ctx());
+    rec.begin();
+    enc.recordBackward(rec, pb, n, db, stride, 0, gb);
+    rec.end();
+    rec.submitAndWait();
+    auto g = gb.download<float>();
+    std::vector<double> want(g.size(), 0.0), mag(g.size(), 0.0), terms(g.size(), 0.0);
+    for (uint32_t i = 0; i < n; ++i)
+      for (uint32_t l = 0; l < c.levels; ++l)
+        for (auto& k : ref::hashGridCorners<float>(c, l, &pos[4 * size_t(i)]))
+          for (uint32_t f = 0; f < F; ++f) {
+            const double t = double(k.weight) * dF[size_t(i) * stride + l * F + f];
+            want[size_t(k.entry) * F + f] += t, mag[size_t(k.entry) * F + f] += std::fabs(t);
+            terms[size_t(k.entry) * F + f] += 1;
+          }
+    (void)D;
+    for (size_t e = 0; e < g.size(); ++e) {
+      const double bound = 8 * std::ldexp(mag[e], -24) + terms[e] * terms[e] * std::ldexp(mag[e], -60);
+      ASSERT_TRUE(test::near(g[e], want[e], 0, bound)) << "entry " << e << " (" << terms[e] << " terms) L=" << c.levels;
+    }
+  }
 }
 
 TEST_F(HashEncoding, EmptyBatchesAndBadLayouts) {
@@ -364,6 +459,9 @@ TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
     EXPECT_NE(std::string(e.what()).find("float atomics"), std::string::npos) << e.what();
   }
   rec.end();
+  // SortReduce needs no float atomics: on the same device it computes the gradient.
+  nerf::HashEncoding sorted(*adopted, kPow2, nerf::HashBackwardMode::SortReduce);
+  expectBackwardMatches(*adopted, sorted, 300, 40, true);
 }
 
 TEST_F(HashEncoding, TableInsideALargerBuffer) {

@@ -3,11 +3,20 @@
 #include <algorithm>
 #include <string>
 
+#include "nerf/marcher.h"  // PrefixSum
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
+// SortReduce: slots per reduce invocation (encode_hash_backward_reduce.comp's CHUNK). Its loops run
+// at most 3 * kChunk times per invocation, far below lavapipe's 65,535-iteration loop limiter even
+// if the limit counted a whole 64-wide workgroup; larger chunks mean fewer entries spanning chunks.
+constexpr uint32_t kChunk = 256;
+constexpr VkDeviceSize kSortValueBytes = VkDeviceSize(64) << 20;  // default budget of sorted values
+
+// Outputs the PrefixSum can scan in one dispatch per level (its scan_add covers one x-dispatch).
+uint64_t scanCapacity(Context& ctx) { return uint64_t(ctx.properties().limits.maxComputeWorkGroupCount[0]) * 256; }
 
 const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
   auto fail = [](const std::string& m) { throw Error("HashEncoding: " + m); };
@@ -43,12 +52,43 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
     push_.res[l] = resolution(l);
     if (dense(l)) push_.denseMask |= 1u << l;
   }
-  // Without float atomics the forward pass still works (inference); recordBackward says why not.
-  if (ctx.floatAtomics())
+  if (mode_ == HashBackwardMode::SortReduce) {
+    // Entries of one level are the unit of a pass: the prefix sum must hold 2^T of them.
+    if ((uint64_t(1) << config_.log2TableSize) > scanCapacity(ctx))
+      throw Error("HashEncoding: SortReduce scans 2^" + std::to_string(config_.log2TableSize) +
+                  " entries per level, more than one prefix-sum dispatch covers (" +
+                  std::to_string(scanCapacity(ctx)) + "); lower T or use Atomic");
+    const std::vector<uint32_t> spec{config.levels, config.featuresPerLevel, config.log2TableSize};
+    count_ = gpu::Kernel(ctx, {"encode_hash_backward_count", {gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
+                               sizeof(SortPush), spec});
+    scatter_ = gpu::Kernel(ctx, {"encode_hash_backward_scatter",
+                                 {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
+                                  gpu::Binding::Storage, gpu::Binding::Storage},
+                                 sizeof(SortPush), spec});
+    for (uint32_t stage = 0; stage < 3; ++stage)
+      reduce_[stage] = gpu::Kernel(ctx, {"encode_hash_backward_reduce",
+                                         std::vector<gpu::Binding>(6, gpu::Binding::Storage),
+                                         2 * sizeof(uint32_t),
+                                         {config.featuresPerLevel, kChunk, stage}});
+    setSortSlotBudget(uint32_t(std::min<VkDeviceSize>(
+        kSortValueBytes, ctx.properties().limits.maxStorageBufferRange) / (4 * config.featuresPerLevel)));
+  } else if (ctx.floatAtomics()) {
+    // Without float atomics the forward pass still works (inference); recordBackward says why not.
     backward_ = gpu::Kernel(ctx, {"encode_hash_backward",
                                   {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
                                   sizeof(Push),
                                   {config.levels, config.featuresPerLevel, config.log2TableSize, uint32_t(mode)}});
+  }
+}
+
+HashEncoding::~HashEncoding() = default;
+
+void HashEncoding::setSortSlotBudget(uint32_t slots) {
+  const uint64_t most = ctx_.properties().limits.maxStorageBufferRange / (4 * config_.featuresPerLevel);
+  if (slots < 8 || slots > most)
+    throw Error("HashEncoding::setSortSlotBudget: " + std::to_string(slots) + " slots; must be 8.." +
+                std::to_string(most) + " (one sample's 8 corners, and the values within one binding)");
+  slotBudget_ = slots;
 }
 
 std::vector<float> HashEncoding::initialParameters(uint32_t seed) const {
@@ -113,14 +153,84 @@ void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& pos
 void HashEncoding::recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
                                   const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
                                   const gpu::BufferRange& grads) {
+  if (mode_ == HashBackwardMode::SortReduce) {
+    forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
+              [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t, uint32_t, uint32_t) {
+                recordSortReduce(rec, in, dF, p, grads);
+              });
+    return;
+  }
   if (!ctx_.floatAtomics())
     throw Error("HashEncoding::recordBackward: the device lacks float atomics (VK_EXT_shader_atomic_float "
-                "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs");
+                "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs (HashBackwardMode::SortReduce "
+                "does not)");
   forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t groups, uint32_t,
                 uint32_t) {
               rec.dispatch(backward_, {in, dF, exactly(grads)}, p, groups, 1, 1, "encode_hash_backward");
             });
+}
+
+void HashEncoding::ensureSortScratch(uint64_t slots, uint64_t entries) {
+  const uint32_t F = config_.featuresPerLevel;
+  if (slots > slotCap_) {
+    for (auto* b : {&slotEntry_, &slotValue_, &spanMax_, &spanAcc_})
+      if (b->valid()) retired_.push_back(std::move(*b));
+    const uint64_t chunks = gpu::groupsFor(slots, kChunk);
+    slotEntry_ = gpu::Buffer(ctx_, slots * 4);
+    slotValue_ = gpu::Buffer(ctx_, slots * 4 * F);
+    spanMax_ = gpu::Buffer(ctx_, chunks * 4 * F);
+    spanAcc_ = gpu::Buffer(ctx_, chunks * 8 * F);
+    spanMax_.zero(), spanAcc_.zero();  // the reduce leaves them zeroed after every pass
+    slotCap_ = slots;
+  }
+  if (entries > entryCap_) {
+    for (auto* b : {&counts_, &cursor_})
+      if (b->valid()) retired_.push_back(std::move(*b));
+    if (scan_) retiredScans_.push_back(std::move(scan_));
+    counts_ = gpu::Buffer(ctx_, entries * 4);
+    cursor_ = gpu::Buffer(ctx_, entries * 4);
+    scan_ = std::make_unique<PrefixSum>(ctx_, uint32_t(entries));
+    entryCap_ = entries;
+  }
+}
+
+// Passes over row ranges of the chunk and, within each, over ranges of levels, so that one pass
+// sorts at most slotBudget_ contributions: count, prefix sum, scatter, then the three reduce
+// stages (shaders/encode_hash_backward_*.comp). Rows outer, levels inner: each pass's entries are
+// whole levels, so a pass's counts cover (levels << T) entries.
+void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& positions,
+                                    const gpu::BufferRange& dFeatures, const Push& p, const gpu::BufferRange& grads) {
+  const uint32_t L = config_.levels, T = config_.log2TableSize, F = config_.featuresPerLevel, n = p.count;
+  const uint32_t rowsPerPass = std::min(n, slotBudget_ / 8);
+  const uint64_t levelCap = std::max<uint64_t>(1, scanCapacity(ctx_) >> T);
+  const uint32_t levelsPerPass =
+      uint32_t(std::min<uint64_t>({L, std::max<uint64_t>(1, slotBudget_ / (8ull * rowsPerPass)), levelCap}));
+  ensureSortScratch(uint64_t(rowsPerPass) * 8 * levelsPerPass, uint64_t(levelsPerPass) << T);
+  SortPush sp{};
+  sp.strideVec4 = p.strideVec4, sp.offsetVec4 = p.offsetVec4, sp.denseMask = p.denseMask;
+  std::copy(std::begin(p.res), std::end(p.res), sp.res);
+  for (uint32_t r0 = 0; r0 < n; r0 += rowsPerPass) {
+    sp.count = std::min(rowsPerPass, n - r0), sp.rowBase = r0;
+    for (uint32_t l0 = 0; l0 < L; l0 += levelsPerPass) {
+      sp.levelBegin = l0, sp.levelEnd = std::min(L, l0 + levelsPerPass);
+      const uint32_t entries = (sp.levelEnd - l0) << T, slots = sp.count * 8 * (sp.levelEnd - l0);
+      const gpu::BufferRange counts(counts_, 0, VkDeviceSize(entries) * 4), cursor(cursor_, 0, VkDeviceSize(entries) * 4);
+      const gpu::BufferRange slotEntry(slotEntry_, 0, VkDeviceSize(slots) * 4);
+      const gpu::BufferRange slotValue(slotValue_, 0, VkDeviceSize(slots) * 4 * F);
+      rec.fill(counts_, 0, 0, VkDeviceSize(entries) * 4);
+      rec.dispatch(count_, {positions, counts}, sp, gpu::groupsFor(sp.count, kLocal), 1, 1,
+                   "encode_hash_backward_count");
+      scan_->record(rec, counts, entries, cursor, entries);
+      rec.dispatch(scatter_, {positions, dFeatures, cursor, slotEntry, slotValue}, sp,
+                   gpu::groupsFor(sp.count, kLocal), 1, 1, "encode_hash_backward_scatter");
+      const uint32_t reducePush[2] = {slots, l0 << T};
+      const uint32_t groups = gpu::groupsFor(gpu::groupsFor(slots, kChunk), kLocal);
+      for (auto& k : reduce_)
+        rec.dispatch(k, {cursor, slotEntry, slotValue, exactly(grads), spanMax_, spanAcc_}, reducePush, sizeof reducePush,
+                     groups, 1, 1, "encode_hash_backward_reduce");
+    }
+  }
 }
 
 }  // namespace vknerf::nerf

@@ -6,6 +6,7 @@
 // floats) at a column offset that is a multiple of 4, as paddedDims() = L * F rounded up to 4
 // columns, padding written as 0 and columns outside the block untouched (as FrequencyEncoding).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "gpu/kernel.h"
@@ -15,6 +16,7 @@
 
 namespace vknerf::nerf {
 
+class PrefixSum;
 using HashGridConfig = ref::HashGridConfig;
 
 // How the backward pass scatters into the table. Measured on lavapipe (2 threads on a shared, loaded
@@ -28,6 +30,11 @@ using HashGridConfig = ref::HashGridConfig;
 enum class HashBackwardMode : uint32_t {
   Atomic = 0,          // one float atomicAdd per lane, corner and feature
   SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic
+  // Counting sort of the contributions by table entry (uint atomics), then a per-entry sum in exact
+  // fixed point: deterministic, no float atomics (so also on devices without them). Needs 2^T at
+  // most the prefix sum's capacity (maxComputeWorkGroupCount[0] * 256: T <= 23 on lavapipe).
+  // shaders/encode_hash_backward_{count,scatter,reduce}.comp.
+  SortReduce = 2,
 };
 
 class HashEncoding {
@@ -35,6 +42,7 @@ class HashEncoding {
   // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 2..24, N_min >= 1, b >= 1, and the whole table
   // within one storage binding (maxStorageBufferRange: 128 MiB on lavapipe, e.g. L=16 F=2 T=20).
   HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode = HashBackwardMode::Atomic);
+  ~HashEncoding();
 
   const HashGridConfig& config() const { return config_; }
   uint32_t outputDims() const { return config_.levels * config_.featuresPerLevel; }
@@ -43,6 +51,10 @@ class HashEncoding {
   uint32_t resolution(uint32_t level) const { return ref::hashGridResolution(config_, level); }
   bool dense(uint32_t level) const { return ref::hashGridDense(config_, level); }
   HashBackwardMode backwardMode() const { return mode_; }
+  // SortReduce: the most (sample, level, corner) contributions sorted in one pass (default: 64 MiB of
+  // sorted values). Smaller budgets split a batch into more passes (tests use this; >= 8).
+  uint32_t sortSlotBudget() const { return slotBudget_; }
+  void setSortSlotBudget(uint32_t slots);
   // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
   std::vector<float> initialParameters(uint32_t seed) const;
 
@@ -55,7 +67,10 @@ class HashEncoding {
                      const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
                      uint32_t columnOffset, const gpu::BufferRange* rowLimit = nullptr);
   // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params.
-  // dFeatures has the features' layout; its padding columns are ignored. Needs float atomics.
+  // dFeatures has the features' layout; its padding columns are ignored. Atomic and SubgroupMerged
+  // need float atomics. SortReduce does not; it works in passes of at most sortSlotBudget()
+  // contributions (levels x 8 corners x samples) through scratch buffers this object owns, grown on
+  // demand. Grown buffers are kept, not freed, so every recording stays valid while this object lives.
   void recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
                       const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
                       const gpu::BufferRange& grads);
@@ -71,11 +86,29 @@ class HashEncoding {
   void forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
                  const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn);
 
+  // Count and scatter kernels' push constants (shaders/hash_sort.glsl).
+  struct SortPush {
+    uint32_t count, strideVec4, offsetVec4, denseMask;
+    uint32_t res[24];
+    uint32_t rowBase, levelBegin, levelEnd;
+  };
+  void recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& positions, const gpu::BufferRange& dFeatures,
+                        const Push& p, const gpu::BufferRange& grads);
+  void ensureSortScratch(uint64_t slots, uint64_t entries);
+
   Context& ctx_;
   HashGridConfig config_;
   HashBackwardMode mode_;
   Push push_{};
   gpu::Kernel forward_, backward_;
+  // SortReduce: kernels and scratch (capacities in slots and in entries per pass).
+  gpu::Kernel count_, scatter_, reduce_[3];
+  uint32_t slotBudget_ = 0;
+  uint64_t slotCap_ = 0, entryCap_ = 0;
+  gpu::Buffer counts_, cursor_, slotEntry_, slotValue_, spanMax_, spanAcc_;
+  std::unique_ptr<PrefixSum> scan_;
+  std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
+  std::vector<std::unique_ptr<PrefixSum>> retiredScans_;
   gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
   gpu::LimitedDispatch limited_;
 };

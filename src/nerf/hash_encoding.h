@@ -19,14 +19,23 @@ namespace vknerf::nerf {
 class PrefixSum;
 using HashGridConfig = ref::HashGridConfig;
 
-// How the backward pass scatters into the table. Measured on lavapipe (2 threads on a shared, loaded
-// machine, so +-50%; L=16 F=2 T=19, 2^18 samples, best of 4), in us per sample over 5 runs:
-//   uniform random points:  Atomic 3.6-6.2, SubgroupMerged 3.2-12.9
-//   ray-ordered points:     Atomic 1.8-5.5, SubgroupMerged 4.9-9.2
-// SubgroupMerged was 1.2-2.8x slower in 9 of 10 same-run comparisons (the exception coincided with
-// the machine's load dropping mid-run): the vote and reduction per scatter cost more than the
-// atomics they save. Atomic is the default; the other stays for devices where contended atomics on
-// the coarse levels are the bottleneck.
+// How the backward pass scatters into the table. Measured on lavapipe (2 threads; `vknerf bench hash`,
+// 2^18 samples, best of 3-5 submissions, 3 runs; us per sample, range over the runs, and time / Atomic's):
+//                        L=8 F=2 T=15 (fast model)             L=16 F=2 T=19
+//   uniform points:  Atomic 1.03-1.15                      Atomic 2.10-2.33
+//                    SubgroupMerged 1.35-1.59 (1.31-1.38x)  SubgroupMerged 2.81-3.85 (1.33-1.64x)
+//                    SortReduce 2.31-3.08 (2.23-2.67x)      SortReduce 6.28-8.43 (2.96-3.60x)
+//   ray-ordered:     Atomic 0.76-0.89                      Atomic 2.08-2.69
+//                    SubgroupMerged 1.00-1.32 (1.32-1.48x)  SubgroupMerged 2.76-3.24 (1.20-1.50x)
+//                    SortReduce 2.02-2.68 (2.68-3.00x)      SortReduce 6.34-8.13 (2.92-3.78x)
+// Atomic is the default: fastest in every same-run comparison. On lavapipe an atomic is a scalar
+// loop over the lanes whether it is a uint or a float one and whether or not lanes collide, so
+// contention, which sort-and-reduce removes, costs nothing here; SortReduce's count pass alone
+// (one uint atomic per contribution) takes 0.55-0.65x of Atomic's whole time (F = 2 float atomics per
+// contribution), its scatter (a second uint atomic and the slot stores) 1.2-1.45x, its reduce 0.5-1x.
+// SubgroupMerged's vote and reduction per scatter cost more than the atomics they save.
+// SortReduce is for devices without float atomics (it needs none) and where a deterministic
+// gradient matters; SubgroupMerged for devices where contended coarse-level atomics are slow.
 enum class HashBackwardMode : uint32_t {
   Atomic = 0,          // one float atomicAdd per lane, corner and feature
   SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic

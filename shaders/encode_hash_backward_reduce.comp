@@ -14,7 +14,7 @@
 // spans chunks is "owned" by the chunk holding its first slot, and goes through three stages, one
 // dispatch each:
 //   STAGE 0: every chunk it touches atomicMax-es its partial max |term| into spanMax[owner]
-//            (non-negative floats order as their bit patterns);
+//            (non-negative floats, inf and NaN order as their bit patterns);
 //   STAGE 1: every such chunk adds its fixed-point partial sum, on the grid of the final max, into
 //            spanAcc[owner] with two uint atomics (low word, then high word plus the carry out of
 //            the low one: the final 64-bit value is exact whatever the interleaving);
@@ -42,6 +42,15 @@ layout(push_constant) uniform Push {
 
 uint entryBegin(uint e) { return e == 0u ? 0u : cursor[e - 1u]; }
 
+// |v| as bits, compared as uints: finite < inf < NaN, exactly (a float max() may drop a NaN).
+uint absBits(float v) { return floatBitsToUint(v) & 0x7fffffffu; }
+
+// The entry's sum to add into grads: a NaN if any term was not finite (where a float sum would
+// turn inf or NaN too; fixed point cannot hold it), else the fixed-point sum.
+float finalSum(uint maxBits, uvec2 acc, int shift) {
+  return maxBits >= 0x7f800000u ? uintBitsToFloat(0x7fc00000u) : fromFixed(acc, shift);
+}
+
 void main() {
   uint chunk = gl_GlobalInvocationID.x;
   uint begin = chunk * CHUNK;
@@ -59,20 +68,21 @@ void main() {
         i = runEnd;
         continue;
       }
-      float mx[8] = float[8](0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+      uint mx[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);  // max |term| as bits (see absBits)
       for (uint j = i; j < runEnd; ++j)
-        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) mx[f] = max(mx[f], abs(slotValue[j * FEATURES + f]));
+        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) mx[f] = max(mx[f], absBits(slotValue[j * FEATURES + f]));
       if (eBegin >= begin && eEnd <= end) {
         int sh[8];
         uvec2 acc[8];
-        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) sh[f] = fixedShift(mx[f], eEnd - eBegin), acc[f] = uvec2(0u);
+        [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
+          sh[f] = fixedShift(uintBitsToFloat(mx[f]), eEnd - eBegin), acc[f] = uvec2(0u);
         for (uint j = i; j < runEnd; ++j)
           [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
             acc[f] = add64(acc[f], toFixed(slotValue[j * FEATURES + f], sh[f]));
-        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) grads[g + f] += fromFixed(acc[f], sh[f]);
+        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) grads[g + f] += finalSum(mx[f], acc[f], sh[f]);
       } else {
         uint o = (eBegin / CHUNK) * FEATURES;
-        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) atomicMax(spanMax[o + f], floatBitsToUint(mx[f]));
+        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) atomicMax(spanMax[o + f], mx[f]);
       }
       i = runEnd;
     }
@@ -110,8 +120,9 @@ void main() {
   if (eBegin < begin || eEnd <= end) return;
   uint o = chunk * FEATURES, g = (pc.entryBase + e) * FEATURES;
   [[unroll]] for (uint f = 0u; f < FEATURES; ++f) {
-    int sh = fixedShift(uintBitsToFloat(spanMax[o + f]), eEnd - eBegin);
-    grads[g + f] += fromFixed(uvec2(spanAcc[2u * (o + f)], spanAcc[2u * (o + f) + 1u]), sh);
+    uint mx = spanMax[o + f];
+    grads[g + f] += finalSum(mx, uvec2(spanAcc[2u * (o + f)], spanAcc[2u * (o + f) + 1u]),
+                             fixedShift(uintBitsToFloat(mx), eEnd - eBegin));
     spanMax[o + f] = 0u;
     spanAcc[2u * (o + f)] = 0u;
     spanAcc[2u * (o + f) + 1u] = 0u;

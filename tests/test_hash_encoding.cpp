@@ -2,6 +2,7 @@
 // and the reference against first principles (vertex lookup, affine reproduction, finite differences).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -364,6 +365,47 @@ TEST_F(HashEncoding, SortReduceHotEntryIsCompleteAndDeterministic) {
   // threads it changes from run to run): a second run gives the same bits.
   auto b = expectBackwardMatches(ctx(), enc, n, 0, true, &pos);
   EXPECT_EQ(a, b);
+}
+
+TEST_F(HashEncoding, SortReduceNonFiniteTermsGiveNonFiniteGradients) {
+  // Fixed point cannot hold inf or NaN; the reduce must still not turn them into finite garbage (a
+  // diverging step would go unnoticed). Entries with a non-finite term get a non-finite gradient,
+  // on a hot dense entry (many slots, spanning chunks) and on sparse ones; all others stay finite.
+  const HashGridConfig c = kPow2;
+  nerf::HashEncoding enc(ctx(), c, nerf::HashBackwardMode::SortReduce);
+  const uint32_t n = 3000, stride = enc.paddedDims(), F = c.featuresPerLevel;
+  auto pos = dyadicPositions(n, 4, true);
+  std::vector<float> dF(size_t(n) * stride, 0.5f);
+  dF[size_t(7) * stride + 0] = std::nanf("");                                  // level 0, feature 0
+  dF[size_t(11) * stride + 5 * F + 1] = std::numeric_limits<float>::infinity();  // level 5 (hashed), feature 1
+  dF[size_t(13) * stride + 2 * F + 0] = -std::numeric_limits<float>::infinity(); // level 2, feature 0
+  auto pb = gpu::Buffer::of(ctx(), pos), db = gpu::Buffer::of(ctx(), dF);
+  gpu::Buffer gb(ctx(), enc.parameterCount() * 4);
+  gb.zero();
+  gpu::Recorder rec(ctx());
+  rec.begin();
+  enc.recordBackward(rec, pb, n, db, stride, 0, gb);
+  rec.end();
+  rec.submitAndWait();
+  auto g = gb.download<float>();
+  std::vector<bool> bad(g.size(), false);
+  std::vector<uint32_t> terms(g.size(), 0);
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t l = 0; l < c.levels; ++l)
+      for (auto& k : ref::hashGridCorners<float>(c, l, &pos[4 * size_t(i)]))
+        for (uint32_t f = 0; f < F; ++f) {
+          terms[size_t(k.entry) * F + f] += 1;
+          if (!std::isfinite(dF[size_t(i) * stride + l * F + f])) bad[size_t(k.entry) * F + f] = true;
+        }
+  size_t nBad = 0;
+  uint32_t most = 0;
+  for (size_t e = 0; e < g.size(); ++e) {
+    ASSERT_EQ(!std::isfinite(g[e]), bool(bad[e])) << "entry " << e << " = " << g[e];
+    nBad += bad[e];
+    if (bad[e]) most = std::max(most, terms[e]);
+  }
+  EXPECT_EQ(nBad, 24u);  // 8 corners x 3 bad terms
+  EXPECT_GT(most, 256u);  // more slots than a reduce chunk holds: the spanning path is covered
 }
 
 TEST_F(HashEncoding, SortReduceOnBoxBoundaryAndOutside) {

@@ -29,11 +29,12 @@ layout(constant_id = 1) const uint CHUNK = 256u;  // slots per invocation
 layout(constant_id = 2) const uint STAGE = 0u;
 
 layout(std430, binding = 0) readonly buffer Cursor { uint cursor[]; };  // end of entry e's slots
-layout(std430, binding = 1) readonly buffer SlotEntry { uint slotEntry[]; };
-layout(std430, binding = 2) readonly buffer SlotValue { float slotValue[]; };
-layout(std430, binding = 3) buffer Grads { float grads[]; };
-layout(std430, binding = 4) buffer SpanMax { uint spanMax[]; };  // per owner chunk and feature
-layout(std430, binding = 5) buffer SpanAcc { uint spanAcc[]; };  // (low, high) per owner chunk and feature
+// Slots as encode_hash_backward_scatter.comp writes them: RECORD uvec4s, the entry then F values.
+const uint RECORD = (FEATURES + 4u) / 4u;
+layout(std430, binding = 1) readonly buffer Slots { uvec4 slots[]; };
+layout(std430, binding = 2) buffer Grads { float grads[]; };
+layout(std430, binding = 3) buffer SpanMax { uint spanMax[]; };  // per owner chunk and feature
+layout(std430, binding = 4) buffer SpanAcc { uint spanAcc[]; };  // (low, high) per owner chunk and feature
 
 layout(push_constant) uniform Push {
   uint slots;      // slots of this pass
@@ -41,6 +42,16 @@ layout(push_constant) uniform Push {
 } pc;
 
 uint entryBegin(uint e) { return e == 0u ? 0u : cursor[e - 1u]; }
+uint slotEntry(uint j) { return slots[j * RECORD].x; }
+
+// Slot j's F values (v[f] for f < FEATURES), read as whole uvec4s.
+void slotValues(uint j, out float v[8]) {
+  uvec4 q0 = slots[j * RECORD];
+  uvec4 q1 = RECORD > 1u ? slots[j * RECORD + 1u] : uvec4(0u);
+  uvec4 q2 = RECORD > 2u ? slots[j * RECORD + 2u] : uvec4(0u);
+  uint w[12] = uint[12](q0.x, q0.y, q0.z, q0.w, q1.x, q1.y, q1.z, q1.w, q2.x, q2.y, q2.z, q2.w);
+  [[unroll]] for (uint f = 0u; f < 8u; ++f) v[f] = uintBitsToFloat(w[1u + f]);
+}
 
 // |v| as bits, compared as uints: finite < inf < NaN, exactly (a float max() may drop a NaN).
 uint absBits(float v) { return floatBitsToUint(v) & 0x7fffffffu; }
@@ -59,26 +70,33 @@ void main() {
 
   if (STAGE == 0u) {
     for (uint i = begin; i < end;) {
-      uint e = slotEntry[i];
+      uint e = slotEntry(i);
       uint eBegin = entryBegin(e), eEnd = cursor[e];
       uint runEnd = min(eEnd, end);
       uint g = (pc.entryBase + e) * FEATURES;
       if (eEnd - eBegin == 1u) {  // the common case on hashed levels: one term, added as it is
-        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) grads[g + f] += slotValue[i * FEATURES + f];
+        float v[8];
+        slotValues(i, v);
+        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) grads[g + f] += v[f];
         i = runEnd;
         continue;
       }
       uint mx[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);  // max |term| as bits (see absBits)
-      for (uint j = i; j < runEnd; ++j)
-        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) mx[f] = max(mx[f], absBits(slotValue[j * FEATURES + f]));
+      for (uint j = i; j < runEnd; ++j) {
+        float v[8];
+        slotValues(j, v);
+        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) mx[f] = max(mx[f], absBits(v[f]));
+      }
       if (eBegin >= begin && eEnd <= end) {
         int sh[8];
         uvec2 acc[8];
         [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
           sh[f] = fixedShift(uintBitsToFloat(mx[f]), eEnd - eBegin), acc[f] = uvec2(0u);
-        for (uint j = i; j < runEnd; ++j)
-          [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
-            acc[f] = add64(acc[f], toFixed(slotValue[j * FEATURES + f], sh[f]));
+        for (uint j = i; j < runEnd; ++j) {
+          float v[8];
+          slotValues(j, v);
+          [[unroll]] for (uint f = 0u; f < FEATURES; ++f) acc[f] = add64(acc[f], toFixed(v[f], sh[f]));
+        }
         [[unroll]] for (uint f = 0u; f < FEATURES; ++f) grads[g + f] += finalSum(mx[f], acc[f], sh[f]);
       } else {
         uint o = (eBegin / CHUNK) * FEATURES;
@@ -91,7 +109,7 @@ void main() {
 
   if (STAGE == 1u) {
     // Only a chunk's first and last runs can span chunks (they are one run if one entry fills it).
-    uint first = slotEntry[begin], last = slotEntry[end - 1u];
+    uint first = slotEntry(begin), last = slotEntry(end - 1u);
     for (uint r = 0u; r < (first == last ? 1u : 2u); ++r) {
       uint e = r == 0u ? first : last;
       uint eBegin = entryBegin(e), eEnd = cursor[e];
@@ -102,9 +120,11 @@ void main() {
       uvec2 acc[8];
       [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
         sh[f] = fixedShift(uintBitsToFloat(spanMax[o + f]), eEnd - eBegin), acc[f] = uvec2(0u);
-      for (uint j = from; j < to; ++j)
-        [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
-          acc[f] = add64(acc[f], toFixed(slotValue[j * FEATURES + f], sh[f]));
+      for (uint j = from; j < to; ++j) {
+        float v[8];
+        slotValues(j, v);
+        [[unroll]] for (uint f = 0u; f < FEATURES; ++f) acc[f] = add64(acc[f], toFixed(v[f], sh[f]));
+      }
       [[unroll]] for (uint f = 0u; f < FEATURES; ++f) {
         uint old = atomicAdd(spanAcc[2u * (o + f)], acc[f].x);
         uint carry = old + acc[f].x < old ? 1u : 0u;
@@ -115,7 +135,7 @@ void main() {
   }
 
   // STAGE 2: the owner of the entry that starts in this chunk and runs past its end.
-  uint e = slotEntry[end - 1u];
+  uint e = slotEntry(end - 1u);
   uint eBegin = entryBegin(e), eEnd = cursor[e];
   if (eBegin < begin || eEnd <= end) return;
   uint o = chunk * FEATURES, g = (pc.entryBase + e) * FEATURES;

@@ -20,8 +20,10 @@ layout(constant_id = 2) const uint LOG2_TABLE = 19u;
 layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer dFeatures;
 layout(std430, binding = 2) buffer Cursor { uint cursor[]; };
-layout(std430, binding = 3) writeonly buffer SlotEntry { uint slotEntry[]; };
-layout(std430, binding = 4) writeonly buffer SlotValue { float slotValue[]; };  // F per slot
+// A slot is RECORD uvec4s: the entry, then the F values' bits, zero-padded. Whole-uvec4 stores: on
+// lavapipe a per-lane store is a scalar loop over the lanes, a uvec4 costing about two floats'.
+const uint RECORD = (FEATURES + 4u) / 4u;
+layout(std430, binding = 3) writeonly buffer Slots { uvec4 slots[]; };
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -45,10 +47,12 @@ void main() {
       uvec3 corner = cell + uvec3(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
       uint e = base + hashGridIndex(corner, res, dense, LOG2_TABLE);
       float wk = hashGridWeight(k, w);
-      uint slot = atomicAdd(cursor[e], 1u);
-      slotEntry[slot] = e;
+      uint words[12] = uint[12](e, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
       [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
-        slotValue[slot * FEATURES + f] = wk * (f < 4u ? d[c0 + f] : d2[f - 4u]);
+        words[1u + f] = floatBitsToUint(wk * (f < 4u ? d[c0 + f] : d2[f - 4u]));
+      uint slot = atomicAdd(cursor[e], 1u);
+      [[unroll]] for (uint r = 0u; r < RECORD; ++r)
+        slots[slot * RECORD + r] = uvec4(words[4u * r], words[4u * r + 1u], words[4u * r + 2u], words[4u * r + 3u]);
     }
   }
 }

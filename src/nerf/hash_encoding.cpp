@@ -13,7 +13,9 @@ constexpr uint32_t kLocal = 64;
 // at most 3 * kChunk times per invocation, far below lavapipe's 65,535-iteration loop limiter even
 // if the limit counted a whole 64-wide workgroup; larger chunks mean fewer entries spanning chunks.
 constexpr uint32_t kChunk = 256;
-constexpr VkDeviceSize kSortValueBytes = VkDeviceSize(64) << 20;  // default budget of sorted values
+constexpr VkDeviceSize kSortSlotBytes = VkDeviceSize(128) << 20;  // default budget of sorted slots
+// Bytes of one sorted slot: (F + 4) / 4 uvec4s, the entry and the F values (encode_hash_backward_scatter.comp).
+uint32_t slotBytes(uint32_t F) { return (F + 4) / 4 * 16; }
 
 // Outputs the PrefixSum can scan in one dispatch per level (its scan_add covers one x-dispatch).
 uint64_t scanCapacity(Context& ctx) { return uint64_t(ctx.properties().limits.maxComputeWorkGroupCount[0]) * 256; }
@@ -63,15 +65,15 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                                sizeof(SortPush), spec});
     scatter_ = gpu::Kernel(ctx, {"encode_hash_backward_scatter",
                                  {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
-                                  gpu::Binding::Storage, gpu::Binding::Storage},
+                                  gpu::Binding::Storage},
                                  sizeof(SortPush), spec});
     for (uint32_t stage = 0; stage < 3; ++stage)
       reduce_[stage] = gpu::Kernel(ctx, {"encode_hash_backward_reduce",
-                                         std::vector<gpu::Binding>(6, gpu::Binding::Storage),
+                                         std::vector<gpu::Binding>(5, gpu::Binding::Storage),
                                          2 * sizeof(uint32_t),
                                          {config.featuresPerLevel, kChunk, stage}});
     setSortSlotBudget(uint32_t(std::min<VkDeviceSize>(
-        kSortValueBytes, ctx.properties().limits.maxStorageBufferRange) / (4 * config.featuresPerLevel)));
+        kSortSlotBytes, ctx.properties().limits.maxStorageBufferRange) / slotBytes(config.featuresPerLevel)));
   } else if (ctx.floatAtomics()) {
     // Without float atomics the forward pass still works (inference); recordBackward says why not.
     backward_ = gpu::Kernel(ctx, {"encode_hash_backward",
@@ -84,7 +86,7 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
 HashEncoding::~HashEncoding() = default;
 
 void HashEncoding::setSortSlotBudget(uint32_t slots) {
-  const uint64_t most = ctx_.properties().limits.maxStorageBufferRange / (4 * config_.featuresPerLevel);
+  const uint64_t most = ctx_.properties().limits.maxStorageBufferRange / slotBytes(config_.featuresPerLevel);
   if (slots < 8 || slots > most)
     throw Error("HashEncoding::setSortSlotBudget: " + std::to_string(slots) + " slots; must be 8.." +
                 std::to_string(most) + " (one sample's 8 corners, and the values within one binding)");
@@ -174,11 +176,10 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, const gpu::BufferRange& po
 void HashEncoding::ensureSortScratch(uint64_t slots, uint64_t entries) {
   const uint32_t F = config_.featuresPerLevel;
   if (slots > slotCap_) {
-    for (auto* b : {&slotEntry_, &slotValue_, &spanMax_, &spanAcc_})
+    for (auto* b : {&slots_, &spanMax_, &spanAcc_})
       if (b->valid()) retired_.push_back(std::move(*b));
     const uint64_t chunks = gpu::groupsFor(slots, kChunk);
-    slotEntry_ = gpu::Buffer(ctx_, slots * 4);
-    slotValue_ = gpu::Buffer(ctx_, slots * 4 * F);
+    slots_ = gpu::Buffer(ctx_, slots * slotBytes(F));
     spanMax_ = gpu::Buffer(ctx_, chunks * 4 * F);
     spanAcc_ = gpu::Buffer(ctx_, chunks * 8 * F);
     spanMax_.zero(), spanAcc_.zero();  // the reduce leaves them zeroed after every pass
@@ -216,18 +217,17 @@ void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& 
       sp.levelBegin = l0, sp.levelEnd = std::min(L, l0 + levelsPerPass);
       const uint32_t entries = (sp.levelEnd - l0) << T, slots = sp.count * 8 * (sp.levelEnd - l0);
       const gpu::BufferRange counts(counts_, 0, VkDeviceSize(entries) * 4), cursor(cursor_, 0, VkDeviceSize(entries) * 4);
-      const gpu::BufferRange slotEntry(slotEntry_, 0, VkDeviceSize(slots) * 4);
-      const gpu::BufferRange slotValue(slotValue_, 0, VkDeviceSize(slots) * 4 * F);
+      const gpu::BufferRange slotRange(slots_, 0, VkDeviceSize(slots) * slotBytes(F));
       rec.fill(counts_, 0, 0, VkDeviceSize(entries) * 4);
       rec.dispatch(count_, {positions, counts}, sp, gpu::groupsFor(sp.count, kLocal), 1, 1,
                    "encode_hash_backward_count");
       scan_->record(rec, counts, entries, cursor, entries);
-      rec.dispatch(scatter_, {positions, dFeatures, cursor, slotEntry, slotValue}, sp,
+      rec.dispatch(scatter_, {positions, dFeatures, cursor, slotRange}, sp,
                    gpu::groupsFor(sp.count, kLocal), 1, 1, "encode_hash_backward_scatter");
       const uint32_t reducePush[2] = {slots, l0 << T};
       const uint32_t groups = gpu::groupsFor(gpu::groupsFor(slots, kChunk), kLocal);
       for (auto& k : reduce_)
-        rec.dispatch(k, {cursor, slotEntry, slotValue, exactly(grads), spanMax_, spanAcc_}, reducePush, sizeof reducePush,
+        rec.dispatch(k, {cursor, slotRange, exactly(grads), spanMax_, spanAcc_}, reducePush, sizeof reducePush,
                      groups, 1, 1, "encode_hash_backward_reduce");
     }
   }

@@ -60,8 +60,8 @@ class HashEncoding {
   uint32_t resolution(uint32_t level) const { return ref::hashGridResolution(config_, level); }
   bool dense(uint32_t level) const { return ref::hashGridDense(config_, level); }
   HashBackwardMode backwardMode() const { return mode_; }
-  // SortReduce: the most (sample, level, corner) contributions sorted in one pass (default: 64 MiB of
-  // sorted values). Smaller budgets split a batch into more passes (tests use this; >= 8).
+  // SortReduce: the most (sample, level, corner) contributions sorted in one pass (default: 128 MiB
+  // of slots, 16 bytes each for F <= 2). Smaller budgets split a batch into more passes (tests; >= 8).
   uint32_t sortSlotBudget() const { return slotBudget_; }
   void setSortSlotBudget(uint32_t slots);
   // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
@@ -114,7 +114,7 @@ class HashEncoding {
   gpu::Kernel count_, scatter_, reduce_[3];
   uint32_t slotBudget_ = 0;
   uint64_t slotCap_ = 0, entryCap_ = 0;
-  gpu::Buffer counts_, cursor_, slotEntry_, slotValue_, spanMax_, spanAcc_;
+  gpu::Buffer counts_, cursor_, slots_, spanMax_, spanAcc_;
   std::unique_ptr<PrefixSum> scan_;
   std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
   std::vector<std::unique_ptr<PrefixSum>> retiredScans_;

@@ -23,7 +23,7 @@ namespace {
 
 struct Options {
   uint32_t samples = 1u << 18, repeats = 5, samplesPerRay = 64;
-  bool breakdown = true;
+  bool breakdown = true, wide = false;
 };
 
 std::vector<float> uniformPoints(uint32_t n, uint32_t seed) {
@@ -66,10 +66,12 @@ int run(const Options& o, Context& ctx) {
     const char* name;
     nerf::HashGridConfig config;
   };
-  const Grid grids[] = {
+  std::vector<Grid> grids = {
       {"L=8 F=2 T=15 (fast)", {8, 2, 15, 16, double(float(std::pow(256.0 / 16.0, 1.0 / 7.0)))}},
       {"L=16 F=2 T=19", {16, 2, 19, 16, double(1.447f)}},
   };
+  // Atomic's float atomics grow with F, SortReduce's two uint atomics per contribution do not.
+  if (o.wide) grids.push_back({"L=8 F=8 T=15", {8, 8, 15, 16, double(float(std::pow(256.0 / 16.0, 1.0 / 7.0)))}});
   std::vector<HashBackwardMode> modes{HashBackwardMode::SortReduce};
   if (ctx.floatAtomics()) modes.insert(modes.begin(), {HashBackwardMode::Atomic, HashBackwardMode::SubgroupMerged});
   else std::printf("device without float atomics: SortReduce only\n");
@@ -132,6 +134,7 @@ Registration bench("bench hash", "Time the hash encoding's backward pass: float 
                      app.add_option("--samples-per-ray", o->samplesPerRay, "Samples per ray of the ray-ordered points")
                          ->check(CLI::Range(1u, 4096u));
                      app.add_flag("!--no-breakdown", o->breakdown, "Skip SortReduce's per-stage timing");
+                     app.add_flag("--wide", o->wide, "Also time an L=8 F=8 T=15 grid (more features per entry)");
                      return [o, &g] { return run(*o, *g.context()); };
                    });
 

@@ -20,28 +20,33 @@ class PrefixSum;
 using HashGridConfig = ref::HashGridConfig;
 
 // How the backward pass scatters into the table. Measured on lavapipe (2 threads; `vknerf bench hash`,
-// 2^18 samples, best of 3-5 submissions, 3 runs; us per sample, range over the runs, and time / Atomic's):
+// 2^18 samples, best of 3-5 submissions, 3 runs; us per sample, range over the runs, and time / Atomic's
+// in the same run; docs/performance.md has the table):
 //                        L=8 F=2 T=15 (fast model)             L=16 F=2 T=19
-//   uniform points:  Atomic 1.03-1.15                      Atomic 2.10-2.33
-//                    SubgroupMerged 1.35-1.59 (1.31-1.38x)  SubgroupMerged 2.81-3.85 (1.33-1.64x)
-//                    SortReduce 2.31-3.08 (2.23-2.67x)      SortReduce 6.28-8.43 (2.96-3.60x)
-//   ray-ordered:     Atomic 0.76-0.89                      Atomic 2.08-2.69
-//                    SubgroupMerged 1.00-1.32 (1.32-1.48x)  SubgroupMerged 2.76-3.24 (1.20-1.50x)
-//                    SortReduce 2.02-2.68 (2.68-3.00x)      SortReduce 6.34-8.13 (2.92-3.78x)
+//   uniform points:  Atomic 1.01-1.02                      Atomic 2.26-2.76
+//                    SubgroupMerged 1.32-1.34 (1.29-1.32x)  SubgroupMerged 2.97-3.01 (1.07-1.31x)
+//                    SortReduce 2.04-2.08 (2.00-2.05x)      SortReduce 5.53-5.63 (2.04-2.45x)
+//   ray-ordered:     Atomic 0.74-0.77                      Atomic 1.90-2.04
+//                    SubgroupMerged 1.00-1.18 (1.34-1.53x)  SubgroupMerged 2.57-2.71 (1.28-1.39x)
+//                    SortReduce 1.83-2.30 (2.45-2.99x)      SortReduce 5.31-5.63 (2.60-2.90x)
 // Atomic is the default: fastest in every same-run comparison. On lavapipe an atomic is a scalar
-// loop over the lanes whether it is a uint or a float one and whether or not lanes collide, so
-// contention, which sort-and-reduce removes, costs nothing here; SortReduce's count pass alone
-// (one uint atomic per contribution) takes 0.55-0.65x of Atomic's whole time (F = 2 float atomics per
-// contribution), its scatter (a second uint atomic and the slot stores) 1.2-1.45x, its reduce 0.5-1x.
-// SubgroupMerged's vote and reduction per scatter cost more than the atomics they save.
+// loop over the lanes, uint or float, contended or not (ray-ordered points, whose neighbours share
+// coarse cells, are faster than uniform ones), so the contention sort-and-reduce removes costs
+// nothing here, while SortReduce pays two uint atomics per contribution (count, cursor) for
+// Atomic's F = 2 float ones, plus a 16-byte slot store per contribution scattered over up to
+// 128 MiB (Atomic's working set is the table: 2 MiB for the fast grid) and the reduce. Its count
+// pass alone takes 0.5-0.6x of Atomic's whole time, the scatter 1.0-1.5x, the reduce 0.3-0.7x.
+// With F = 8 (L=8 T=15, --wide) the gap narrows to 1.6-1.9x but stays. SubgroupMerged's vote and
+// reduction per scatter cost more than the atomics they save.
 // SortReduce is for devices without float atomics (it needs none) and where a deterministic
 // gradient matters; SubgroupMerged for devices where contended coarse-level atomics are slow.
 enum class HashBackwardMode : uint32_t {
   Atomic = 0,          // one float atomicAdd per lane, corner and feature
   SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic
   // Counting sort of the contributions by table entry (uint atomics), then a per-entry sum in exact
-  // fixed point: deterministic, no float atomics (so also on devices without them). Needs 2^T at
-  // most the prefix sum's capacity (maxComputeWorkGroupCount[0] * 256: T <= 23 on lavapipe).
+  // fixed point: deterministic, no float atomics (so also on devices without them). A non-finite
+  // term makes its entry's gradient non-finite (NaN). Needs 2^T at most the prefix sum's capacity
+  // (maxComputeWorkGroupCount[0] * 256: T <= 23 on lavapipe).
   // shaders/encode_hash_backward_{count,scatter,reduce}.comp.
   SortReduce = 2,
 };

@@ -137,6 +137,20 @@ void expectForwardMatches(Context& ctx, const HashGridConfig& c, uint32_t count,
               c.log2TableSize, maxErrD, maxErrF);
 }
 
+// One recordBackward of `n` rows (dFeatures at column 0) into zeroed gradients; returns them.
+std::vector<float> backwardFromZero(Context& ctx, nerf::HashEncoding& enc, const std::vector<float>& pos, uint32_t n,
+                                    const std::vector<float>& dF, uint32_t stride) {
+  auto pb = gpu::Buffer::of(ctx, pos), db = gpu::Buffer::of(ctx, dF);
+  gpu::Buffer gb(ctx, enc.parameterCount() * 4);
+  gb.zero();
+  gpu::Recorder rec(ctx);
+  rec.begin();
+  enc.recordBackward(rec, pb, n, db, stride, 0, gb);
+  rec.end();
+  rec.submitAndWait();
+  return gb.download<float>();
+}
+
 // recordBackward of two batches (n1 and n2 rows: not workgroup multiples), recorded back to back
 // into one gradient buffer that starts non-zero, against the double reference: the result must be
 // start + both batches. `onePass`: a SortReduce `enc` sorts each batch in one pass (the default
@@ -379,15 +393,7 @@ TEST_F(HashEncoding, SortReduceNonFiniteTermsGiveNonFiniteGradients) {
   dF[size_t(7) * stride + 0] = std::nanf("");                                  // level 0, feature 0
   dF[size_t(11) * stride + 5 * F + 1] = std::numeric_limits<float>::infinity();  // level 5 (hashed), feature 1
   dF[size_t(13) * stride + 2 * F + 0] = -std::numeric_limits<float>::infinity(); // level 2, feature 0
-  auto pb = gpu::Buffer::of(ctx(), pos), db = gpu::Buffer::of(ctx(), dF);
-  gpu::Buffer gb(ctx(), enc.parameterCount() * 4);
-  gb.zero();
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  enc.recordBackward(rec, pb, n, db, stride, 0, gb);
-  rec.end();
-  rec.submitAndWait();
-  auto g = gb.download<float>();
+  auto g = backwardFromZero(ctx(), enc, pos, n, dF, stride);
   std::vector<bool> bad(g.size(), false);
   std::vector<uint32_t> terms(g.size(), 0);
   for (uint32_t i = 0; i < n; ++i)
@@ -423,15 +429,7 @@ TEST_F(HashEncoding, SortReduceOnBoxBoundaryAndOutside) {
     std::mt19937 gen(3);
     std::uniform_real_distribution<float> u(-1, 1);
     for (auto& x : dF) x = u(gen);
-    auto pb = gpu::Buffer::of(ctx(), pos), db = gpu::Buffer::of(ctx(), dF);
-    gpu::Buffer gb(ctx(), enc.parameterCount() * 4);
-    gb.zero();
-    gpu::Recorder rec(ctx());
-    rec.begin();
-    enc.recordBackward(rec, pb, n, db, stride, 0, gb);
-    rec.end();
-    rec.submitAndWait();
-    auto g = gb.download<float>();
+    auto g = backwardFromZero(ctx(), enc, pos, n, dF, stride);
     std::vector<double> want(g.size(), 0.0), mag(g.size(), 0.0), terms(g.size(), 0.0);
     for (uint32_t i = 0; i < n; ++i)
       for (uint32_t l = 0; l < c.levels; ++l)

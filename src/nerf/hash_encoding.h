@@ -19,25 +19,12 @@ namespace vknerf::nerf {
 class PrefixSum;
 using HashGridConfig = ref::HashGridConfig;
 
-// How the backward pass scatters into the table. Measured on lavapipe (2 threads; `vknerf bench hash`,
-// 2^18 samples, best of 3-5 submissions, 3 runs; us per sample, range over the runs, and time / Atomic's
-// in the same run; docs/performance.md has the table):
-//                        L=8 F=2 T=15 (fast model)             L=16 F=2 T=19
-//   uniform points:  Atomic 1.01-1.02                      Atomic 2.26-2.76
-//                    SubgroupMerged 1.32-1.34 (1.29-1.32x)  SubgroupMerged 2.97-3.01 (1.07-1.31x)
-//                    SortReduce 2.04-2.08 (2.00-2.05x)      SortReduce 5.53-5.63 (2.04-2.45x)
-//   ray-ordered:     Atomic 0.74-0.77                      Atomic 1.90-2.04
-//                    SubgroupMerged 1.00-1.18 (1.34-1.53x)  SubgroupMerged 2.57-2.71 (1.28-1.39x)
-//                    SortReduce 1.83-2.30 (2.45-2.99x)      SortReduce 5.31-5.63 (2.60-2.90x)
-// Atomic is the default: fastest in every same-run comparison. On lavapipe an atomic is a scalar
-// loop over the lanes, uint or float, contended or not (ray-ordered points, whose neighbours share
-// coarse cells, are faster than uniform ones), so the contention sort-and-reduce removes costs
-// nothing here, while SortReduce pays two uint atomics per contribution (count, cursor) for
-// Atomic's F = 2 float ones, plus a 16-byte slot store per contribution scattered over up to
-// 128 MiB (Atomic's working set is the table: 2 MiB for the fast grid) and the reduce. Its count
-// pass alone takes 0.5-0.6x of Atomic's whole time, the scatter 1.0-1.5x, the reduce 0.3-0.7x.
-// With F = 8 (L=8 T=15, --wide) the gap narrows to 1.6-1.9x but stays. SubgroupMerged's vote and
-// reduction per scatter cost more than the atomics they save.
+// How the backward pass scatters into the table. Atomic is the default: on lavapipe it was the
+// fastest in every same-run comparison (`vknerf bench hash`; the table and the reasons are in
+// docs/performance.md, "Hash-table gradient"): SubgroupMerged took 1.1-1.5x its time, SortReduce
+// 2.0-3.0x at F = 2 and 1.6-1.9x at F = 8. An atomic there is a scalar loop over the lanes, uint or
+// float, contended or not, so the contention sorting removes costs nothing, while SortReduce pays
+// two uint atomics and a scattered 16-byte slot store per contribution, plus the reduce.
 // SortReduce is for devices without float atomics (it needs none) and where a deterministic
 // gradient matters; SubgroupMerged for devices where contended coarse-level atomics are slow.
 enum class HashBackwardMode : uint32_t {

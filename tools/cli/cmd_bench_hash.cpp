@@ -6,7 +6,6 @@
 // after a warm-up submission (shader JIT); SortReduce's stages from GPU timestamps of one more run.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <map>
 #include <random>
@@ -16,7 +15,9 @@
 #include "command.h"
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
+#include "nerf/fast_pipeline.h"  // hashGridConfigFor
 #include "nerf/hash_encoding.h"
+#include "vknerf/config.h"
 
 namespace vknerf::cli {
 namespace {
@@ -63,15 +64,22 @@ const char* modeName(nerf::HashBackwardMode m) {
 int run(const Options& o, Context& ctx) {
   using nerf::HashBackwardMode;
   struct Grid {
-    const char* name;
+    std::string name;
     nerf::HashGridConfig config;
   };
-  std::vector<Grid> grids = {
-      {"L=8 F=2 T=15 (fast)", {8, 2, 15, 16, double(float(std::pow(256.0 / 16.0, 1.0 / 7.0)))}},
-      {"L=16 F=2 T=19", {16, 2, 19, 16, double(1.447f)}},
+  // The fast model's grid as TrainConfig::fast picks it for this device (L=8 F=2 T=15 on a CPU).
+  const nerf::HashGridConfig fastGrid = nerf::hashGridConfigFor(TrainConfig::fast(ctx).model);
+  auto label = [](const nerf::HashGridConfig& c, const char* what) {
+    return "L=" + std::to_string(c.levels) + " F=" + std::to_string(c.featuresPerLevel) +
+           " T=" + std::to_string(c.log2TableSize) + what;
   };
+  std::vector<Grid> grids = {{label(fastGrid, " (fast)"), fastGrid}, {"L=16 F=2 T=19", {16, 2, 19, 16, double(1.447f)}}};
   // Atomic's float atomics grow with F, SortReduce's two uint atomics per contribution do not.
-  if (o.wide) grids.push_back({"L=8 F=8 T=15", {8, 8, 15, 16, double(float(std::pow(256.0 / 16.0, 1.0 / 7.0)))}});
+  if (o.wide) {
+    nerf::HashGridConfig wide = fastGrid;
+    wide.featuresPerLevel = 8;
+    grids.push_back({label(wide, ""), wide});
+  }
   std::vector<HashBackwardMode> modes{HashBackwardMode::SortReduce};
   if (ctx.floatAtomics()) modes.insert(modes.begin(), {HashBackwardMode::Atomic, HashBackwardMode::SubgroupMerged});
   else std::printf("device without float atomics: SortReduce only\n");
@@ -85,7 +93,7 @@ int run(const Options& o, Context& ctx) {
     std::uniform_real_distribution<float> u(-1, 1);
     for (auto& x : dF) x = u(gen);
     auto db = gpu::Buffer::of(ctx, dF);
-    gpu::Buffer grads(ctx, nerf::HashEncoding(ctx, grid.config).parameterCount() * 4);
+    gpu::Buffer grads(ctx, ref::hashGridParameterCount(grid.config) * 4);
     grads.zero();
     for (const char* points : {"uniform", "rays"}) {
       auto pb = gpu::Buffer::of(ctx, std::string(points) == "uniform" ? uniformPoints(n, 1) : rayPoints(n, o.samplesPerRay, 1));
@@ -104,7 +112,7 @@ int run(const Options& o, Context& ctx) {
           best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         }
         if (mode == HashBackwardMode::Atomic) atomicMs = best;
-        std::printf("%-20s %-9s %-15s %10.1f %10.3f %8s\n", grid.name, points, modeName(mode), best, best * 1e3 / n,
+        std::printf("%-20s %-9s %-15s %10.1f %10.3f %8s\n", grid.name.c_str(), points, modeName(mode), best, best * 1e3 / n,
                     atomicMs > 0 ? (std::to_string(best / atomicMs).substr(0, 4) + "x").c_str() : "-");
         if (o.breakdown && mode == HashBackwardMode::SortReduce) {
           gpu::Recorder timed(ctx, true, 1024);

@@ -3,8 +3,8 @@
 // views (their mean), which is what a model that learned nothing about geometry approaches.
 #include <vector>
 
-#include "nerf/image_io.h"
-#include "nerf/metrics.h"
+#include "io/image_io.h"
+#include "lib/metrics.h"
 #include "vknerf/trainer.h"
 
 namespace vknerf::test {

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "nerf/checkpoint.h"
-#include "nerf/metrics.h"
+#include "io/checkpoint.h"
+#include "lib/metrics.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

@@ -13,8 +13,8 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/composite.h"
-#include "reference/composite.h"
+#include "nerf/render/composite.h"
+#include "reference/render/composite.h"
 
 using namespace vknerf;
 

@@ -6,7 +6,7 @@
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/rays.h"
+#include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;
@@ -159,7 +159,7 @@ TEST_F(ContextTest, IndirectDispatchReadsGroupCountsFromTheDevice) {
     float aabbMin[4], aabbMax[4];
     uint32_t mode, camera, first, count;
   } push{{-1, -1, -1, 0}, {1, 1, 1, 0}, 0, 0, 0, 1000};
-  gpu::Kernel rays(ctx(), {"rays", {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push), {}});
+  gpu::Kernel rays(ctx(), {gpu::shaders::rays, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push), {}});
   Camera cam;
   cam.fx = cam.fy = 10;
   cam.width = cam.height = 40;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "reference/rays.h"
+#include "reference/rays/rays.h"
 #include "test_dataset_util.h"
 
 using namespace vknerf;

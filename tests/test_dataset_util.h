@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "nerf/image_io.h"
+#include "io/image_io.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 

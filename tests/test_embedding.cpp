@@ -710,7 +710,7 @@ TEST_F(EmbeddingTest, BadTargetsAreClearErrors) {
 TEST_F(EmbeddingTest, CallerResourcesBindThroughARingNotTheCache) {
   // A caller's handle may be destroyed and its value reused for a new object, so it must never key
   // the descriptor cache; transient sets are rewritten on every call, in a ring.
-  gpu::Kernel k(ctx(), gpu::KernelDesc{"write_render_target",
+  gpu::Kernel k(ctx(), gpu::KernelDesc{gpu::shaders::write_render_target,
                                        {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                                        20,
                                        {}});

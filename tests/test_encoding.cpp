@@ -8,9 +8,9 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/encoding.h"
-#include "nerf/points.h"
-#include "reference/encoding.h"
+#include "nerf/encoding/frequency_encoding.h"
+#include "nerf/sampling/points.h"
+#include "reference/encoding/frequency_encoding.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

@@ -8,9 +8,9 @@
 
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/fast_pipeline.h"
+#include "models/fast/fast_pipeline.h"
 #include "held_out.h"
-#include "nerf/rays.h"
+#include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
 

@@ -9,8 +9,8 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/hash_encoding.h"
-#include "reference/hash_encoding.h"
+#include "nerf/encoding/hash_encoding.h"
+#include "reference/encoding/hash_encoding.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

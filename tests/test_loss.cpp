@@ -6,9 +6,9 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/loss.h"
-#include "nerf/rays.h"
-#include "reference/loss.h"
+#include "nerf/loss/photometric_loss.h"
+#include "nerf/rays/rays.h"
+#include "reference/loss/photometric_loss.h"
 
 using namespace vknerf;
 

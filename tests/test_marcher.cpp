@@ -11,11 +11,11 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/marcher.h"
-#include "nerf/occupancy.h"
-#include "reference/encoding.h"
-#include "reference/occupancy.h"
-#include "reference/rays.h"
+#include "nerf/sampling/marcher.h"
+#include "nerf/occupancy/occupancy_grid.h"
+#include "reference/encoding/frequency_encoding.h"
+#include "reference/occupancy/occupancy_grid.h"
+#include "reference/rays/rays.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

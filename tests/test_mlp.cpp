@@ -6,8 +6,8 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/mlp.h"
-#include "reference/mlp.h"
+#include "nerf/network/mlp.h"
+#include "reference/network/mlp.h"
 #include "reference/rng.h"
 
 using namespace vknerf;

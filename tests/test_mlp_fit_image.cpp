@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "gpu_test.h"
-#include "nerf/mlp_fit_image.h"
+#include "lib/fit_image.h"
 
 using namespace vknerf;
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "reference/mlp.h"
+#include "reference/network/mlp.h"
 #include "reference/rng.h"
 
 using namespace vknerf;

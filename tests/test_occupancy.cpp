@@ -9,8 +9,8 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/occupancy.h"
-#include "reference/occupancy.h"
+#include "nerf/occupancy/occupancy_grid.h"
+#include "reference/occupancy/occupancy_grid.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

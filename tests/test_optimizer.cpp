@@ -6,8 +6,8 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/optimizer.h"
-#include "reference/optimizer.h"
+#include "nerf/optim/adam.h"
+#include "reference/optim/adam.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

@@ -5,8 +5,8 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/rays.h"
-#include "reference/rays.h"
+#include "nerf/rays/rays.h"
+#include "reference/rays/rays.h"
 #include "reference/rng.h"
 
 using namespace vknerf;

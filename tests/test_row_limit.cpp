@@ -16,9 +16,9 @@
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/hash_encoding.h"
-#include "nerf/mlp.h"
-#include "nerf/sh_encoding.h"
+#include "nerf/encoding/hash_encoding.h"
+#include "nerf/network/mlp.h"
+#include "nerf/encoding/sh_encoding.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

@@ -11,10 +11,10 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/rays.h"
-#include "nerf/samples.h"
+#include "nerf/rays/rays.h"
+#include "nerf/sampling/samplers.h"
 #include "reference/rng.h"
-#include "reference/samples.h"
+#include "reference/sampling/samplers.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

@@ -1,6 +1,6 @@
 // The rendering kernels chained on an analytic field, against the double CPU reference.
 #include "gpu_test.h"
-#include "nerf/selfcheck.h"
+#include "lib/selfcheck.h"
 
 using namespace vknerf;
 

@@ -8,8 +8,8 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/sh_encoding.h"
-#include "reference/sh_encoding.h"
+#include "nerf/encoding/sh_encoding.h"
+#include "reference/encoding/sh_encoding.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

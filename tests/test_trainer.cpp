@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "gpu_test.h"
-#include "nerf/checkpoint.h"
+#include "io/checkpoint.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
 

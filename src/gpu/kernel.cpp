@@ -19,7 +19,7 @@ VkDescriptorType descriptorType(Binding b) {
 
 void requireBindingCount(const KernelDesc& d, size_t n) {
   if (n != d.bindings.size())
-    throw Error("kernel " + d.shader + " takes " + std::to_string(d.bindings.size()) + " buffers, got " +
+    throw Error(std::string("kernel ") + d.shader.name + " takes " + std::to_string(d.bindings.size()) + " buffers, got " +
                 std::to_string(n));
 }
 
@@ -29,21 +29,20 @@ VkDeviceSize storageRange(const Context& ctx, const KernelDesc& d, size_t i, con
   range = std::max<VkDeviceSize>(range, 16);  // empty arrays bind a valid minimal range
   const auto limit = ctx.properties().limits.maxStorageBufferRange;
   if (range > limit)
-    throw Error("kernel " + d.shader + ": binding " + std::to_string(i) + " spans " + std::to_string(range) +
+    throw Error(std::string("kernel ") + d.shader.name + ": binding " + std::to_string(i) + " spans " + std::to_string(range) +
                 " bytes, over maxStorageBufferRange " + std::to_string(limit) + "; split the batch");
   return range;
 }
 }  // namespace
 
 Kernel::Kernel(Context& ctx, KernelDesc desc) : ctx_(&ctx), desc_(std::move(desc)) {
-  auto code = findShader(desc_.shader);
-  if (code.empty()) throw Error("no embedded shader named '" + desc_.shader + "'");
+  if (!desc_.shader.words) throw Error("kernel without a shader");
   VkDevice dev = ctx.device();
 
   VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  mi.codeSize = code.size_bytes();
-  mi.pCode = code.data();
-  check(vkCreateShaderModule(dev, &mi, nullptr, &module_), ("vkCreateShaderModule(" + desc_.shader + ")").c_str());
+  mi.codeSize = desc_.shader.wordCount * sizeof(uint32_t);
+  mi.pCode = desc_.shader.words;
+  check(vkCreateShaderModule(dev, &mi, nullptr, &module_), (std::string("vkCreateShaderModule(") + desc_.shader.name + ")").c_str());
 
   std::vector<VkDescriptorSetLayoutBinding> lb;
   for (uint32_t i = 0; i < desc_.bindings.size(); ++i)
@@ -72,7 +71,7 @@ Kernel::Kernel(Context& ctx, KernelDesc desc) : ctx_(&ctx), desc_(std::move(desc
   ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
   ci.layout = layout_;
   check(vkCreateComputePipelines(dev, ctx.pipelineCache(), 1, &ci, nullptr, &pipeline_),
-        ("vkCreateComputePipelines(" + desc_.shader + ")").c_str());
+        (std::string("vkCreateComputePipelines(") + desc_.shader.name + ")").c_str());
 }
 
 Kernel::~Kernel() { destroy(); }
@@ -120,7 +119,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
   requireBindingCount(desc_, bindings.size());
   for (size_t i = 0; i < bindings.size(); ++i)
     if (bindings[i].isExternal() || desc_.bindings[i] == Binding::StorageImage)
-      throw Error("kernel " + desc_.shader + ": binding " + std::to_string(i) +
+      throw Error(std::string("kernel ") + desc_.shader.name + ": binding " + std::to_string(i) +
                   " is a caller's resource; bind it through Kernel::transientSet");
   std::vector<uint64_t> key;
   for (auto& b : bindings) key.insert(key.end(), {b.buffer->id(), b.offset, b.range});
@@ -172,7 +171,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
       vi.range = range / 16 * 16;
       uint64_t texels = vi.range / 16;
       if (texels > limits.maxTexelBufferElements)
-        throw Error("kernel " + desc_.shader + ": texel binding " + std::to_string(i) + " holds " + std::to_string(texels) +
+        throw Error(std::string("kernel ") + desc_.shader.name + ": texel binding " + std::to_string(i) + " holds " + std::to_string(texels) +
                     " texels, over maxTexelBufferElements; split the batch");
       check(vkCreateBufferView(dev, &vi, nullptr, &views[i]), "vkCreateBufferView");
       views_.push_back(views[i]);
@@ -218,7 +217,7 @@ VkDescriptorSet Kernel::transientSet(std::span<const BufferRange> bindings) {
     writes[i].dstBinding = uint32_t(i);
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = descriptorType(desc_.bindings[i]);
-    const std::string where = "kernel " + desc_.shader + ": binding " + std::to_string(i);
+    const std::string where = std::string("kernel ") + desc_.shader.name + ": binding " + std::to_string(i);
     switch (desc_.bindings[i]) {
       case Binding::Storage: {
         if (b.image || !b.handle()) throw Error(where + " needs a buffer");

@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "gpu/buffer.h"
+#include "gpu/shader_code.h"
+#include "gpu/shader_ids.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {
-
-std::span<const uint32_t> findShader(std::string_view name);  // generated from shaders/*.comp
 
 enum class Binding {
   Storage,       // GLSL: layout(std430) buffer
@@ -25,7 +25,7 @@ enum class Binding {
 };
 
 struct KernelDesc {
-  std::string shader;                     // name of shaders/<name>.comp
+  ShaderCode shader;                      // gpu::shaders::<name of shaders/<stage>/<name>.comp>
   std::vector<Binding> bindings;          // binding i of set 0
   uint32_t pushConstantBytes = 0;
   std::vector<uint32_t> specialization;   // constant_id i = specialization[i] (floats by bit pattern)

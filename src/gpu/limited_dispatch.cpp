@@ -27,7 +27,7 @@ void LimitedDispatch::recordArgs(Recorder& rec, const BufferRange& limit, uint32
     throw Error("LimitedDispatch: " + std::to_string(p.chunks) + " chunks of " + std::to_string(p.kinds) +
                 " dispatches exceed " + std::to_string(kMaxEntries) + " entries");
   if (!kernel_) {
-    kernel_ = std::make_unique<Kernel>(ctx_, KernelDesc{"limited_dispatch_args", {Binding::Storage, Binding::Storage},
+    kernel_ = std::make_unique<Kernel>(ctx_, KernelDesc{gpu::shaders::limited_dispatch_args, {Binding::Storage, Binding::Storage},
                                                         sizeof(ArgsPush), {}});
     args_ = std::make_unique<Buffer>(ctx_, VkDeviceSize(kMaxEntries) * 12);
   }

@@ -70,7 +70,7 @@ VkDescriptorSet Recorder::cachedSet(Kernel& k, std::initializer_list<BufferRange
 void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
                             bool indirect, const std::function<void()>& issue) {
   if (pushBytes != k.desc().pushConstantBytes)
-    throw Error("kernel " + k.desc().shader + " expects " + std::to_string(k.desc().pushConstantBytes) +
+    throw Error(std::string("kernel ") + k.desc().shader.name + " expects " + std::to_string(k.desc().pushConstantBytes) +
                 " bytes of push constants, got " + std::to_string(pushBytes));
   barrierIfNeeded(indirect);
   bool timed = queries_ && label && labels_.size() < maxTimestamps_;

@@ -15,8 +15,8 @@
 #include "command.h"
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "nerf/fast_pipeline.h"  // hashGridConfigFor
-#include "nerf/hash_encoding.h"
+#include "models/fast/fast_pipeline.h"  // hashGridConfigFor
+#include "nerf/encoding/hash_encoding.h"
 #include "vknerf/config.h"
 
 namespace vknerf::cli {

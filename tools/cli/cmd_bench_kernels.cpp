@@ -8,13 +8,13 @@
 
 #include "command.h"
 #include "gpu/recorder.h"
-#include "nerf/composite.h"
-#include "nerf/encoding.h"
-#include "nerf/loss.h"
-#include "nerf/optimizer.h"
-#include "nerf/points.h"
-#include "nerf/rays.h"
-#include "nerf/samples.h"
+#include "nerf/render/composite.h"
+#include "nerf/encoding/frequency_encoding.h"
+#include "nerf/loss/photometric_loss.h"
+#include "nerf/optim/adam.h"
+#include "nerf/sampling/points.h"
+#include "nerf/rays/rays.h"
+#include "nerf/sampling/samplers.h"
 
 namespace vknerf::cli {
 namespace {

@@ -16,7 +16,7 @@
 #include "command.h"
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "nerf/mlp.h"
+#include "nerf/network/mlp.h"
 #include "reference/rng.h"
 #include "vknerf/error.h"
 

@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "command.h"
-#include "nerf/image_io.h"
-#include "nerf/metrics.h"
+#include "io/image_io.h"
+#include "lib/metrics.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"

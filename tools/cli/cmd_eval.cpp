@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
-#include "nerf/image_io.h"
-#include "nerf/metrics.h"
+#include "io/image_io.h"
+#include "lib/metrics.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"

@@ -15,7 +15,7 @@
 #include <stb_image_write.h>
 
 #include "command.h"
-#include "nerf/mlp_fit_image.h"
+#include "lib/fit_image.h"
 #include "vknerf/error.h"
 
 namespace vknerf::cli {

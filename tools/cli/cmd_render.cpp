@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "command.h"
-#include "nerf/render_output.h"
+#include "lib/render_output.h"
 #include "vknerf/dataset.h"
 #include "vknerf/trainer.h"
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "command.h"
-#include "nerf/selfcheck.h"
+#include "lib/selfcheck.h"
 
 namespace vknerf::cli {
 namespace {

@@ -1,0 +1,74 @@
+#version 450
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_atomic_float : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_vote : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+// Multiresolution hash encoding, backward to the table: one invocation per sample scatters
+// weight * dL/dfeature into the 8 corner entries of each level with float atomics; grads are
+// accumulated (the caller zeroes them once per step). Layouts: src/reference/hash_encoding.h.
+// MERGE = 1: when all active lanes of a subgroup hit the same entry (consecutive samples of a ray
+// in a coarse level), they add with subgroupAdd and one lane issues a single atomic.
+#include "encoding/hash_grid.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(constant_id = 0) const uint LEVELS = 16u;
+layout(constant_id = 1) const uint FEATURES = 2u;
+layout(constant_id = 2) const uint LOG2_TABLE = 19u;
+layout(constant_id = 3) const uint MERGE = 0u;
+// Levels in groups that read whole vec4s of dL/dfeatures (as encode_hash.comp), so nothing is an
+// array indexed by a loop counter.
+const uint GROUP = FEATURES >= 4u ? 1u : 4u / FEATURES;
+const uint GROUP_VEC4 = FEATURES == 8u ? 2u : 1u;
+const uint GROUPS = (LEVELS + GROUP - 1u) / GROUP;
+
+layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer dFeatures;
+layout(std430, binding = 2) buffer Grads { float grads[]; };
+
+layout(push_constant) uniform Push {
+  uint count;
+  uint strideVec4;
+  uint offsetVec4;
+  uint denseMask;
+  uvec4 res[6];
+} pc;
+
+void scatter(uint index, float value) {
+  if (MERGE != 0u && subgroupAllEqual(index)) {
+    float s = subgroupAdd(value);
+    if (subgroupElect()) atomicAdd(grads[index], s);
+  } else {
+    atomicAdd(grads[index], value);
+  }
+}
+
+void main() {
+  uint row = gl_GlobalInvocationID.x;
+  if (row >= pc.count) return;
+  vec3 p = imageLoad(positions, int(row)).xyz;
+  uint src = row * pc.strideVec4 + pc.offsetVec4;
+  for (uint g = 0u; g < GROUPS; ++g) {
+    vec4 d = imageLoad(dFeatures, int(src + g * GROUP_VEC4));
+    vec4 d2 = GROUP_VEC4 == 2u ? imageLoad(dFeatures, int(src + g * GROUP_VEC4 + 1u)) : vec4(0.0);
+    [[unroll]] for (uint lg = 0u; lg < GROUP; ++lg) {
+      uint l = g * GROUP + lg;
+      if (l < LEVELS) {
+        uint res = pc.res[l / 4u][l % 4u];
+        bool dense = ((pc.denseMask >> l) & 1u) != 0u;
+        uvec3 cell;
+        vec3 w;
+        hashGridCell(p, res, cell, w);
+        [[unroll]] for (uint k = 0u; k < 8u; ++k) {
+          uvec3 corner = cell + uvec3(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
+          uint entry = (l << LOG2_TABLE) + hashGridIndex(corner, res, dense, LOG2_TABLE);
+          float wk = hashGridWeight(k, w);
+          [[unroll]] for (uint f = 0u; f < FEATURES; ++f)
+            scatter(entry * FEATURES + f, wk * (f < 4u ? d[lg * FEATURES + f] : d2[f - 4u]));
+        }
+      }
+    }
+  }
+}

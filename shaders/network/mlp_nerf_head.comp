@@ -1,0 +1,41 @@
+#version 450
+// NeRF output head, forward: out = vec4(sigmoid(c H + bias), density(f[W])) per row, where c is the
+// colour hidden layer (K4 = W/2 wide), H the [K4][4] head weights at vec4 offset WOFF4 (column 3 is
+// padding) and f[W] the sigma pre-activation stored by the feature layer (column SIGMA_COL of F).
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
+#include "network/mlp_common.glsl"
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint K4 = 64;
+layout(constant_id = 2) const uint WOFF4 = 0;
+layout(constant_id = 3) const uint SIGMA_COL = 128;  // multiple of 4
+layout(constant_id = 4) const uint DENSITY = 0;      // MLP_DENSITY_*
+
+layout(binding = 0, rgba32f) uniform readonly imageBuffer C;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer F;
+layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
+layout(std430, binding = 3) writeonly buffer Out { vec4 out4[]; };
+#define ROW_LIMIT_BINDING 4
+#include "gpu/row_limit.glsl"
+
+layout(push_constant) uniform Push {
+  uint count;
+  uint strideC4, strideF4, strideOut4;
+  uint limitBase;  // row_limit.glsl
+} pc;
+
+void main() {
+  uint row = gl_GlobalInvocationID.x;
+  uint count = limitedRows(pc.count, pc.limitBase);
+  if (count == 0u) return;
+  uint rc = min(row, count - 1u);
+  vec4 acc = imageLoad(P, int(WOFF4 + K4));  // bias
+  [[unroll]] for (uint q = 0; q < K4 / 4u; q++) {
+    vec4 c = imageLoad(C, int(rc * pc.strideC4 + q));
+    acc += c.x * imageLoad(P, int(WOFF4 + 4u * q)) + c.y * imageLoad(P, int(WOFF4 + 4u * q + 1u)) +
+           c.z * imageLoad(P, int(WOFF4 + 4u * q + 2u)) + c.w * imageLoad(P, int(WOFF4 + 4u * q + 3u));
+  }
+  float sigmaPre = imageLoad(F, int(rc * pc.strideF4 + SIGMA_COL / 4u)).x;
+  if (row < count) out4[row * pc.strideOut4] = vec4(mlpSigmoid(acc).xyz, mlpDensity(DENSITY, sigmaPre));
+}

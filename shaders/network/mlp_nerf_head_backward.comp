@@ -1,0 +1,47 @@
+#version 450
+// NeRF output head, backward. From dL/d(r, g, b, sigma) per row:
+//   dZH = (dL/drgb * rgb (1 - rgb), 0)                      (pre-sigmoid; for the head's dW)
+//   dF[SIGMA_COL] = (dL/dsigma * density'(f[W]), 0, 0, 0)   (the feature layer's sigma column)
+//   dC = (dZH H^T) * [c > 0]                                 (the colour layer's dZ)
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
+#include "network/mlp_common.glsl"
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint K4 = 64;
+layout(constant_id = 2) const uint WOFF4 = 0;
+layout(constant_id = 3) const uint SIGMA_COL = 128;
+layout(constant_id = 4) const uint DENSITY = 0;
+
+layout(binding = 0, rgba32f) uniform readonly imageBuffer DOut;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer Out;
+layout(binding = 2, rgba32f) uniform readonly imageBuffer C;
+layout(binding = 3, rgba32f) uniform readonly imageBuffer F;
+layout(binding = 4, rgba32f) uniform readonly imageBuffer P;
+layout(std430, binding = 5) writeonly buffer DZH { vec4 dzh4[]; };
+layout(std430, binding = 6) writeonly buffer DF { vec4 df4[]; };
+layout(std430, binding = 7) writeonly buffer DC { vec4 dc4[]; };
+
+layout(push_constant) uniform Push {
+  uint count;
+  uint strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
+} pc;
+
+void main() {
+  uint row = gl_GlobalInvocationID.x;
+  uint rc = min(row, pc.count - 1u);
+  vec4 g = imageLoad(DOut, int(rc * pc.strideDOut4));
+  vec4 o = imageLoad(Out, int(rc * pc.strideOut4));
+  vec4 dzh = vec4(g.xyz * o.xyz * (1.0 - o.xyz), 0.0);
+  float sigmaPre = imageLoad(F, int(rc * pc.strideF4 + SIGMA_COL / 4u)).x;
+  float dsigma = g.w * mlpDensityGrad(DENSITY, sigmaPre);
+  if (row >= pc.count) return;
+  dzh4[row] = dzh;
+  df4[row * pc.strideDF4 + SIGMA_COL / 4u] = vec4(dsigma, 0.0, 0.0, 0.0);
+  [[unroll]] for (uint q = 0; q < K4 / 4u; q++) {
+    vec4 c = imageLoad(C, int(rc * pc.strideC4 + q));
+    vec4 d = vec4(dot(dzh, imageLoad(P, int(WOFF4 + 4u * q))), dot(dzh, imageLoad(P, int(WOFF4 + 4u * q + 1u))),
+                  dot(dzh, imageLoad(P, int(WOFF4 + 4u * q + 2u))), dot(dzh, imageLoad(P, int(WOFF4 + 4u * q + 3u))));
+    dc4[row * pc.strideDC4 + q] = d * vec4(greaterThan(c, vec4(0.0)));
+  }
+}

@@ -1,0 +1,138 @@
+// Occupancy grid and lattice march shared by the occupancy_* and march_* kernels;
+// src/reference/occupancy.h is the CPU twin of every formula here. Formulas are `precise` so that
+// no driver contracts them into FMAs and the float reference reproduces them bit for bit.
+//
+// Grid: R^3 cells over the scene box; cell (x, y, z) has linear index x + R (y + R z) and is
+// occupied when bit (index & 31) of word index >> 5 is set. Grid coordinates g = (x - boxMin) *
+// R / (boxMax - boxMin) run over [0, R]^3; a ray o + t d becomes go + t gd in them.
+#ifndef VKNERF_OCCUPANCY_GLSL
+#define VKNERF_OCCUPANCY_GLSL
+
+#include "common/rng.glsl"
+
+const float kMaxFloat = 3.402823466e38;
+// Lattice points per ray are counted in a uint and converted to float: stay where that is exact.
+const uint kMaxMarchSteps = 16777216u;
+
+// Flat invocation index of a dispatch split over x and y (x is capped by maxComputeWorkGroupCount).
+uint flatIndex(uint localSize) {
+  return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * localSize + gl_LocalInvocationID.x;
+}
+
+uint cellIndex(uvec3 c, uint r) { return c.x + r * (c.y + r * c.z); }
+
+bool bitSet(uint word, uint index) { return ((word >> (index & 31u)) & 1u) != 0u; }
+
+// A field value as the grid stores it: NaN and negatives count as empty space, +inf as the largest
+// float, so that neither poisons the running maximum for good.
+float sanitizeDensity(float sigma) { return sigma >= 0.0 ? min(sigma, kMaxFloat) : 0.0; }
+
+// instant-ngp's update: decay the running value, but never below what was just measured.
+float emaDensity(float old, float decay, float fresh) {
+  precise float decayed = old * decay;
+  return max(decayed, fresh);
+}
+
+// Lattice point k of a ray: t_k = t_near + (u + k) dt, computed from k (never accumulated) so that
+// a skip of n points lands exactly where n single steps would.
+float latticeT(float tNear, float u, float dt, uint k) {
+  precise float t = tNear + (u + float(k)) * dt;
+  return t;
+}
+
+vec3 gridPoint(vec3 go, vec3 gd, float t) {
+  precise vec3 p = go + t * gd;
+  return p;
+}
+
+// Cell of a grid point, clamped into the grid: points a rounding error outside the box belong to
+// the border cell. Clamping in float first keeps huge or negative values out of the int cast.
+uvec3 cellOf(vec3 p, uint r) { return uvec3(clamp(floor(p), vec3(0.0), vec3(float(r - 1u)))); }
+
+// ---- March with empty-space skipping (the includer defines OCCUPANCY_MARCH and declares
+// `vec4 rays[]` and `uint occupancyBits[]` before including) ----
+#ifdef OCCUPANCY_MARCH
+
+layout(local_size_x = 32) in;  // one invocation per ray; small groups spread few rays over threads
+
+layout(push_constant) uniform Push {
+  vec4 boxMin;      // xyz; w = dt
+  vec4 gridScale;   // xyz = R / (boxMax - boxMin), computed once on the host; w unused
+  uint numRays;
+  uint resolution;  // R
+  uint maxSamples;  // cap per ray
+  uint seed;
+  uint jitter;      // first lattice point at u = rng01(seed, ray, 0) steps, else at t_near
+  uint capacity;    // samples the output buffers hold (march_write.comp)
+} pc;
+
+struct MarchRay {
+  vec3 go, gd;       // origin and direction in grid coordinates
+  float tNear, tFar;
+  float u;           // jitter of the first lattice point, in steps
+  float dt;
+  uint r;            // grid resolution
+};
+
+// Number of lattice points with t_k < t_far (0 for a ray that misses). Estimated by division, then
+// settled exactly by the same comparison the one-step march makes: t_k is monotone in k.
+uint marchEnd(MarchRay m) {
+  if (!(m.tNear >= 0.0)) return 0u;
+  float estimate = clamp(ceil((m.tFar - m.tNear) / m.dt - m.u), 0.0, float(kMaxMarchSteps));
+  uint k = uint(estimate);
+  while (k > 0u && !(latticeT(m.tNear, m.u, m.dt, k - 1u) < m.tFar)) --k;
+  while (k < kMaxMarchSteps && latticeT(m.tNear, m.u, m.dt, k) < m.tFar) ++k;
+  return k;
+}
+
+// The cell of lattice point k, and how many consecutive points from k lie in it (>= 1): the run
+// ends at the first point past the cell's exit. The run is verified, not trusted: grid coordinates
+// and cells are monotone in k under float rounding, so when point k + n - 1 is still in the cell
+// so are all points before it, and no point is ever attributed to the wrong cell by a rounded exit
+// distance. A failed check falls back to a run of one.
+uint cellRun(MarchRay m, uint k, out bool occupied) {
+  float t = latticeT(m.tNear, m.u, m.dt, k);
+  uvec3 c = cellOf(gridPoint(m.go, m.gd, t), m.r);
+  uint index = cellIndex(c, m.r);
+  occupied = bitSet(occupancyBits[index >> 5u], index);
+  float tExit = kMaxFloat;
+  for (int a = 0; a < 3; ++a) {
+    if (m.gd[a] != 0.0) {
+      float bound = m.gd[a] > 0.0 ? float(c[a] + 1u) : float(c[a]);
+      tExit = min(tExit, (bound - m.go[a]) / m.gd[a]);
+    }
+  }
+  float steps = min(ceil((tExit - t) / m.dt), float(kMaxMarchSteps));
+  if (!(steps > 1.0)) return 1u;
+  uint n = uint(steps);
+  uvec3 last = cellOf(gridPoint(m.go, m.gd, latticeT(m.tNear, m.u, m.dt, k + n - 1u)), m.r);
+  return all(equal(last, c)) ? n : 1u;
+}
+
+uint marchRayIndex() { return flatIndex(32u); }
+
+MarchRay marchRay(uint ray) {
+  vec4 a = rays[2u * ray], b = rays[2u * ray + 1u];
+  MarchRay m;
+  precise vec3 go = (a.xyz - pc.boxMin.xyz) * pc.gridScale.xyz;
+  precise vec3 gd = b.xyz * pc.gridScale.xyz;
+  m.go = go;
+  m.gd = gd;
+  m.tNear = a.w;
+  m.tFar = b.w;
+  m.u = pc.jitter != 0u ? rng01(pc.seed, ray, 0u) : 0.0;
+  m.dt = pc.boxMin.w;
+  m.r = pc.resolution;
+  return m;
+}
+
+// Samples of a ray from a march: (t, delta) with delta = dt, shortened so it never crosses t_far.
+vec2 marchSample(MarchRay m, uint k) {
+  float t = latticeT(m.tNear, m.u, m.dt, k);
+  precise float rest = m.tFar - t;
+  return vec2(t, min(m.dt, rest));
+}
+
+#endif  // OCCUPANCY_MARCH
+
+#endif

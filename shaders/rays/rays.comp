@@ -1,0 +1,42 @@
+#version 450
+// Ray generation: one ray per invocation, for a whole image (render) or for random pixels drawn
+// across all training images (training). Writes (o, t_near), (d, t_far) and the (camera, pixel) id.
+#extension GL_GOOGLE_include_directive : require
+#include "rays/camera.glsl"
+#include "common/rng.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Cameras { Camera cameras[]; };
+layout(std430, binding = 1) writeonly buffer Rays { vec4 rays[]; };       // 2 per ray
+layout(std430, binding = 2) writeonly buffer PixelIds { uvec2 pixelIds[]; };  // (camera, pixel)
+
+layout(push_constant) uniform Push {
+  vec4 aabbMin;      // xyz; w = near plane (minimum t)
+  vec4 aabbMax;
+  uint mode;         // 0: pixels [first, first+count) of camera `camera`; 1: random pixels of random cameras
+  uint camera;       // mode 0; in mode 1 the number of cameras
+  uint first;        // mode 0: first pixel index; mode 1: RNG seed
+  uint count;        // number of rays
+} pc;
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.count) return;
+  uint cam, pixel;
+  if (pc.mode == 0u) {
+    cam = pc.camera;
+    pixel = pc.first + i;
+  } else {
+    cam = rngUint(pc.first, i, 0u) % pc.camera;
+    uvec4 s = cameras[cam].size;
+    pixel = rngUint(pc.first, i, 1u) % (s.x * s.y);
+  }
+  Camera c = cameras[cam];
+  vec3 o, d;
+  cameraRay(c, pixel % c.size.x, pixel / c.size.x, o, d);
+  vec2 t = intersectAabb(o, d, pc.aabbMin.xyz, pc.aabbMax.xyz, pc.aabbMin.w);
+  rays[2 * i] = vec4(o, t.x);
+  rays[2 * i + 1] = vec4(d, t.y);
+  pixelIds[i] = uvec2(cam, pixel);
+}

@@ -1,0 +1,218 @@
+// Dataset::load: find the format, read the poses, load the images, complete the intrinsics, downscale,
+// and find the scene box. The formats themselves live in dataset_transforms_json.cpp and
+// dataset_colmap.cpp, the box in dataset_bounds.cpp.
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
+
+#include "io/dataset_loaders.h"
+#include "io/image_io.h"
+#include "vknerf/error.h"
+
+namespace vknerf {
+namespace nerf::detail {
+
+std::vector<size_t> holdoutIndices(size_t n, float fraction, const std::string& split) {
+  std::vector<size_t> all(n);
+  for (size_t i = 0; i < n; ++i) all[i] = i;
+  if (split == "all" || n == 0) return all;
+  size_t held = fraction > 0 ? std::max<size_t>(1, size_t(std::lround(double(fraction) * double(n)))) : 0;
+  held = std::min(held, n);
+  std::vector<bool> isHeld(n, false);
+  // Evenly spaced, centred in each of `held` equal runs; distinct because n / held >= 1.
+  for (size_t j = 0; j < held; ++j) isHeld[size_t((double(j) + 0.5) * double(n) / double(held))] = true;
+  std::vector<size_t> out;
+  bool wantHeld = split != "train";
+  for (size_t i = 0; i < n; ++i)
+    if (isHeld[i] == wantHeld) out.push_back(i);
+  return out;
+}
+
+void checkRigid(const std::array<double, 16>& m, const std::string& where) {
+  for (double v : m)
+    if (!std::isfinite(v)) throw Error(where + ": transform_matrix has a non-finite entry");
+  // 1e-3 accepts matrices printed with 4+ significant digits and catches any scale, shear or mirror
+  // a pose could carry by mistake.
+  constexpr double kTol = 1e-3;
+  double worst = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += m[4 * k + a] * m[4 * k + b];
+      worst = std::max(worst, std::fabs(dot - (a == b ? 1.0 : 0.0)));
+    }
+  if (worst > kTol)
+    throw Error(where + ": transform_matrix rotation part is not orthonormal (|R^T R - I| = " +
+                std::to_string(worst) + "); poses must be rigid");
+  double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+               m[2] * (m[4] * m[9] - m[5] * m[8]);
+  if (std::fabs(det - 1) > kTol)
+    throw Error(where + ": transform_matrix rotation part has determinant " + std::to_string(det) +
+                " (a reflection); poses must be rigid");
+  if (std::fabs(m[12]) > kTol || std::fabs(m[13]) > kTol || std::fabs(m[14]) > kTol || std::fabs(m[15] - 1) > kTol)
+    throw Error(where + ": transform_matrix last row is not (0, 0, 0, 1)");
+}
+
+Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
+  const Intrinsics& in = f.intrinsics;
+  if ((in.width && in.width != width) || (in.height && in.height != height))
+    throw Error(f.where + ": image '" + f.image.string() + "' is " + std::to_string(width) + "x" +
+                std::to_string(height) + " but the camera says " + std::to_string(in.width) + "x" +
+                std::to_string(in.height));
+  double fx = in.fx, fy = in.fy;
+  if (!std::isfinite(fx) && std::isfinite(in.angleX)) fx = 0.5 * width / std::tan(0.5 * in.angleX);
+  if (!std::isfinite(fy) && std::isfinite(in.angleY)) fy = 0.5 * height / std::tan(0.5 * in.angleY);
+  if (!std::isfinite(fx)) fx = fy;  // square pixels when only one focal length is stated
+  if (!std::isfinite(fy)) fy = fx;
+  if (!std::isfinite(fx)) throw Error(f.where + ": no focal length (camera_angle_x or fl_x)");
+  if (!(fx > 0) || !(fy > 0)) throw Error(f.where + ": focal length must be positive");
+  Camera c;
+  c.fx = float(fx);
+  c.fy = float(fy);
+  c.cx = float(std::isfinite(in.cx) ? in.cx : 0.5 * width);
+  c.cy = float(std::isfinite(in.cy) ? in.cy : 0.5 * height);
+  c.width = width;
+  c.height = height;
+  for (int i = 0; i < 16; ++i) c.c2w[i] = float(f.c2w[i]);
+  return c;
+}
+
+}  // namespace nerf::detail
+
+namespace {
+
+using namespace nerf::detail;
+
+bool isFile(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+bool isDir(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec);
+}
+
+SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error("dataset '" + path.string() + "' does not exist");
+  if (isFile(path)) {
+    if (path.extension() == ".json") return readTransformsJson(path, options);
+    throw Error("dataset '" + path.string() + "' is a file but not a .json transforms file");
+  }
+  if (isFile(path / "transforms_train.json") || isFile(path / "transforms.json"))
+    return readTransformsJson(path, options);
+  for (const fs::path& model : {path / "sparse" / "0", path / "sparse", path}) {
+    if (!isFile(model / "cameras.txt") && !isFile(model / "images.txt")) continue;
+    // The scene folder holds images/; the model sits in it, or in its sparse/ or sparse/0/.
+    for (const fs::path& scene : {model, model.parent_path(), model.parent_path().parent_path(), path})
+      if (isDir(scene / "images")) return readColmap(model, scene / "images", options);
+    throw Error("COLMAP model '" + model.string() + "': no images/ folder in it or the two folders above it");
+  }
+  throw Error("dataset '" + path.string() +
+              "': no transforms_train.json, transforms.json or COLMAP text model (sparse/0/cameras.txt) in it");
+}
+
+// Loads (and downscales) every frame's image, two or more at a time; rethrows the first failure in
+// frame order so the message does not depend on thread timing.
+std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, uint32_t downscale) {
+  std::vector<ImageRGBA8> images(frames.size());
+  std::vector<std::exception_ptr> errors(frames.size());
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i; (i = next++) < frames.size();) {
+      try {
+        const FrameSpec& f = frames[i];
+        if (f.image.empty()) throw Error(f.where + ": image not found: " + f.imageTried);
+        ImageRGBA8 img = nerf::loadImage(f.image.string());
+        if (img.width < downscale || img.height < downscale)
+          throw Error("image '" + f.image.string() + "' (" + std::to_string(img.width) + "x" +
+                      std::to_string(img.height) + ") is smaller than the downscale factor " + std::to_string(downscale));
+        images[i] = downscale > 1 ? nerf::downscaleImage(img, downscale) : std::move(img);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    }
+  };
+  size_t threads = std::min<size_t>(frames.size(), std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  return images;
+}
+
+}  // namespace
+
+Dataset Dataset::load(const std::string& pathString, const DatasetOptions& options) {
+  if (options.downscale == 0) throw Error("DatasetOptions.downscale must be at least 1, got 0");
+  if (options.split != "train" && options.split != "val" && options.split != "test" && options.split != "all")
+    throw Error("DatasetOptions.split must be train, val, test or all, got '" + options.split + "'");
+  if (!(options.holdoutFraction >= 0 && options.holdoutFraction < 1))
+    throw Error("DatasetOptions.holdoutFraction must be in [0, 1), got " + std::to_string(options.holdoutFraction));
+
+  SceneSpec scene = readScene(fs::path(pathString), options);
+  if (scene.frames.empty())
+    throw Error("dataset '" + pathString + "': split '" + options.split + "' is empty");
+
+  // Image sizes first (headers only), so that a size mismatch is reported before decoding everything.
+  const uint32_t n = uint32_t(scene.frames.size());
+  std::vector<std::pair<uint32_t, uint32_t>> sizes(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    const FrameSpec& f = scene.frames[i];
+    if (f.image.empty()) throw Error(f.where + ": image not found: " + f.imageTried);
+    if (!nerf::readImageSize(f.image.string(), sizes[i].first, sizes[i].second))
+      nerf::loadImage(f.image.string());  // throws with stb's reason
+    if (sizes[i] != sizes[0])
+      throw Error("image '" + f.image.string() + "' is " + std::to_string(sizes[i].first) + "x" +
+                  std::to_string(sizes[i].second) + " but '" + scene.frames[0].image.string() + "' is " +
+                  std::to_string(sizes[0].first) + "x" + std::to_string(sizes[0].second) +
+                  "; all images must be the same size");
+  }
+
+  Dataset d;
+  std::vector<Camera> fullRes;
+  for (uint32_t i = 0; i < n; ++i) fullRes.push_back(completeCamera(scene.frames[i], sizes[i].first, sizes[i].second));
+
+  d.images = loadImages(scene.frames, options.downscale);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (d.images[i].width != sizes[i].first / options.downscale || d.images[i].height != sizes[i].second / options.downscale)
+      throw Error("image '" + scene.frames[i].image.string() + "' changed size while loading");
+    Camera c = fullRes[i];
+    // A downscaled pixel covers `downscale` full-resolution pixels, so its centre is at
+    // downscale * (x + 0.5) in full-resolution pixels: every intrinsic divides by the factor.
+    const float s = 1.0f / float(options.downscale);
+    c.fx *= s;
+    c.fy *= s;
+    c.cx *= s;
+    c.cy *= s;
+    c.width = d.images[i].width;
+    c.height = d.images[i].height;
+    d.cameras.push_back(c);
+    d.names.push_back(scene.frames[i].image.string());
+  }
+
+  if (scene.hasBox) {
+    d.bounds = scene.box;
+    d.boundsSource = scene.boxSource;
+  } else {
+    // Every camera of the scene (all splits) places the box, so that the splits agree on it.
+    std::vector<Camera> all = fullRes;
+    for (const FrameSpec& f : scene.others) {
+      uint32_t w = f.intrinsics.width, h = f.intrinsics.height;
+      if ((!w || !h) && (f.image.empty() || !nerf::readImageSize(f.image.string(), w, h))) continue;
+      try {
+        all.push_back(completeCamera(f, w, h));
+      } catch (const Error&) {
+        // Another split's flaw is reported when that split is loaded; here it only loses a camera.
+      }
+    }
+    d.bounds = boxFromCameras(all);
+    d.boundsSource = carveWithAlpha(d.cameras, d.images, d.bounds) ? "cameras+alpha" : "cameras";
+  }
+  return d;
+}
+
+}  // namespace vknerf

@@ -1,0 +1,215 @@
+#include "vknerf/trainer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "gpu/recorder.h"
+#include "io/checkpoint.h"
+#include "io/config_json.h"
+#include "api/model_impl.h"
+#include "nerf/rays/rays.h"
+#include "reference/rng.h"
+#include "vknerf/error.h"
+
+namespace vknerf {
+
+using nlohmann::json;
+using nerf::toJson;
+
+namespace {
+
+TrainConfig fromJson(const json& j, const std::string& file) { return nerf::trainConfigFromJson(j, file); }
+
+json configJson(const nerf::Checkpoint& ck, const std::string& path) {
+  try {
+    return json::parse(ck.config);
+  } catch (const json::exception& e) {
+    throw Error(path + ": checkpoint config is not valid JSON: " + e.what());
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- Model
+
+RenderedImage Model::Impl::render(const Camera& cam) const {
+  if (cam.width == 0 || cam.height == 0) throw Error("render: camera has an empty image size");
+  if (!(cam.fx > 0) || !(cam.fy > 0)) throw Error("render: camera focal length must be positive");
+  Context& c = *ctx;
+  auto packed = nerf::packCameras(std::span<const Camera>(&cam, 1));
+  auto camBuf = gpu::Buffer::of(c, packed);
+  const uint32_t total = cam.width * cam.height, cap = pipe->rayCapacity();
+  RenderedImage img;
+  img.width = cam.width;
+  img.height = cam.height;
+  img.rgb.resize(size_t(total) * 3);
+  img.depth.resize(total);
+  img.opacity.resize(total);
+  gpu::Recorder rec(c);
+  for (uint32_t first = 0; first < total; first += cap) {
+    const uint32_t n = std::min(cap, total - first);
+    rec.begin();
+    pipe->recordRender(rec, camBuf, 0, first, n, config.background, true);
+    rec.end();
+    rec.submitAndWait();
+    auto color = pipe->color().download<float>(size_t(n) * 4);
+    auto depth = pipe->depth().download<float>(n);
+    for (uint32_t i = 0; i < n; ++i) {
+      const size_t p = first + i;
+      for (int k = 0; k < 3; ++k) img.rgb[p * 3 + k] = color[i * 4 + k];
+      const float o = color[i * 4 + 3];
+      img.opacity[p] = o;
+      img.depth[p] = o > 1e-4f ? depth[i] / o : 0.0f;
+    }
+  }
+  return img;
+}
+
+Model::Model(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Model::~Model() = default;
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+const TrainConfig& Model::config() const { return impl_->config; }
+const Aabb& Model::bounds() const { return impl_->box; }
+RenderedImage Model::render(const Camera& camera) const { return impl_->render(camera); }
+
+namespace {
+
+Aabb boxFromJson(const json& j) {
+  Aabb b;
+  b.min = j.at("min").get<std::array<float, 3>>();
+  b.max = j.at("max").get<std::array<float, 3>>();
+  return b;
+}
+
+void uploadChecked(const nerf::Checkpoint& ck, const std::string& name, gpu::Buffer& dst, size_t count) {
+  dst.upload(ck.get<float>(name, count));
+}
+
+}  // namespace
+
+Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const RenderSettings& settings) {
+  auto ck = nerf::Checkpoint::load(path);
+  json j = configJson(ck, path);
+  auto impl = std::make_unique<Impl>();
+  impl->ctx = ctx;
+  impl->config = fromJson(j.at("config"), path);
+  try {
+    impl->box = boxFromJson(j.at("bounds"));
+  } catch (const json::exception& e) {
+    throw Error(path + ": checkpoint bounds: " + e.what());
+  }
+  TrainConfig sampling = impl->config;
+  if (settings.coarseSamples) sampling.model.coarseSamples = settings.coarseSamples;
+  if (settings.fineSamples) sampling.model.fineSamples = settings.fineSamples;
+  if (settings.marchSteps) {
+    sampling.model.renderMarchSteps = settings.marchSteps;
+    sampling.model.maxSamplesPerRay = std::max(sampling.model.maxSamplesPerRay, settings.marchSteps);
+  }
+  impl->own = nerf::makeFieldPipeline(*ctx, sampling, impl->box, nerf::kRenderRays, false);
+  impl->pipe = impl->own.get();
+  for (auto& a : impl->pipe->state()) uploadChecked(ck, a.name, *a.buffer, a.count);
+  impl->pipe->stateLoaded();
+  return Model(std::move(impl));
+}
+
+// ---------------------------------------------------------------- Trainer
+
+struct Trainer::Impl {
+  std::shared_ptr<Context> ctx;
+  TrainConfig config;
+  Aabb box;
+  uint32_t numCameras = 0;
+  gpu::Buffer images, cameras;
+  std::unique_ptr<nerf::FieldPipeline> pipe;
+  uint32_t lastRays = 0;
+  std::unique_ptr<gpu::Recorder> rec;
+  std::unique_ptr<Model> model;
+  uint32_t step = 0;
+};
+
+Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config)
+    : impl_(std::make_unique<Impl>()) {
+  if (train.cameras.empty()) throw Error("training set is empty");
+  if (train.images.size() != train.cameras.size()) throw Error("training set has " + std::to_string(train.images.size()) +
+                                                              " images for " + std::to_string(train.cameras.size()) + " cameras");
+  auto& s = *impl_;
+  s.ctx = ctx;
+  s.config = config;
+  s.box = train.bounds;
+  s.numCameras = uint32_t(train.cameras.size());
+  std::vector<uint8_t> pixels;
+  for (const auto& im : train.images) pixels.insert(pixels.end(), im.rgba.begin(), im.rgba.end());
+  s.images = gpu::Buffer::of(*ctx, pixels);
+  s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras));
+  s.pipe = nerf::makeFieldPipeline(*ctx, config, s.box, config.raysPerBatch, true);
+  s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
+  auto m = std::make_unique<Model::Impl>();
+  m->ctx = ctx;
+  m->config = config;
+  m->box = s.box;
+  m->pipe = s.pipe.get();
+  s.model.reset(new Model(std::move(m)));
+}
+
+Trainer::~Trainer() = default;
+uint32_t Trainer::steps() const { return impl_->step; }
+std::vector<std::pair<std::string, double>> Trainer::lastStepTimings() const { return impl_->rec->timings(); }
+const Model& Trainer::model() const { return *impl_->model; }
+
+StepStats Trainer::step(bool readLoss) {
+  auto& s = *impl_;
+  const auto size = s.pipe->trainStep(*s.rec, {&s.images, &s.cameras, s.numCameras}, s.step);
+  const uint32_t R = size.rays;
+  ++s.step;
+  StepStats st;
+  st.step = s.step;
+  st.rays = R;
+  st.samples = size.samples;
+  if (readLoss) {
+    auto stats = nerf::PhotometricLoss::summarize(
+        s.pipe->lossPartials().download<float>(gpu::groupsFor(R, nerf::PhotometricLoss::kRaysPerPartial)), R);
+    st.hasLoss = true;
+    st.loss = stats.mse;
+    st.psnr = stats.psnr;
+    if (!std::isfinite(st.loss)) throw Error("training diverged: loss is " + std::to_string(st.loss) + " at step " + std::to_string(s.step));
+  }
+  return st;
+}
+
+std::vector<std::pair<std::string, double>> Trainer::statistics() const { return impl_->pipe->statistics(); }
+
+void Trainer::save(const std::string& path) const {
+  auto& s = *impl_;
+  nerf::Checkpoint ck;
+  json j = {{"format", "vknerf"}, {"config", toJson(s.config)}, {"step", s.step},
+            {"bounds", {{"min", s.box.min}, {"max", s.box.max}}}};
+  ck.config = j.dump(2);
+  for (auto& a : s.pipe->state()) ck.put(a.name, a.buffer->download<float>(a.count));
+  ck.save(path);
+}
+
+TrainConfig Trainer::configOf(const std::string& path) {
+  auto ck = nerf::Checkpoint::load(path);
+  try {
+    return fromJson(configJson(ck, path).at("config"), path);
+  } catch (const json::exception& e) {
+    throw Error(path + ": checkpoint config: " + e.what());
+  }
+}
+
+void Trainer::resume(const std::string& path) {
+  auto& s = *impl_;
+  auto ck = nerf::Checkpoint::load(path);
+  json j = configJson(ck, path);
+  TrainConfig saved = fromJson(j.at("config"), path);
+  if (toJson(saved)["model"] != toJson(s.config)["model"])
+    throw Error(path + ": checkpoint model config differs from this run's (" + saved.describe() + ")");
+  for (auto& a : s.pipe->state()) uploadChecked(ck, a.name, *a.buffer, a.count);
+  s.pipe->stateLoaded();
+  s.step = j.at("step");
+}
+
+}  // namespace vknerf

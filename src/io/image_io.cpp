@@ -1,0 +1,93 @@
+#include "io/image_io.h"
+
+#include <cstring>
+
+#include "vknerf/error.h"
+
+// The one translation unit that holds the stb implementations.
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_FAILURE_USERMSG
+#include <stb/stb_image.h>
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image_write.h>
+
+namespace vknerf::nerf {
+
+ImageRGBA8 loadImage(const std::string& path) {
+  int w = 0, h = 0, channels = 0;
+  stbi_uc* pixels = stbi_load(path.c_str(), &w, &h, &channels, 4);
+  if (!pixels) {
+    const char* why = stbi_failure_reason();
+    throw Error("cannot read image '" + path + "': " + (why ? why : "unknown error"));
+  }
+  ImageRGBA8 img;
+  img.width = uint32_t(w);
+  img.height = uint32_t(h);
+  img.rgba.assign(pixels, pixels + size_t(w) * size_t(h) * 4);
+  stbi_image_free(pixels);
+  return img;
+}
+
+bool readImageSize(const std::string& path, uint32_t& width, uint32_t& height) {
+  int w = 0, h = 0, channels = 0;
+  if (!stbi_info(path.c_str(), &w, &h, &channels) || w <= 0 || h <= 0) return false;
+  width = uint32_t(w);
+  height = uint32_t(h);
+  return true;
+}
+
+void savePng(const std::string& path, const ImageRGBA8& image) {
+  if (image.width == 0 || image.height == 0 || image.rgba.size() != size_t(image.width) * image.height * 4)
+    throw Error("cannot write '" + path + "': image is empty or its pixel count does not match its size");
+  if (!stbi_write_png(path.c_str(), int(image.width), int(image.height), 4, image.rgba.data(),
+                      int(image.width * 4)))
+    throw Error("cannot write '" + path + "'");
+}
+
+// Averages the stored sRGB values, not linear light: the trainer fits and composites these same
+// values, so a downscaled pixel is what supersampling the model's output at full resolution gives.
+ImageRGBA8 downscaleImage(const ImageRGBA8& image, uint32_t factor) {
+  if (factor == 0) throw Error("downscale factor must be at least 1");
+  if (factor == 1) return image;
+  if (image.width < factor || image.height < factor)
+    throw Error("cannot downscale a " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                " image by " + std::to_string(factor));
+  ImageRGBA8 out;
+  out.width = image.width / factor;
+  out.height = image.height / factor;
+  out.rgba.resize(size_t(out.width) * out.height * 4);
+  const uint64_t count = uint64_t(factor) * factor;
+  for (uint32_t y = 0; y < out.height; ++y) {
+    for (uint32_t x = 0; x < out.width; ++x) {
+      uint64_t weighted[3] = {0, 0, 0}, plain[3] = {0, 0, 0}, alpha = 0;
+      for (uint32_t dy = 0; dy < factor; ++dy) {
+        const uint8_t* row = &image.rgba[(size_t(y * factor + dy) * image.width + size_t(x) * factor) * 4];
+        for (uint32_t dx = 0; dx < factor; ++dx) {
+          const uint8_t* p = row + 4 * dx;
+          for (int c = 0; c < 3; ++c) {
+            weighted[c] += uint64_t(p[c]) * p[3];
+            plain[c] += p[c];
+          }
+          alpha += p[3];
+        }
+      }
+      uint8_t* o = &out.rgba[(size_t(y) * out.width + x) * 4];
+      // Round to nearest: (2n + d) / (2d).
+      for (int c = 0; c < 3; ++c)
+        o[c] = alpha ? uint8_t((2 * weighted[c] + alpha) / (2 * alpha)) : uint8_t((2 * plain[c] + count) / (2 * count));
+      o[3] = uint8_t((2 * alpha + count) / (2 * count));
+    }
+  }
+  return out;
+}
+
+std::vector<float> compositeOver(const ImageRGBA8& im, const std::array<float, 3>& bg) {
+  std::vector<float> rgb(size_t(im.width) * im.height * 3);
+  for (size_t p = 0; p < size_t(im.width) * im.height; ++p) {
+    float a = im.rgba[p * 4 + 3] / 255.0f;
+    for (int k = 0; k < 3; ++k) rgb[p * 3 + k] = im.rgba[p * 4 + k] / 255.0f * a + bg[k] * (1 - a);
+  }
+  return rgb;
+}
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,117 @@
+#pragma once
+// Multiresolution hash encoding (instant-ngp's grid; shaders/encode_hash.comp and
+// shaders/encode_hash_backward.comp). Layouts (table, levels, hashing) are documented in
+// src/reference/hash_encoding.h. Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp);
+// the L * F features of a sample go into a row-major feature matrix (row stride a multiple of 4
+// floats) at a column offset that is a multiple of 4, as paddedDims() = L * F rounded up to 4
+// columns, padding written as 0 and columns outside the block untouched (as FrequencyEncoding).
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "gpu/kernel.h"
+#include "gpu/limited_dispatch.h"
+#include "gpu/recorder.h"
+#include "reference/encoding/hash_encoding.h"
+
+namespace vknerf::nerf {
+
+class PrefixSum;
+using HashGridConfig = ref::HashGridConfig;
+
+// How the backward pass scatters into the table. Atomic is the default: on lavapipe it was the
+// fastest in every same-run comparison (`vknerf bench hash`; the table and the reasons are in
+// docs/performance.md, "Hash-table gradient"): SubgroupMerged took 1.1-1.5x its time, SortReduce
+// 2.0-3.0x at F = 2 and 1.6-1.9x at F = 8. An atomic there is a scalar loop over the lanes, uint or
+// float, contended or not, so the contention sorting removes costs nothing, while SortReduce pays
+// two uint atomics and a scattered 16-byte slot store per contribution, plus the reduce.
+// SortReduce is for devices without float atomics (it needs none) and where a deterministic
+// gradient matters; SubgroupMerged for devices where contended coarse-level atomics are slow.
+enum class HashBackwardMode : uint32_t {
+  Atomic = 0,          // one float atomicAdd per lane, corner and feature
+  SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic
+  // Counting sort of the contributions by table entry (uint atomics), then a per-entry sum in exact
+  // fixed point: deterministic, no float atomics (so also on devices without them). A non-finite
+  // term makes its entry's gradient non-finite (NaN). Needs 2^T at most the prefix sum's capacity
+  // (maxComputeWorkGroupCount[0] * 256: T <= 23 on lavapipe).
+  // shaders/encode_hash_backward_{count,scatter,reduce}.comp.
+  SortReduce = 2,
+};
+
+class HashEncoding {
+ public:
+  // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 2..24, N_min >= 1, b >= 1, and the whole table
+  // within one storage binding (maxStorageBufferRange: 128 MiB on lavapipe, e.g. L=16 F=2 T=20).
+  HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode = HashBackwardMode::Atomic);
+  ~HashEncoding();
+
+  const HashGridConfig& config() const { return config_; }
+  uint32_t outputDims() const { return config_.levels * config_.featuresPerLevel; }
+  uint32_t paddedDims() const { return (outputDims() + 3) / 4 * 4; }
+  size_t parameterCount() const { return ref::hashGridParameterCount(config_); }
+  uint32_t resolution(uint32_t level) const { return ref::hashGridResolution(config_, level); }
+  bool dense(uint32_t level) const { return ref::hashGridDense(config_, level); }
+  HashBackwardMode backwardMode() const { return mode_; }
+  // SortReduce: the most (sample, level, corner) contributions sorted in one pass (default: 128 MiB
+  // of slots, 16 bytes each for F <= 2). Smaller budgets split a batch into more passes (tests; >= 8).
+  uint32_t sortSlotBudget() const { return slotBudget_; }
+  void setSortSlotBudget(uint32_t slots);
+  // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
+  std::vector<float> initialParameters(uint32_t seed) const;
+
+  // positions: `count` vec4; params: parameterCount() floats (both bound as texel buffers: offsets
+  // multiples of minTexelBufferOffsetAlignment);
+  // features: `count` rows of `stride` floats, block at columnOffset (both multiples of 4).
+  // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are encoded,
+  // the rest of the `count` rows are left untouched (shaders/row_limit.glsl).
+  void recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+                     const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
+                     uint32_t columnOffset, const gpu::BufferRange* rowLimit = nullptr);
+  // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params.
+  // dFeatures has the features' layout; its padding columns are ignored. Atomic and SubgroupMerged
+  // need float atomics. SortReduce does not; it works in passes of at most sortSlotBudget()
+  // contributions (levels x 8 corners x samples) through scratch buffers this object owns, grown on
+  // demand. Grown buffers are kept, not freed, so every recording stays valid while this object lives.
+  void recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+                      const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
+                      const gpu::BufferRange& grads);
+
+ private:
+  struct Push {
+    uint32_t count, strideVec4, offsetVec4, denseMask;
+    uint32_t res[24];
+    uint32_t limitBase;  // forward only: shaders/row_limit.glsl
+  };
+  gpu::BufferRange exactly(const gpu::BufferRange& table) const;
+  template <class Fn>
+  void forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
+                 const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn);
+
+  // Count and scatter kernels' push constants (shaders/hash_sort.glsl).
+  struct SortPush {
+    uint32_t count, strideVec4, offsetVec4, denseMask;
+    uint32_t res[24];
+    uint32_t rowBase, levelBegin, levelEnd;
+  };
+  void recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& positions, const gpu::BufferRange& dFeatures,
+                        const Push& p, const gpu::BufferRange& grads);
+  void ensureSortScratch(uint64_t slots, uint64_t entries);
+
+  Context& ctx_;
+  HashGridConfig config_;
+  HashBackwardMode mode_;
+  Push push_{};
+  gpu::Kernel forward_, backward_;
+  // SortReduce: kernels and scratch (capacities in slots and in entries per pass).
+  gpu::Kernel count_, scatter_, reduce_[3];
+  uint32_t slotBudget_ = 0;
+  uint64_t slotCap_ = 0, entryCap_ = 0;
+  gpu::Buffer counts_, cursor_, slots_, spanMax_, spanAcc_;
+  std::unique_ptr<PrefixSum> scan_;
+  std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
+  std::vector<std::unique_ptr<PrefixSum>> retiredScans_;
+  gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
+  gpu::LimitedDispatch limited_;
+};
+
+}  // namespace vknerf::nerf

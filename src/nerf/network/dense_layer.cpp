@@ -1,0 +1,172 @@
+#include "nerf/network/dense_layer.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+
+struct RowPush {  // mlp_dense.comp
+  uint32_t count, strideA4, strideB4, strideY4, limitBase;
+};
+
+struct DxPush {  // mlp_dense_dx.comp
+  uint32_t count, strideZ4, strideA4, strideDA4, strideDB4;
+};
+struct DwPush {  // mlp_dense_dw.comp
+  uint32_t count, strideX4, strideZ4, iters;
+};
+
+// Largest of `preferred`, 8, 4 that divides n (n is a multiple of 4).
+uint32_t blockFor(uint32_t n, uint32_t preferred) {
+  for (uint32_t b : {preferred, 16u, 8u, 4u})
+    if (b <= preferred && b > 0 && n % b == 0) return b;
+  return 4;
+}
+
+uint32_t u32(uint64_t v, const char* what) {
+  if (v > UINT32_MAX) throw Error(std::string("MLP: ") + what + " does not fit 32 bits");
+  return uint32_t(v);
+}
+
+}  // namespace
+
+MlpTuning MlpTuning::forDevice(const Context& ctx) {
+  MlpTuning t;
+  if (!ctx.isCpu()) {  // a GPU: one row per lane, many lanes, shorter weight-gradient reductions
+    t.local = 128;
+    t.rows = 1;
+    t.dxRows = 1;
+    t.dwLocal = 128;
+    t.dwKT = t.dwNT = 4;
+    t.dwU = 4;
+    t.dwRows = 64;
+  }
+  // VKNERF_MLP_TUNING="rows=4,block=8,dwKT=8,..." overrides fields, for benchmarking shapes.
+  if (const char* env = std::getenv("VKNERF_MLP_TUNING")) {
+    std::map<std::string, uint32_t*> fields{{"local", &t.local},   {"rows", &t.rows},       {"block", &t.block},
+                                            {"dxRows", &t.dxRows},
+                                            {"dxBlock", &t.dxBlock}, {"dwLocal", &t.dwLocal}, {"dwKT", &t.dwKT},
+                                            {"dwNT", &t.dwNT},     {"dwU", &t.dwU},         {"dwRows", &t.dwRows}};
+    std::string spec = env;
+    for (size_t at = 0; at < spec.size();) {
+      size_t end = std::min(spec.find(',', at), spec.size()), eq = spec.find('=', at);
+      if (eq >= end) throw Error("VKNERF_MLP_TUNING: expected name=value in '" + spec + "'");
+      auto it = fields.find(spec.substr(at, eq - at));
+      if (it == fields.end()) throw Error("VKNERF_MLP_TUNING: unknown field '" + spec.substr(at, eq - at) + "'");
+      *it->second = uint32_t(std::stoul(spec.substr(eq + 1, end - eq - 1)));
+      at = end + 1;
+    }
+    if (t.block % 4 || t.dxBlock % 4 || t.dwKT % 4 || t.dwNT % 4 || t.dwU == 0 || t.rows == 0 || t.dxRows == 0)
+      throw Error("VKNERF_MLP_TUNING: blocks and tiles must be multiples of 4, row counts positive");
+  }
+  return t;
+}
+
+Mat Mat::rows(uint32_t first, uint32_t count) const {
+  VkDeviceSize bytesPerRow = VkDeviceSize(stride) * 4;
+  return {gpu::BufferRange(*range.buffer, range.offset + first * bytesPerRow, std::max<VkDeviceSize>(count, 1) * bytesPerRow),
+          stride};
+}
+
+DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning)
+    : ctx_(ctx), shape_(shape), t_(tuning) {
+  if (shape.offset % 4) throw Error("MLP: layer weights must start on a multiple of 4 floats");
+}
+
+void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
+                         const Mat& y, const char* label, const gpu::LimitedRows* limited) {
+  if (count == 0) return;
+  const auto& s = shape_;
+  if (!forward_) {
+    uint32_t act = uint32_t(s.act);
+    forward_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::mlp_dense,
+                              {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
+                               gpu::Binding::Storage, gpu::Binding::Storage},
+                              sizeof(RowPush),
+                              {t_.local, s.ka4(), s.kb4(), s.n4(), s.n, act, u32(s.offset / 4, "weight offset"), t_.rows,
+                               std::min(t_.block, s.n4())}});
+    noLimit_ = std::make_unique<gpu::Buffer>(ctx_, 16);
+  }
+  const Mat& bb = s.kb ? b : a;
+  RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4, limited ? limited->base : gpu::kNoRowLimit};
+  if (limited)
+    rec.dispatchIndirect(*forward_, {a.range, bb.range, params, y.range, limited->limit}, &p, sizeof p, *limited->args,
+                         limited->argsOffset, label);
+  else
+    rec.dispatch(*forward_, {a.range, bb.range, params, y.range, *noLimit_}, p, gpu::groupsFor(count, rowsPerGroup()), 1,
+                 1, label);
+}
+
+void DenseLayer::inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,
+                           GradMode modeA, const Mat& da, GradMode modeB, const Mat& db, const char* label) {
+  const auto& s = shape_;
+  if (s.kb == 0) modeB = GradMode::Skip;
+  if (count == 0 || (modeA == GradMode::Skip && modeB == GradMode::Skip)) return;
+  if (modeB == GradMode::StoreReluMasked) throw Error("MLP: input B is never ReLU-masked");
+  auto key = std::make_pair(modeA, modeB);
+  auto it = dx_.find(key);
+  if (it == dx_.end()) {
+    gpu::KernelDesc d{gpu::shaders::mlp_dense_dx,
+                      {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
+                       gpu::Binding::Storage, gpu::Binding::Storage},
+                      sizeof(DxPush),
+                      {t_.local, s.ka4(), s.kb4(), s.n4(), u32(s.offset / 4, "weight offset"), t_.dxRows,
+                       blockFor(s.ka4(), t_.dxBlock), uint32_t(modeA), uint32_t(modeB)}};
+    it = dx_.emplace(key, gpu::Kernel(ctx_, std::move(d))).first;
+  }
+  const Mat& aa = modeA == GradMode::StoreReluMasked ? a : dz;
+  const Mat& daa = modeA != GradMode::Skip ? da : db;
+  const Mat& dbb = modeB != GradMode::Skip ? db : da;
+  DxPush p{count, dz.stride / 4, aa.stride / 4, daa.stride / 4, dbb.stride / 4};
+  rec.dispatch(it->second, {dz.range, aa.range, params, daa.range, dbb.range}, p,
+               gpu::groupsFor(count, t_.local * t_.dxRows), 1, 1, label);
+}
+
+// The columns split into a main part (tiles of NT) and a 4-wide tail, each its own pipeline.
+void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_t k4, uint64_t goff, bool ones) {
+  const auto& s = shape_;
+  uint32_t kt = ones ? 1 : blockFor(k4, t_.dwKT);
+  uint32_t nt = std::min(t_.dwNT, s.n4());
+  uint32_t nMain = s.n4() / nt * nt;
+  auto add = [&](uint32_t n0, uint32_t nw, uint32_t ntile) {
+    if (nw == 0) return;
+    gpu::KernelDesc d{gpu::shaders::mlp_dense_dw,
+                      {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
+                      sizeof(DwPush),
+                      {t_.dwLocal, k4, s.n4(), n0, nw, kt, ntile, t_.dwU, u32(goff, "gradient offset"), ones ? 1u : 0u}};
+    parts.push_back(std::make_unique<DwPart>(DwPart{gpu::Kernel(ctx_, std::move(d)), (k4 / kt) * (nw / ntile)}));
+  };
+  add(0, nMain, nt);
+  add(nMain, s.n4() - nMain, 4);
+}
+
+void DenseLayer::weightGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& grads, const Mat& a, const Mat& b,
+                            const Mat& dz, const char* label) {
+  if (count == 0) return;
+  const auto& s = shape_;
+  if (dwA_.empty()) {
+    addDwParts(dwA_, s.ka4(), s.offset, false);
+    if (s.kb) addDwParts(dwB_, s.kb4(), s.offset + uint64_t(s.ka4()) * s.n4(), false);
+    addDwParts(dwBias_, 1, s.biasOffset(), true);
+  }
+  // Each invocation sums dwRows rows (iters * U); enough workgroups to cover the batch.
+  uint32_t iters = std::max(1u, t_.dwRows / t_.dwU);
+  uint32_t groups = gpu::groupsFor(count, uint64_t(t_.dwLocal) * t_.dwU * iters);
+  iters = gpu::groupsFor(count, uint64_t(groups) * t_.dwLocal * t_.dwU);  // rebalance the last partial sweep
+  auto run = [&](std::vector<std::unique_ptr<DwPart>>& parts, const Mat& x) {
+    for (auto& part : parts) {
+      DwPush p{count, x.stride / 4, dz.stride / 4, iters};
+      rec.dispatch(part->kernel, {x.range, dz.range, grads}, p, groups, part->tiles, 1, label);
+    }
+  };
+  run(dwA_, a);
+  if (s.kb) run(dwB_, b);
+  run(dwBias_, dz);
+}
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,77 @@
+#pragma once
+// One dense layer y = act(concat(a, b) W + bias) on the device: forward (mlp_dense.comp), backward to
+// the inputs (mlp_dense_dx.comp) and to the weights (mlp_dense_dw.comp). The networks in
+// nerf/mlp.h are sequences of these. Kernels are built on first use, so a forward-only user never
+// pays the JIT time of the backward pipelines.
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "gpu/kernel.h"
+#include "gpu/limited_dispatch.h"
+#include "gpu/recorder.h"
+#include "reference/network/mlp.h"
+
+namespace vknerf::nerf {
+
+// Work shapes of the MLP kernels (specialization constants): lavapipe wants lanes = rows with
+// several rows per invocation; GPUs want one row per lane and many lanes.
+struct MlpTuning {
+  uint32_t local = 64;       // invocations per workgroup, row-parallel kernels
+  uint32_t rows = 4;         // rows per invocation, forward
+  uint32_t block = 8;        // output columns per block, forward (multiple of 4)
+  uint32_t dxRows = 4;       // rows per invocation, input gradient
+  uint32_t dxBlock = 8;      // input columns per block, input gradient (multiple of 4)
+  uint32_t dwLocal = 64;     // invocations per workgroup, weight gradient
+  uint32_t dwKT = 16, dwNT = 16;  // weight-gradient tile per invocation (multiples of 4)
+  uint32_t dwU = 2;          // rows summed per loop iteration
+  uint32_t dwRows = 512;     // rows per invocation (a multiple of dwU)
+  static MlpTuning forDevice(const Context& ctx);
+};
+
+// A row-major matrix in a buffer: `stride` floats per row (multiple of 4).
+struct Mat {
+  gpu::BufferRange range;
+  uint32_t stride = 0;
+  // Rows [first, first + count) as their own binding (chunks stay within maxStorageBufferRange).
+  Mat rows(uint32_t first, uint32_t count) const;
+};
+
+enum class GradMode : uint32_t { Skip = 0, Store = 1, StoreReluMasked = 2, Add = 3 };
+
+class DenseLayer {
+ public:
+  DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning);
+  const ref::DenseShape& shape() const { return shape_; }
+
+  // y[rows][n4] = act(concat(a, b) W + bias); columns >= n are stored as 0. `b` is ignored when kb == 0.
+  // limited (optional): these rows are cut on the device to a limit (gpu/limited_dispatch.h), whose
+  // arguments were recorded for rowsPerGroup() rows per workgroup.
+  void forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
+               const Mat& y, const char* label = "mlp forward", const gpu::LimitedRows* limited = nullptr);
+  uint32_t rowsPerGroup() const { return t_.local * t_.rows; }
+  // From dz = dL/d(pre-activation): da (ka4 columns) and db (kb4 columns) per GradMode; StoreReluMasked
+  // multiplies by [a > 0]. Skipped parts need no buffer (pass any Mat).
+  void inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,
+                 GradMode modeA, const Mat& da, GradMode modeB, const Mat& db, const char* label = "mlp dX");
+  // grads[W, bias] += concat(a, b)^T dz, sum(dz) (float atomics: accumulates).
+  void weightGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& grads, const Mat& a, const Mat& b,
+                  const Mat& dz, const char* label = "mlp dW");
+
+ private:
+  struct DwPart {
+    gpu::Kernel kernel;
+    uint32_t tiles;
+  };
+  void addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_t k4, uint64_t goff, bool ones);
+
+  Context& ctx_;
+  ref::DenseShape shape_;
+  MlpTuning t_;
+  std::unique_ptr<gpu::Kernel> forward_;
+  std::unique_ptr<gpu::Buffer> noLimit_;  // bound as the row limit when there is none (never read)
+  std::map<std::pair<GradMode, GradMode>, gpu::Kernel> dx_;
+  std::vector<std::unique_ptr<DwPart>> dwA_, dwB_, dwBias_;
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,284 @@
+#include "nerf/network/mlp.h"
+
+#include <algorithm>
+#include <optional>
+#include <string>
+
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+
+struct HeadPush {  // mlp_nerf_head.comp
+  uint32_t count, strideC4, strideF4, strideOut4, limitBase;
+};
+
+struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
+  uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
+};
+struct SigmoidBackwardPush {  // mlp_sigmoid_backward.comp
+  uint32_t count, strideDY4, strideY4, strideDZ4;
+};
+
+constexpr uint32_t kHeadLocal = 64;
+constexpr uint32_t kInferenceRows = 16384;  // rows of the internal scratch used without a workspace
+
+// Rows per chunk such that a matrix of `maxStride` floats per row fits one storage binding and one
+// texel view.
+uint32_t deviceChunkRows(const Context& ctx, uint32_t maxStride) {
+  return gpu::rowsPerBinding(ctx, VkDeviceSize(maxStride) * 4, std::max<uint64_t>(maxStride / 4, 1));
+}
+
+gpu::Buffer rowsBuffer(Context& ctx, uint32_t rows, uint32_t stride) {
+  return gpu::Buffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(rows) * stride * 4, 16));
+}
+
+// Calls fn(first, n) over [0, count) in chunks of at most `chunk` rows.
+template <class Fn> void forChunks(uint32_t count, uint32_t chunk, Fn&& fn) {
+  for (uint32_t first = 0; first < count; first += chunk) fn(first, std::min(chunk, count - first));
+}
+
+ref::NerfShape nerfShape(const MlpConfig& c) {
+  try {
+    return ref::NerfShape::make(c.depth, c.width, c.skipLayer, c.posDims, c.dirDims, c.density);
+  } catch (const std::invalid_argument& e) {
+    throw Error(e.what());
+  }
+}
+
+ref::DenseMlpShape denseShape(const DenseMlpConfig& c) {
+  try {
+    return ref::DenseMlpShape::make(c.inputs, c.width, c.hiddenLayers, c.outputs);
+  } catch (const std::invalid_argument& e) {
+    throw Error(e.what());
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------- NeRF
+
+NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacity) : Workspace(ctx, mlp, capacity, true) {}
+
+NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacity, bool keep)
+    : capacity_(capacity), keep_(keep) {
+  const uint32_t W = mlp.config_.width;
+  uint32_t rows = std::max(capacity, 1u);
+  for (uint32_t l = 0; l < (keep ? mlp.config_.depth : 2u); ++l) h_.push_back(rowsBuffer(ctx, rows, W));
+  f_ = rowsBuffer(ctx, rows, W + 4);
+  c_ = rowsBuffer(ctx, rows, W / 2);
+  if (keep) {
+    scratchRows_ = std::max(1u, std::min(capacity, mlp.chunkRows_));
+    for (auto& b : dz_) b = rowsBuffer(ctx, scratchRows_, W + 4);
+    dc_ = rowsBuffer(ctx, scratchRows_, W / 2);
+    dzh_ = rowsBuffer(ctx, scratchRows_, 4);
+  }
+}
+
+NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config) : NerfMlp(ctx, config, MlpTuning::forDevice(ctx)) {}
+
+NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning)
+    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), noLimit_(ctx, 16), limited_(ctx) {
+  if (!ctx.floatAtomics()) throw Error("NeRF MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
+  for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
+  chunkRows_ = deviceChunkRows(ctx, std::max({posStride(), dirStride(), config.width + 4}));
+}
+
+std::vector<float> NerfMlp::initialParameters() const {
+  return ref::initialParameters(shape_.layers, shape_.total, config_.seed);
+}
+
+void NerfMlp::setChunkRows(uint32_t rows) {
+  if (rows == 0 || rows % 64) throw Error("NeRF MLP: chunk rows must be a positive multiple of 64");
+  chunkRows_ = std::min(rows, deviceChunkRows(ctx_, std::max({posStride(), dirStride(), config_.width + 4})));
+  scratch_.reset();
+}
+
+void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
+                            const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
+                            Workspace* keep, const gpu::BufferRange* rowLimit) {
+  if (count == 0) return;
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
+  if (keep && keep->capacity_ < count)
+    throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
+  if (!keep && !scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
+  Workspace& ws = keep ? *keep : *scratch_;
+  const uint32_t W = config_.width, D = config_.depth;
+  const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, scratch_->capacity_);
+  if (!head_) {
+    const auto& h = shape_.head();
+    head_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head,
+                              {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
+                               gpu::Binding::Storage, gpu::Binding::Storage},
+                              sizeof(HeadPush),
+                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
+  }
+  // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
+  if (rowLimit) limited_.recordArgs(rec, *rowLimit, count, chunk, {layers_[0].rowsPerGroup(), kHeadLocal});
+  forChunks(count, chunk, [&](uint32_t first, uint32_t n) {
+    uint32_t row = keep ? first : 0;
+    Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
+    Mat o = Mat{out, 4}.rows(first, n);
+    std::optional<gpu::LimitedRows> dense, head;
+    if (rowLimit) dense = limited_.rows(first / chunk, 0), head = limited_.rows(first / chunk, 1);
+    const gpu::LimitedRows* L = dense ? &*dense : nullptr;
+    auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], W}.rows(row, n); };
+    Mat F = Mat{ws.f_, W + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
+    for (uint32_t l = 0; l < D; ++l) layers_[l].forward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk", L);
+    layers_[D].forward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma", L);
+    layers_[D + 1].forward(rec, n, params, F, d, C, "nerf colour", L);
+    HeadPush hp{n, C.stride / 4, F.stride / 4, 1, head ? head->base : gpu::kNoRowLimit};
+    if (head)
+      rec.dispatchIndirect(*head_, {C.range, F.range, params, o.range, head->limit}, &hp, sizeof hp, *head->args,
+                           head->argsOffset, "nerf head");
+    else
+      rec.dispatch(*head_, {C.range, F.range, params, o.range, noLimit_}, hp, gpu::groupsFor(n, kHeadLocal), 1, 1,
+                   "nerf head");
+  });
+}
+
+void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
+                             const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
+                             const gpu::BufferRange& dOut, const gpu::BufferRange& grads, Workspace& ws,
+                             const gpu::BufferRange* dPos) {
+  if (count == 0) return;
+  if (!ws.keep_ || ws.capacity_ < count)
+    throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
+  const uint32_t W = config_.width, D = config_.depth;
+  if (!headBackward_) {
+    const auto& h = shape_.head();
+    std::vector<gpu::Binding> b(5, gpu::Binding::TexelRgba32f);
+    b.insert(b.end(), 3, gpu::Binding::Storage);
+    headBackward_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head_backward, b, sizeof(HeadBackwardPush),
+                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
+  }
+  forChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n) {
+    Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
+    Mat o = Mat{out, 4}.rows(first, n), dO = Mat{dOut, 4}.rows(first, n);
+    auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };
+    Mat F = Mat{ws.f_, W + 4}.rows(first, n), C = Mat{ws.c_, W / 2}.rows(first, n);
+    Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], W + 4}.rows(0, n), dC = Mat{ws.dc_, W / 2}.rows(0, n);
+    Mat dP = dPos ? Mat{*dPos, posStride()}.rows(first, n) : p;
+
+    HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4};
+    rec.dispatch(*headBackward_, {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range}, hp,
+                 gpu::groupsFor(n, kHeadLocal), 1, 1, "nerf head backward");
+    layers_[D + 2].weightGrad(rec, n, grads, C, C, dzh, "nerf head dW");
+    layers_[D + 1].weightGrad(rec, n, grads, F, d, dC, "nerf colour dW");
+    layers_[D + 1].inputGrad(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, "nerf colour dX");
+    layers_[D].weightGrad(rec, n, grads, H(D - 1), H(D - 1), dF, "nerf feature+sigma dW");
+    Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
+    layers_[D].inputGrad(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
+                         "nerf feature+sigma dX");
+    for (uint32_t l = D; l-- > 0;) {
+      Mat a = l ? H(l - 1) : p;
+      layers_[l].weightGrad(rec, n, grads, a, p, cur, "nerf trunk dW");
+      if (l > 0) {
+        layers_[l].inputGrad(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
+                             dPos ? GradMode::Store : GradMode::Skip, dP, "nerf trunk dX");
+        std::swap(cur, other);
+      } else if (dPos) {
+        layers_[0].inputGrad(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
+                             GradMode::Skip, dP, "nerf trunk dX");
+      }
+    }
+  });
+}
+
+// ---------------------------------------------------------------------------------------------- plain
+
+DenseMlp::Workspace::Workspace(Context& ctx, const DenseMlp& mlp, uint32_t capacity) : Workspace(ctx, mlp, capacity, true) {}
+
+DenseMlp::Workspace::Workspace(Context& ctx, const DenseMlp& mlp, uint32_t capacity, bool keep)
+    : capacity_(capacity), keep_(keep) {
+  const uint32_t W = mlp.config_.width;
+  uint32_t rows = std::max(capacity, 1u);
+  uint32_t hidden = mlp.config_.hiddenLayers;
+  for (uint32_t l = 0; l < (keep ? hidden : std::min(hidden, 2u)); ++l) h_.push_back(rowsBuffer(ctx, rows, W));
+  if (keep) {
+    scratchRows_ = std::max(1u, std::min(capacity, mlp.chunkRows_));
+    for (auto& b : dz_) b = rowsBuffer(ctx, scratchRows_, W);
+    dzOut_ = rowsBuffer(ctx, scratchRows_, mlp.outputStride());
+  }
+}
+
+DenseMlp::DenseMlp(Context& ctx, const DenseMlpConfig& config) : DenseMlp(ctx, config, MlpTuning::forDevice(ctx)) {}
+
+DenseMlp::DenseMlp(Context& ctx, const DenseMlpConfig& config, const MlpTuning& tuning)
+    : ctx_(ctx), config_(config), shape_(denseShape(config)), tuning_(tuning) {
+  if (!ctx.floatAtomics()) throw Error("dense MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
+  for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
+  chunkRows_ = deviceChunkRows(ctx, std::max({inputStride(), outputStride(), config.width}));
+}
+
+std::vector<float> DenseMlp::initialParameters() const {
+  return ref::initialParameters(shape_.layers, shape_.total, config_.seed);
+}
+
+void DenseMlp::setChunkRows(uint32_t rows) {
+  if (rows == 0 || rows % 64) throw Error("dense MLP: chunk rows must be a positive multiple of 64");
+  chunkRows_ = std::min(rows, deviceChunkRows(ctx_, std::max({inputStride(), outputStride(), config_.width})));
+  scratch_.reset();
+}
+
+void DenseMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
+                             const gpu::BufferRange& out, Workspace* keep) {
+  if (count == 0) return;
+  if (keep && keep->capacity_ < count)
+    throw Error("dense MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
+  if (!keep && !scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
+  Workspace& ws = keep ? *keep : *scratch_;
+  const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, scratch_->capacity_);
+  const uint32_t L = uint32_t(layers_.size());
+  forChunks(count, chunk, [&](uint32_t first, uint32_t n) {
+    uint32_t row = keep ? first : 0;
+    auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], config_.width}.rows(row, n); };
+    Mat x = Mat{in, inputStride()}.rows(first, n), y = Mat{out, outputStride()}.rows(first, n);
+    for (uint32_t l = 0; l < L; ++l) {
+      Mat a = l ? H(l - 1) : x;
+      layers_[l].forward(rec, n, params, a, a, l + 1 < L ? H(l) : y, "mlp forward");
+    }
+  });
+}
+
+void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
+                              const gpu::BufferRange& out, const gpu::BufferRange& dOut, const gpu::BufferRange& grads,
+                              Workspace& ws, const gpu::BufferRange* dIn) {
+  if (count == 0) return;
+  if (!ws.keep_ || ws.capacity_ < count)
+    throw Error("dense MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
+  if (!sigmoidBackward_)
+    sigmoidBackward_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::mlp_sigmoid_backward,
+                              {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
+                              sizeof(SigmoidBackwardPush),
+                              {outputStride(), config_.outputs}});
+  const uint32_t W = config_.width, L = uint32_t(layers_.size());
+  forChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n) {
+    auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };
+    Mat x = Mat{in, inputStride()}.rows(first, n);
+    Mat y = Mat{out, outputStride()}.rows(first, n), dy = Mat{dOut, outputStride()}.rows(first, n);
+    Mat cur = Mat{ws.dzOut_, outputStride()}.rows(0, n);
+    SigmoidBackwardPush sp{n, dy.stride / 4, y.stride / 4, cur.stride / 4};
+    rec.dispatch(*sigmoidBackward_, {dy.range, y.range, cur.range}, sp, gpu::groupsFor(uint64_t(n) * (outputStride() / 4), 64),
+                 1, 1, "mlp output backward");
+    int next = 0;
+    for (uint32_t l = L; l-- > 0;) {
+      Mat a = l ? H(l - 1) : x;
+      layers_[l].weightGrad(rec, n, grads, a, a, cur, "mlp dW");
+      if (l > 0) {
+        Mat da = Mat{ws.dz_[next], W}.rows(0, n);
+        layers_[l].inputGrad(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, "mlp dX");
+        cur = da;
+        next ^= 1;
+      } else if (dIn) {
+        Mat d = Mat{*dIn, inputStride()}.rows(first, n);
+        layers_[0].inputGrad(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, "mlp dX");
+      }
+    }
+  });
+}
+
+}  // namespace vknerf::nerf

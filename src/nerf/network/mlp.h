@@ -1,0 +1,149 @@
+#pragma once
+// The NeRF MLP (seed §4.8) and a plain MLP, batched on the device, forward and backward.
+//
+// Layouts (per sample = per row, row-major, row strides in floats, multiples of 4):
+//   posFeatures gamma(x): posStride() = pad4(posDims) floats per row, padding columns zero
+//   dirFeatures gamma(d): dirStride() = pad4(dirDims)
+//   out:  vec4 (r, g, b, sigma) per row, rgb after sigmoid, sigma after the density activation
+//   dOut: vec4 dL/d(r, g, b, sigma) per row
+//   params: ONE flat float buffer, parameterCount() floats, layout in src/reference/mlp.h (each layer
+//           W row-major [ka4 + kb4][n4] then bias [n4]; padding entries zero and never updated)
+//   grads:  same size as params. recordBackward ACCUMULATES into it (float atomics): zero it first
+//           (e.g. Recorder::fill) once per step.
+// Batches of any size (0 included) are split into chunks whose bindings stay within the device's
+// maxStorageBufferRange / maxTexelBufferElements; buffers are bound at row offsets.
+#include <memory>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/recorder.h"
+#include "nerf/network/dense_layer.h"
+#include "reference/network/mlp.h"
+
+namespace vknerf::nerf {
+
+using ref::DensityActivation;
+
+struct MlpConfig {
+  uint32_t depth = 8;       // trunk layers
+  uint32_t width = 256;     // trunk width W (multiple of 8); the colour layer is W/2 wide
+  uint32_t skipLayer = 5;   // trunk layer whose input is concat(h, gamma(x)); 0: none (paper: 5)
+  uint32_t posDims = 63;
+  uint32_t dirDims = 27;
+  DensityActivation density = DensityActivation::Relu;
+  uint32_t seed = 0;
+};
+
+class NerfMlp {
+ public:
+  // Activations of a forward pass, kept for backward (capacity rows), plus backward scratch.
+  class Workspace {
+   public:
+    Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacity);
+    uint32_t capacity() const { return capacity_; }
+
+   private:
+    friend class NerfMlp;
+    Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacity, bool keep);
+    uint32_t capacity_ = 0, scratchRows_ = 0;
+    bool keep_ = true;
+    std::vector<gpu::Buffer> h_;  // trunk outputs (depth buffers, or 2 reused when !keep_)
+    gpu::Buffer f_, c_;           // feature + sigma pre-activation (W + 4), colour hidden (W/2)
+    gpu::Buffer dz_[2], dc_, dzh_;  // backward scratch, scratchRows_ rows
+  };
+
+  NerfMlp(Context& ctx, const MlpConfig& config);
+  NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning);
+
+  const MlpConfig& config() const { return config_; }
+  const ref::NerfShape& shape() const { return shape_; }
+  size_t parameterCount() const { return shape_.total; }
+  std::vector<float> initialParameters() const;
+  uint32_t posStride() const { return ref::pad4(config_.posDims); }
+  uint32_t dirStride() const { return ref::pad4(config_.dirDims); }
+
+  // out = f(pos, dir). With a workspace (capacity >= count) the activations are kept for
+  // recordBackward; without one an internal scratch is used and nothing is kept.
+  // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are
+  // computed, the rest of `out` is left untouched (shaders/row_limit.glsl).
+  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
+                     const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keepForBackward,
+                     const gpu::BufferRange* rowLimit = nullptr);
+  // grads += dL/dparams for the batch last run forward into `ws` (out: what that forward wrote).
+  // dPos (optional, posStride() per row) receives dL/dgamma(x), overwritten.
+  void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
+                      const gpu::BufferRange& dir, const gpu::BufferRange& out, const gpu::BufferRange& dOut,
+                      const gpu::BufferRange& grads, Workspace& ws, const gpu::BufferRange* dPos = nullptr);
+
+  // Rows per chunk (derived from device limits). Tests lower it to exercise chunking cheaply;
+  // set it before creating workspaces.
+  uint32_t chunkRows() const { return chunkRows_; }
+  void setChunkRows(uint32_t rows);
+
+ private:
+  Context& ctx_;
+  MlpConfig config_;
+  ref::NerfShape shape_;
+  MlpTuning tuning_;
+  std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
+  std::unique_ptr<gpu::Kernel> head_, headBackward_;
+  gpu::Buffer noLimit_;  // bound as the head's row limit when there is none (never read)
+  gpu::LimitedDispatch limited_;  // the forward's workgroup counts under a row limit
+  std::unique_ptr<Workspace> scratch_;
+  uint32_t chunkRows_ = 0;
+};
+
+struct DenseMlpConfig {
+  uint32_t inputs = 2, width = 128, hiddenLayers = 2, outputs = 3;
+  uint32_t seed = 0;
+};
+
+// inputs -> hiddenLayers x (Linear(width) + ReLU) -> Linear(outputs) + sigmoid.
+// in: inputStride() = pad4(inputs) floats per row; out: outputStride() = pad4(outputs), padding 0.
+class DenseMlp {
+ public:
+  class Workspace {
+   public:
+    Workspace(Context& ctx, const DenseMlp& mlp, uint32_t capacity);
+    uint32_t capacity() const { return capacity_; }
+
+   private:
+    friend class DenseMlp;
+    Workspace(Context& ctx, const DenseMlp& mlp, uint32_t capacity, bool keep);
+    uint32_t capacity_ = 0, scratchRows_ = 0;
+    bool keep_ = true;
+    std::vector<gpu::Buffer> h_;   // hidden outputs
+    gpu::Buffer dz_[2], dzOut_;    // backward scratch
+  };
+
+  DenseMlp(Context& ctx, const DenseMlpConfig& config);
+  DenseMlp(Context& ctx, const DenseMlpConfig& config, const MlpTuning& tuning);
+
+  const ref::DenseMlpShape& shape() const { return shape_; }
+  size_t parameterCount() const { return shape_.total; }
+  std::vector<float> initialParameters() const;
+  uint32_t inputStride() const { return ref::pad4(config_.inputs); }
+  uint32_t outputStride() const { return ref::pad4(config_.outputs); }
+
+  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
+                     const gpu::BufferRange& out, Workspace* keepForBackward);
+  // grads += dL/dparams; dIn (optional, inputStride() per row) = dL/din, overwritten.
+  void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
+                      const gpu::BufferRange& out, const gpu::BufferRange& dOut, const gpu::BufferRange& grads,
+                      Workspace& ws, const gpu::BufferRange* dIn = nullptr);
+
+  uint32_t chunkRows() const { return chunkRows_; }
+  void setChunkRows(uint32_t rows);
+
+ private:
+  Context& ctx_;
+  DenseMlpConfig config_;
+  ref::DenseMlpShape shape_;
+  MlpTuning tuning_;
+  std::vector<DenseLayer> layers_;
+  std::unique_ptr<gpu::Kernel> sigmoidBackward_;
+  std::unique_ptr<Workspace> scratch_;
+  uint32_t chunkRows_ = 0;
+};
+
+}  // namespace vknerf::nerf

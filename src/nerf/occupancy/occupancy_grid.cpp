@@ -1,0 +1,119 @@
+#include "nerf/occupancy/occupancy_grid.h"
+
+#include <cmath>
+#include <string>
+
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+
+struct PointsPush {
+  uint32_t resolution, count, seed, randomCells;
+};
+struct SplatPush {
+  uint32_t count, stride, component;
+};
+struct EmaPush {
+  uint32_t numCells;
+  float decay, threshold;
+};
+struct CountPush {
+  uint32_t numCells;
+};
+
+constexpr uint32_t kPointsLocal = 256, kSplatLocal = 256, kEmaLocal = 64, kCountLocal = 64, kCountWords = 16;
+
+void requireBytes(const char* what, const gpu::BufferRange& r, uint64_t needed) {
+  gpu::requireBytes("OccupancyGrid", what, r, needed);
+}
+
+uint32_t checkedResolution(uint32_t r) {
+  // 256^3 floats is 64 MiB, inside lavapipe's 128 MiB storage-buffer range.
+  if (r < 1 || r > 256) throw Error("OccupancyGrid: resolution " + std::to_string(r) + " is outside [1, 256]");
+  return r;
+}
+
+}  // namespace
+
+OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution)
+    : ctx_(ctx),
+      resolution_(checkedResolution(resolution)),
+      numCells_(resolution * resolution * resolution),
+      density_(ctx, VkDeviceSize(numCells_) * 4),
+      bits_(ctx, VkDeviceSize(numWords()) * 4),
+      fresh_(ctx, VkDeviceSize(numCells_) * 4),
+      counter_(ctx, 4),
+      points_(ctx, {gpu::shaders::occupancy_points, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(PointsPush), {}}),
+      splat_(ctx, {gpu::shaders::occupancy_splat, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                   sizeof(SplatPush), {}}),
+      ema_(ctx, {gpu::shaders::occupancy_ema, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                 sizeof(EmaPush), {}}),
+      count_(ctx, {gpu::shaders::occupancy_count, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(CountPush), {}}) {
+  density_.zero();
+  bits_.zero();
+}
+
+void OccupancyGrid::dispatchFlat(gpu::Recorder& rec, gpu::Kernel& k, std::initializer_list<gpu::BufferRange> bindings,
+                                 const void* push, uint32_t pushBytes, uint64_t invocations, uint32_t local,
+                                 const char* label) {
+  uint64_t groups = (invocations + local - 1) / local;
+  uint64_t maxX = ctx_.properties().limits.maxComputeWorkGroupCount[0];
+  uint64_t gy = (groups + maxX - 1) / maxX;
+  uint64_t gx = gy ? (groups + gy - 1) / gy : 0;
+  rec.dispatch(k, bindings, push, pushBytes, uint32_t(gx), uint32_t(gy), 1, label);
+}
+
+void OccupancyGrid::recordMarkAllOccupied(gpu::Recorder& rec) { rec.fill(bits_, 0xffffffffu); }
+
+void OccupancyGrid::recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const gpu::BufferRange& positions,
+                                        const gpu::BufferRange& cells) {
+  requireBytes("positions", positions, uint64_t(numCells_) * 16);
+  requireBytes("cells", cells, uint64_t(numCells_) * 4);
+  PointsPush p{resolution_, numCells_, seed, 0};
+  dispatchFlat(rec, points_, {positions, cells}, &p, sizeof p, numCells_, kPointsLocal, "occupancy_points");
+}
+
+void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, uint32_t count,
+                                           const gpu::BufferRange& positions, const gpu::BufferRange& cells) {
+  requireBytes("positions", positions, uint64_t(count) * 16);
+  requireBytes("cells", cells, uint64_t(count) * 4);
+  PointsPush p{resolution_, count, seed, 1};
+  dispatchFlat(rec, points_, {positions, cells}, &p, sizeof p, count, kPointsLocal, "occupancy_points");
+}
+
+void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density,
+                                 uint32_t count, float decay, float threshold, uint32_t densityStride,
+                                 uint32_t densityComponent) {
+  if (densityStride == 0 || densityComponent >= densityStride)
+    throw Error("OccupancyGrid: density component " + std::to_string(densityComponent) + " of stride " +
+                std::to_string(densityStride));
+  if (!(decay >= 0.0f && decay <= 1.0f)) throw Error("OccupancyGrid: decay " + std::to_string(decay) + " is outside [0, 1]");
+  if (!(threshold >= 0.0f && std::isfinite(threshold)))
+    throw Error("OccupancyGrid: threshold " + std::to_string(threshold) + " must be finite and >= 0");
+  requireBytes("cells", cells, uint64_t(count) * 4);
+  requireBytes("density", density, uint64_t(count) * densityStride * 4);
+  rec.fill(fresh_, 0u);
+  SplatPush sp{count, densityStride, densityComponent};
+  dispatchFlat(rec, splat_, {cells, density, fresh_}, &sp, sizeof sp, count, kSplatLocal, "occupancy_splat");
+  EmaPush ep{numCells_, decay, threshold};
+  dispatchFlat(rec, ema_, {density_, fresh_, bits_}, &ep, sizeof ep, numWords(), kEmaLocal, "occupancy_ema");
+}
+
+void OccupancyGrid::recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter) {
+  rec.fill(counter, 0u, 0, 4);
+  CountPush p{numCells_};
+  dispatchFlat(rec, count_, {bits_, counter}, &p, sizeof p, (numWords() + kCountWords - 1) / kCountWords, kCountLocal,
+               "occupancy_count");
+}
+
+float OccupancyGrid::occupiedFraction() {
+  gpu::Recorder rec(ctx_);
+  rec.begin();
+  recordCountOccupied(rec, counter_);
+  rec.end();
+  rec.submitAndWait();
+  return float(double(counter_.download<uint32_t>(1)[0]) / numCells_);
+}
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,81 @@
+#include "nerf/optim/adam.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+struct Push {
+  float lr, beta1, beta2, epsilon, correction1, correction2;
+  uint32_t count, skipZero, tailIndex;
+};
+constexpr uint32_t kLocal = 64;
+
+const AdamConfig& checked(const AdamConfig& c) {
+  auto bad = [](const std::string& what) { throw Error("AdamConfig: " + what); };
+  if (!(c.beta1 >= 0 && c.beta1 < 1)) bad("beta1 must be in [0, 1), got " + std::to_string(c.beta1));
+  if (!(c.beta2 >= 0 && c.beta2 < 1)) bad("beta2 must be in [0, 1), got " + std::to_string(c.beta2));
+  if (!(c.epsilon > 0)) bad("epsilon must be > 0 (0 divides 0 by 0 for a zero gradient)");
+  if (!(c.initialLearningRate >= 0)) bad("the learning rate must be >= 0");
+  if (!(c.decayRate > 0) || !(c.decaySteps > 0)) bad("decayRate and decaySteps must be > 0");
+  return c;
+}
+
+}  // namespace
+
+float AdamConfig::learningRate(uint32_t step) const {
+  return float(double(initialLearningRate) * std::pow(double(decayRate), double(step) / double(decaySteps)));
+}
+
+Adam::Adam(Context& ctx, AdamConfig config)
+    : ctx_(ctx),
+      config_(checked(config)),
+      kernel_(ctx, {gpu::shaders::adam,
+                    {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
+                     gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+                     gpu::Binding::Storage},
+                    sizeof(Push),
+                    {}}),
+      dummy_(ctx, 16) {}
+
+void Adam::record(gpu::Recorder& rec, const gpu::BufferRange& params, const gpu::BufferRange& grads,
+                  const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t count, uint32_t step, float lr) {
+  if (step == 0) throw Error("Adam: the step number is 1-based, got 0");
+  if (count == 0) return;
+  const auto& limits = ctx_.properties().limits;
+  const VkDeviceSize align = std::max<VkDeviceSize>({16, limits.minStorageBufferOffsetAlignment,
+                                                     limits.minTexelBufferOffsetAlignment});
+  for (const gpu::BufferRange* r : {&params, &grads, &m, &v}) {
+    if (r->offset % align)
+      throw Error("Adam: buffer offsets must be multiples of " + std::to_string(align) + " bytes");
+    if (gpu::boundBytes(*r) < VkDeviceSize(count) * 4)
+      throw Error("Adam: a bound range holds fewer than " + std::to_string(count) + " floats");
+    if (r->buffer->size() - r->offset < 16) throw Error("Adam: buffers must extend at least 16 bytes past their offset");
+  }
+  // The count % 4 leftovers go through SSBO views ending at the last parameter and starting at an
+  // aligned offset at least 16 bytes before that (descriptors bind at least 16 bytes). The offsets
+  // are all multiples of `align`, so the leftovers sit at the same index in each view.
+  const VkDeviceSize full = count / 4, tailStart = 16 * full, tailEnd = 4 * VkDeviceSize(count);
+  const VkDeviceSize tailBase = tailEnd >= 16 ? (tailEnd - 16) / align * align : 0;
+  auto tail = [&](const gpu::BufferRange& r) {
+    return count % 4 ? gpu::BufferRange(*r.buffer, r.offset + tailBase, tailEnd - tailBase)
+                     : gpu::BufferRange(*r.buffer, r.offset, 16);
+  };
+  // In double: 1 - beta2^t at t = 1 is 1e-3 and loses digits in float.
+  double c1 = 1.0 / (1.0 - std::pow(double(config_.beta1), double(step)));
+  double c2 = 1.0 / (1.0 - std::pow(double(config_.beta2), double(step)));
+  Push p{lr, config_.beta1, config_.beta2, config_.epsilon, float(c1), float(c2), count,
+         config_.skipZeroGradients ? 1u : 0u, uint32_t((tailStart - tailBase) / 4)};
+  // The vec4 part, exactly; with fewer than 4 parameters a dummy keeps the unused views valid.
+  auto body = [&](const gpu::BufferRange& r) {
+    return full ? gpu::BufferRange(*r.buffer, r.offset, 16 * full) : gpu::BufferRange(dummy_);
+  };
+  // One invocation per 4 parameters, plus one for the leftovers.
+  rec.dispatch(kernel_, {body(params), body(grads), body(m), body(v), tail(params), tail(grads), tail(m), tail(v)}, p,
+               gpu::groupsFor(full + (count % 4 ? 1 : 0), kLocal), 1, 1, "adam");
+}
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,47 @@
+#include "nerf/rays/rays.h"
+
+namespace vknerf::nerf {
+namespace {
+struct Push {
+  float aabbMin[4];
+  float aabbMax[4];
+  uint32_t mode, camera, first, count;
+};
+constexpr uint32_t kLocal = 64;
+}  // namespace
+
+std::vector<CameraGpu> packCameras(std::span<const Camera> cameras) {
+  std::vector<CameraGpu> out;
+  uint32_t first = 0;
+  for (const Camera& c : cameras) {
+    CameraGpu g{{c.fx, c.fy, c.cx, c.cy}, {}, {c.width, c.height, first, 0}};
+    for (int i = 0; i < 12; ++i) g.c2w[i] = c.c2w[i];
+    first += c.width * c.height;
+    out.push_back(g);
+  }
+  return out;
+}
+
+RayGeneration::RayGeneration(Context& ctx)
+    : kernel_(ctx, {gpu::shaders::rays, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push), {}}) {}
+
+void RayGeneration::record(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t mode, uint32_t camera,
+                           uint32_t first, uint32_t count, const Aabb& box, float nearPlane,
+                           const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
+  Push p{{box.min[0], box.min[1], box.min[2], nearPlane}, {box.max[0], box.max[1], box.max[2], 0}, mode, camera, first, count};
+  rec.dispatch(kernel_, {cameras, rays, pixelIds}, p, gpu::groupsFor(count, kLocal), 1, 1, "rays");
+}
+
+void RayGeneration::recordImage(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera,
+                                uint32_t firstPixel, uint32_t count, const Aabb& box, float nearPlane,
+                                const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
+  record(rec, cameras, 0, camera, firstPixel, count, box, nearPlane, rays, pixelIds);
+}
+
+void RayGeneration::recordRandom(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t numCameras,
+                                 uint32_t seed, uint32_t count, const Aabb& box, float nearPlane,
+                                 const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
+  record(rec, cameras, 1, numCameras, seed, count, box, nearPlane, rays, pixelIds);
+}
+
+}  // namespace vknerf::nerf

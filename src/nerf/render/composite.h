@@ -1,0 +1,60 @@
+#pragma once
+// Volume-rendering compositing (shaders/composite_forward.comp, composite_backward.comp).
+// Layouts, all tightly packed:
+//   samples     vec2 (t, delta) per sample
+//   field       vec4 (r, g, b, sigma) per sample, sigma activated (>= 0, may be +inf); bound as an
+//               rgba32f texel buffer, so its offset must be a multiple of 16 bytes
+//   rayOffsets  uint[numRays + 1], used only when samplesPerRay == 0 (packed layout): ray r owns
+//               samples [off[r], off[r+1]); with samplesPerRay = N > 0 ray r owns [r*N, (r+1)*N)
+//   background  vec4 (r, g, b, unused) per ray when perRayBackground is given
+//   color       vec4 (r, g, b, opacity) per ray, C = sum w_i c_i + T_final * bg, opacity = 1 - T_final
+//   depth       float per ray, sum w_i t_i (not normalised)
+//   weights     float per sample, w_i = T_i * alpha_i
+//   dColor      vec4 dL/d(r, g, b, opacity) per ray; dDepth float dL/ddepth per ray
+//   dField      vec4 dL/d(r, g, b, sigma) per sample
+#include <array>
+#include <cstdint>
+
+#include "nerf/sampling/sample_layout.h"
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+
+namespace vknerf::nerf {
+
+
+constexpr VkDeviceSize kFieldBytes = 16;
+
+class Compositor {
+ public:
+  explicit Compositor(Context& ctx);
+
+  // rayOffsets may be a default BufferRange when samplesPerRay > 0; perRayBackground == nullptr
+  // uses `background` for every ray.
+  void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
+                     const gpu::BufferRange& samples, const gpu::BufferRange& field,
+                     const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
+                     const gpu::BufferRange& outColor, const gpu::BufferRange& outDepth,
+                     const gpu::BufferRange& outWeights);
+
+  // Recomputes T and w from the inputs rather than reading the forward outputs: the stable
+  // back-to-front suffix sums need only the field. dField is written in full.
+  void recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
+                      const gpu::BufferRange& samples, const gpu::BufferRange& field,
+                      const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
+                      const gpu::BufferRange& dColor, const gpu::BufferRange& dDepth,
+                      const gpu::BufferRange& dField);
+
+ private:
+  struct Push {
+    float background[4];
+    uint32_t numRays, samplesPerRay, useBackgroundBuffer, pad;
+  };
+  Push push(uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
+            const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground) const;
+
+  gpu::Buffer dummy_;  // bound where the layout or the background source leaves a binding unused
+  gpu::Kernel forward_, backward_;
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,27 @@
+#pragma once
+// Field inputs of a fixed-layout sample batch (shaders/sample_points.comp): ray r owns samples
+// [r*N, (r+1)*N); each sample (t, delta) becomes a position o + t d mapped from the scene box onto
+// [-1, 1]^3 and the ray's unit direction, both written as vec4 with w = 0.
+#include "nerf/sampling/sample_layout.h"
+#include "gpu/kernel.h"
+#include "gpu/recorder.h"
+#include "vknerf/camera.h"
+
+namespace vknerf::nerf {
+
+
+constexpr VkDeviceSize kPointBytes = 16;  // vec4 position or direction
+
+class SamplePoints {
+ public:
+  explicit SamplePoints(Context& ctx);
+  // rays: 2 x vec4 per ray; samples: numRays * samplesPerRay vec2; positions, directions: vec4 each.
+  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, const gpu::BufferRange& samples, uint32_t numRays,
+              uint32_t samplesPerRay, const Aabb& box, const gpu::BufferRange& positions,
+              const gpu::BufferRange& directions);
+
+ private:
+  gpu::Kernel kernel_;
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,85 @@
+#include "nerf/sampling/samplers.h"
+
+#include <cmath>
+#include <string>
+
+#include "nerf/rays/rays.h"
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+
+struct StratifiedPush {
+  uint32_t numRays, samplesPerRay, seed, jitter;
+};
+struct PdfPush {
+  uint32_t numRays, nCoarse, nFine, seed, jitter;
+  float padding;
+};
+
+// One invocation per ray in both kernels: small groups so that a few thousand rays still make
+// enough workgroups (one lavapipe task each) to spread over the worker threads.
+constexpr uint32_t kStratifiedLocal = 32;
+constexpr uint32_t kPdfLocal = 32;
+
+using gpu::requireBytes;
+
+void requireIndexable(const char* stage, uint64_t count) {
+  if (count > 0xffffffffull)
+    throw Error(std::string(stage) + ": " + std::to_string(count) + " samples in one batch overflow 32-bit indices; split the batch");
+}
+
+// Groups over x, spilling into y past maxComputeWorkGroupCount[0]; shaders use flatInvocation().
+void dispatchFlat(Context& ctx, gpu::Recorder& rec, gpu::Kernel& k, std::initializer_list<gpu::BufferRange> bindings,
+                  const void* push, uint32_t pushBytes, uint64_t invocations, uint32_t local, const char* label) {
+  uint64_t groups = (invocations + local - 1) / local;
+  uint64_t maxX = ctx.properties().limits.maxComputeWorkGroupCount[0];
+  uint64_t gy = (groups + maxX - 1) / maxX;
+  uint64_t gx = gy ? (groups + gy - 1) / gy : 0;
+  if (gy > ctx.properties().limits.maxComputeWorkGroupCount[1])
+    throw Error(std::string(label) + ": " + std::to_string(invocations) + " invocations exceed the device's dispatch limits");
+  rec.dispatch(k, bindings, push, pushBytes, uint32_t(gx), uint32_t(gy), 1, label);
+}
+
+}  // namespace
+
+StratifiedSampler::StratifiedSampler(Context& ctx)
+    : ctx_(ctx),
+      kernel_(ctx, {gpu::shaders::sample_stratified, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(StratifiedPush),
+                    {kStratifiedLocal}}) {}
+
+void StratifiedSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays,
+                               uint32_t samplesPerRay, uint32_t seed, bool jitter, const gpu::BufferRange& samples) {
+  uint64_t count = uint64_t(numRays) * samplesPerRay;
+  requireIndexable("sample_stratified", count);
+  requireBytes("sample_stratified", "rays", rays, uint64_t(numRays) * kRayBytes);
+  requireBytes("sample_stratified", "samples", samples, count * kSampleBytes);
+  StratifiedPush p{numRays, samplesPerRay, seed, jitter ? 1u : 0u};
+  dispatchFlat(ctx_, rec, kernel_, {rays, samples}, &p, sizeof p, numRays, kStratifiedLocal, "sample_stratified");
+}
+
+PdfSampler::PdfSampler(Context& ctx)
+    : ctx_(ctx),
+      kernel_(ctx, {gpu::shaders::sample_pdf,
+                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                    sizeof(PdfPush),
+                    {kPdfLocal}}) {}
+
+void PdfSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays,
+                        const gpu::BufferRange& coarseSamples, const gpu::BufferRange& coarseWeights,
+                        uint32_t nCoarse, uint32_t nFine, uint32_t seed, bool jitter, float padding,
+                        const gpu::BufferRange& mergedSamples) {
+  if (!(std::isfinite(padding) && padding >= 0.0f))
+    throw Error("sample_pdf: padding " + std::to_string(padding) + " must be finite and >= 0");
+  uint64_t perRay = uint64_t(nCoarse) + nFine;
+  requireIndexable("sample_pdf", uint64_t(numRays) * perRay);
+  requireBytes("sample_pdf", "rays", rays, uint64_t(numRays) * kRayBytes);
+  requireBytes("sample_pdf", "coarse samples", coarseSamples, uint64_t(numRays) * nCoarse * kSampleBytes);
+  requireBytes("sample_pdf", "coarse weights", coarseWeights, uint64_t(numRays) * nCoarse * sizeof(float));
+  requireBytes("sample_pdf", "merged samples", mergedSamples, uint64_t(numRays) * perRay * kSampleBytes);
+  PdfPush p{numRays, nCoarse, nFine, seed, jitter ? 1u : 0u, padding};
+  dispatchFlat(ctx_, rec, kernel_, {rays, coarseSamples, coarseWeights, mergedSamples}, &p, sizeof p, numRays,
+               kPdfLocal, "sample_pdf");
+}
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,67 @@
+#include "lib/render_output.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "io/image_io.h"
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+
+uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+// A compact perceptual map (dark blue -> teal -> yellow), piecewise linear through 5 stops.
+void colormap(float t, uint8_t* rgb) {
+  static const float stops[5][3] = {{0.05f, 0.03f, 0.35f}, {0.15f, 0.35f, 0.60f}, {0.15f, 0.60f, 0.55f},
+                                    {0.55f, 0.80f, 0.25f}, {0.99f, 0.91f, 0.15f}};
+  t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
+  int i = std::min(int(t), 3);
+  float f = t - float(i);
+  for (int k = 0; k < 3; ++k) rgb[k] = toByte(stops[i][k] * (1 - f) + stops[i + 1][k] * f);
+}
+
+}  // namespace
+
+void saveRgbPng(const std::string& path, const RenderedImage& img) {
+  ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};
+  for (size_t p = 0; p < size_t(img.width) * img.height; ++p)
+    for (int k = 0; k < 3; ++k) out.rgba[p * 4 + k] = toByte(img.rgb[p * 3 + k]);
+  savePng(path, out);
+}
+
+void saveOpacityPng(const std::string& path, const RenderedImage& img) {
+  ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};
+  for (size_t p = 0; p < size_t(img.width) * img.height; ++p)
+    for (int k = 0; k < 3; ++k) out.rgba[p * 4 + k] = toByte(img.opacity[p]);
+  savePng(path, out);
+}
+
+void saveDepthPng(const std::string& path, const RenderedImage& img, float nearDepth, float farDepth) {
+  ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};
+  const float span = std::max(farDepth - nearDepth, 1e-6f);
+  for (size_t p = 0; p < size_t(img.width) * img.height; ++p) {
+    if (img.opacity[p] < 0.5f) {
+      out.rgba[p * 4] = out.rgba[p * 4 + 1] = out.rgba[p * 4 + 2] = 0;
+      continue;
+    }
+    colormap((img.depth[p] - nearDepth) / span, &out.rgba[p * 4]);
+  }
+  savePng(path, out);
+}
+
+void saveDepthPfm(const std::string& path, const RenderedImage& img) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
+  // PFM: greyscale "Pf", negative scale = little-endian, rows bottom to top.
+  std::fprintf(f, "Pf\n%u %u\n-1.0\n", img.width, img.height);
+  bool ok = true;
+  for (uint32_t y = img.height; y-- > 0;)
+    ok = ok && std::fwrite(&img.depth[size_t(y) * img.width], 4, img.width, f) == img.width;
+  ok = (std::fclose(f) == 0) && ok;
+  if (!ok) throw Error(path + ": write failed");
+}
+
+}  // namespace vknerf::nerf

@@ -28,13 +28,14 @@ namespace {
 // the last one partial, so block offsets are exercised.
 TrainConfig tinyConfig(const Context& ctx) {
   TrainConfig c = TrainConfig::vanilla(ctx);
-  c.model.width = 16;
-  c.model.depth = 2;
-  c.model.skipLayer = 1;
-  c.model.posLevels = 4;
-  c.model.dirLevels = 2;
-  c.model.coarseSamples = 8;
-  c.model.fineSamples = 8;
+  VanillaModel& m = c.vanillaModel();
+  m.width = 16;
+  m.depth = 2;
+  m.skipLayer = 1;
+  m.posLevels = 4;
+  m.dirLevels = 2;
+  m.coarseSamples = 8;
+  m.fineSamples = 8;
   c.raysPerBatch = 128;
   c.learningRate = 1e-2f;
   c.background = {0.25f, 0.5f, 0.75f};  // not white: the background must reach the target
@@ -732,17 +733,18 @@ TEST_F(EmbeddingTest, FastModelRecordsWhatItRenders) {
   // device to the marched total (row limits). Rows are independent in every kernel on the way, so
   // the same samples give exactly the same image.
   TrainConfig c = TrainConfig::fast(ctx());
-  c.model.hashLevels = 4;
-  c.model.hashLog2Size = 12;
-  c.model.hashGrowth = 1.5f;
-  c.model.width = 16;
-  c.model.gridResolution = 16;
-  c.model.marchSteps = 32;
-  c.model.maxSamplesPerRay = 32;
-  c.samplesPerBatch = 4096;
+  FastModel& m = c.fastModel();
+  m.hashLevels = 4;
+  m.hashLog2Size = 12;
+  m.hashGrowth = 1.5f;
+  m.width = 16;
+  m.gridResolution = 16;
+  m.marchSteps = 32;
+  m.maxSamplesPerRay = 32;
+  m.samplesPerBatch = 4096;
+  m.gridUpdateInterval = 2;
+  m.gridWarmupSteps = 4;
   c.raysPerBatch = 128;  // the 20x14 view takes three blocks
-  c.gridUpdateInterval = 2;
-  c.gridWarmupSteps = 4;
   c.background = {0.25f, 0.5f, 0.75f};
   Trainer trainer(sharedContext(), tinyDataset(), c);
   for (int i = 0; i < 8; ++i) trainer.step();

@@ -26,11 +26,12 @@ TEST_F(EndToEnd, TrainsSampleSceneAboveConstantBaseline) {
   ASSERT_EQ(test.images.size(), 20u);
 
   TrainConfig cfg = TrainConfig::vanilla(test::context());
-  cfg.model.width = 32;
-  cfg.model.depth = 3;
-  cfg.model.skipLayer = 2;
-  cfg.model.coarseSamples = 16;
-  cfg.model.fineSamples = 32;
+  VanillaModel& m = cfg.vanillaModel();
+  m.width = 32;
+  m.depth = 3;
+  m.skipLayer = 2;
+  m.coarseSamples = 16;
+  m.fineSamples = 32;
   auto ctx = std::shared_ptr<Context>(&test::context(), [](Context*) {});
   Trainer trainer(ctx, train, cfg);
   for (int i = 0; i < 80; ++i) trainer.step();

@@ -37,17 +37,18 @@ const Dataset& scene(const std::string& split) {
 // The CPU fast recipe, smaller: every stage runs, each step costs tens of milliseconds.
 TrainConfig smallFast() {
   TrainConfig c = TrainConfig::fast(test::context());
-  c.model.hashLevels = 6;
-  c.model.hashLog2Size = 15;
-  c.model.hashGrowth = 1.5f;
-  c.model.width = 32;
-  c.model.gridResolution = 32;
-  c.model.marchSteps = 128;
-  c.model.maxSamplesPerRay = 128;
-  c.samplesPerBatch = 1u << 14;
+  FastModel& m = c.fastModel();
+  m.hashLevels = 6;
+  m.hashLog2Size = 15;
+  m.hashGrowth = 1.5f;
+  m.width = 32;
+  m.gridResolution = 32;
+  m.marchSteps = 128;
+  m.maxSamplesPerRay = 128;
+  m.samplesPerBatch = 1u << 14;
+  m.gridUpdateInterval = 8;
+  m.gridWarmupSteps = 32;
   c.raysPerBatch = 1u << 12;
-  c.gridUpdateInterval = 8;
-  c.gridWarmupSteps = 32;
   return c;
 }
 
@@ -55,13 +56,6 @@ std::string tempFile(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / ("vknerf_fast_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return (dir / name).string();
-}
-
-double statistic(const Trainer& t, const std::string& key) {
-  for (auto& [k, v] : t.statistics())
-    if (k == key) return v;
-  ADD_FAILURE() << "no statistic " << key;
-  return NAN;
 }
 
 // colour vec4 per ray of camera 0's first `count` pixels, rendered by `pipe`.
@@ -103,9 +97,11 @@ TEST_F(FastPipelineTest, LearnsTheSampleSceneAndSkipsEmptySpace) {
 
   const auto score = test::scoreHeldOut(trainer.model(), test, 4);
   const double psnr = score.psnr, baseline = score.constantPsnr;
-  const double occupied = statistic(trainer, "occupied fraction");
-  const double perRay = statistic(trainer, "samples per ray (last step)");
-  const double perStep = statistic(trainer, "samples per step (last step)");
+  const ModelStatistics stats = trainer.statistics();
+  ASSERT_TRUE(stats.occupiedFraction.has_value()) << "the fast model reports its occupancy grid";
+  const double occupied = *stats.occupiedFraction;
+  const double perRay = stats.samplesPerRay;
+  const double perStep = double(stats.samplesPerStep);
   std::printf("fast: held-out PSNR %.2f dB (constant %.2f dB), occupied %.3f, %.1f samples/ray, %.0f samples/step\n",
               psnr, baseline, occupied, perRay, perStep);
   // As the vanilla end-to-end test: 3 dB over the best constant colour needs the geometry.
@@ -115,14 +111,14 @@ TEST_F(FastPipelineTest, LearnsTheSampleSceneAndSkipsEmptySpace) {
   EXPECT_LT(occupied, 0.5);
   EXPECT_LT(perRay, 40.0);
   // The ray count adapts so that a step marches about samplesPerBatch samples (one step's lag).
-  EXPECT_GT(perStep, 0.5 * cfg.samplesPerBatch);
-  EXPECT_LT(perStep, 2.0 * cfg.samplesPerBatch);
+  EXPECT_GT(perStep, 0.5 * cfg.fastModel().samplesPerBatch);
+  EXPECT_LT(perStep, 2.0 * cfg.fastModel().samplesPerBatch);
 
   // A checkpoint carries the occupancy grid: the reloaded model renders exactly what the trainer's does.
   const std::string path = tempFile("fast.vknerf");
   trainer.save(path);
   Model loaded = Model::load(sharedContext(), path);
-  EXPECT_EQ(loaded.config().model.name, "fast");
+  EXPECT_TRUE(loaded.config().isFast());
   RenderedImage a = trainer.model().render(test.cameras[0]);
   RenderedImage b = loaded.render(test.cameras[0]);
   // Same kernels on the same inputs; only the MLP's chunking may differ between the two
@@ -135,9 +131,9 @@ TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {
   // An untrained field with every cell occupied: each ray marches up to 64 samples, so a
   // training-sized sample capacity cannot hold a block of 2048 rays and the host splits it.
   TrainConfig cfg = smallFast();
-  cfg.model.marchSteps = 64;  // at most 64 samples on any ray through the box
-  cfg.model.maxSamplesPerRay = 64;
-  cfg.samplesPerBatch = 1u << 12;
+  cfg.fastModel().marchSteps = 64;  // at most 64 samples on any ray through the box
+  cfg.fastModel().maxSamplesPerRay = 64;
+  cfg.fastModel().samplesPerBatch = 1u << 12;
   const Aabb box = scene("train").bounds;
   const Camera& cam = scene("test").cameras[1];
   const uint32_t count = 2048;
@@ -157,8 +153,9 @@ TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {
 }
 
 TEST_F(FastPipelineTest, UnknownConfigurationIsAnError) {
-  TrainConfig cfg = smallFast();
-  cfg.model.name = "turbo";
-  EXPECT_THROW(Trainer(sharedContext(), scene("train"), cfg), Error);
+  // The model is a variant: an unknown kind cannot be built in code, only named in a string.
   EXPECT_THROW(TrainConfig::named("turbo", test::context()), Error);
+  // Asking a fast configuration for its vanilla description is an error, not a default.
+  TrainConfig cfg = smallFast();
+  EXPECT_THROW(cfg.vanillaModel(), Error);
 }

@@ -15,13 +15,14 @@ namespace {
 // A small configuration (same recipe, tiny sizes) so each step costs milliseconds.
 TrainConfig tinyConfig() {
   TrainConfig c;
-  c.model.width = 32;
-  c.model.depth = 2;
-  c.model.skipLayer = 1;
-  c.model.posLevels = 4;
-  c.model.dirLevels = 2;
-  c.model.coarseSamples = 8;
-  c.model.fineSamples = 8;
+  VanillaModel& m = c.vanillaModel();
+  m.width = 32;
+  m.depth = 2;
+  m.skipLayer = 1;
+  m.posLevels = 4;
+  m.dirLevels = 2;
+  m.coarseSamples = 8;
+  m.fineSamples = 8;
   c.raysPerBatch = 256;
   c.learningRate = 5e-3f;
   c.learningRateFinal = 5e-4f;
@@ -106,7 +107,7 @@ TEST_F(TrainerTest, ResumeRejectsADifferentModel) {
   Trainer a(sharedContext(), scene(), tinyConfig());
   a.save(path);
   TrainConfig wider = tinyConfig();
-  wider.model.width = 64;
+  wider.vanillaModel().width = 64;
   Trainer b(sharedContext(), scene(), wider);
   EXPECT_THROW(b.resume(path), Error);
 }

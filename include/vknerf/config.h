@@ -1,10 +1,13 @@
 #pragma once
-// Model and training configuration. `vanilla()` is the NeRF paper's recipe (positional encoding,
-// coarse + fine MLPs, hierarchical sampling) scaled to the device: on a CPU device the network and
-// sample counts are ones that converge in minutes on 100x100 images.
+// Model and training configuration. A model is one of two descriptions: VanillaModel (the NeRF
+// paper's recipe: positional encoding, coarse + fine MLPs, hierarchical sampling) or FastModel
+// (instant-ngp style: hash grid, occupancy grid, a tiny MLP). `TrainConfig::vanilla()` and
+// `TrainConfig::fast()` size them for the device: on a CPU device, ones that converge in minutes on
+// 100x100 images.
 #include <array>
 #include <cstdint>
 #include <string>
+#include <variant>
 
 #include "vknerf/context.h"
 
@@ -12,28 +15,42 @@ namespace vknerf {
 
 enum class DensityActivation : uint32_t { Relu = 0, TruncExp = 1, Softplus = 2 };
 
-struct ModelConfig {
-  std::string name = "vanilla";
+struct VanillaModel {
   uint32_t width = 256, depth = 8, skipLayer = 4;  // trunk: depth layers of width, gamma(x) re-injected at skipLayer
   uint32_t posLevels = 10, dirLevels = 4;          // frequency bands: 63 and 27 input dims
   DensityActivation density = DensityActivation::Relu;
   uint32_t coarseSamples = 64, fineSamples = 128;  // per ray
   bool separateFineNetwork = true;                 // paper: two networks; false: one network queried twice
+};
 
-  // "fast" (instant-ngp style): multiresolution hash grid -> trunk of `depth` x `width` (sigma and a
-  // feature) -> with SH(d) -> colour layer; samples marched through an occupancy grid.
+// Multiresolution hash grid -> trunk of `depth` x `width` (sigma and a feature) -> with SH(d) ->
+// colour layer; samples marched through an occupancy grid.
+struct FastModel {
   uint32_t hashLevels = 16, hashFeatures = 2, hashLog2Size = 19, hashBaseResolution = 16;
   float hashGrowth = 1.5f;            // per-level resolution factor b
   uint32_t shDegree = 4;              // direction encoding: shDegree^2 coefficients
+  uint32_t width = 64, depth = 1;     // instant-ngp: one hidden layer for density, the colour layer after it
+  DensityActivation density = DensityActivation::TruncExp;
   uint32_t gridResolution = 64;       // occupancy cells per axis over the scene box
   uint32_t marchSteps = 512;          // march step = box diagonal / marchSteps
   uint32_t maxSamplesPerRay = 512;
-  uint32_t renderMarchSteps = 0;      // runtime override of marchSteps when rendering (not saved)
+
+  // Training
+  uint32_t samplesPerBatch = 1u << 16;   // rays per step adapt to march about this many samples
+  uint32_t gridUpdateInterval = 16;      // steps between occupancy updates
+  uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
+  float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's
+  bool earlyTermination = true;          // train only on samples in front of transmittance 1e-4
 };
 
+using ModelConfig = std::variant<VanillaModel, FastModel>;
+
+// "vanilla" or "fast": the name a checkpoint and `--config` use.
+const char* modelName(const ModelConfig& model);
+
 struct TrainConfig {
-  ModelConfig model;
-  uint32_t raysPerBatch = 1024;
+  ModelConfig model = VanillaModel{};
+  uint32_t raysPerBatch = 1024;  // vanilla: rays per step; fast: the most rays a step may take
   float learningRate = 5e-4f, learningRateFinal = 5e-5f;  // exponential decay over `decaySteps`
   uint32_t decaySteps = 250000;
   float beta1 = 0.9f, beta2 = 0.999f, epsilon = 1e-7f;
@@ -41,12 +58,12 @@ struct TrainConfig {
   std::array<float, 3> background{1, 1, 1};               // for evaluation and rendering
   uint32_t seed = 0;
 
-  // fast model only
-  uint32_t samplesPerBatch = 1u << 16;   // rays per step adapt to march about this many samples
-  uint32_t gridUpdateInterval = 16;      // steps between occupancy updates
-  uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
-  float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's
-  bool earlyTermination = true;          // train only on samples in front of transmittance 1e-4
+  bool isFast() const { return std::holds_alternative<FastModel>(model); }
+  // The model's description; throws vknerf::Error when the model is of the other kind.
+  VanillaModel& vanillaModel();
+  const VanillaModel& vanillaModel() const;
+  FastModel& fastModel();
+  const FastModel& fastModel() const;
 
   static TrainConfig vanilla(const Context& ctx);  // sized for the device
   static TrainConfig fast(const Context& ctx);

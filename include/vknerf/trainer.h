@@ -9,6 +9,7 @@
 //   trainer.save("tabletop.vknerf");
 //   auto view = vknerf::Model::load(ctx, "tabletop.vknerf").render(data.cameras[0]);
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +36,20 @@ struct StepStats {
   double psnr = 0;
   uint32_t rays = 0;     // rays in this step's batch (the fast model adapts it)
   uint64_t samples = 0;  // field evaluations (points through the MLP) in this step
+};
+
+// What a model spends and how its samples fall (Trainer::statistics).
+struct ModelStatistics {
+  uint64_t mlpParameters = 0;       // every network's weights and biases
+  uint64_t encodingParameters = 0;  // trainable encoding entries: the hash grid's (fast model), else 0
+  double deviceMiB = 0;             // every device buffer the model's pipeline has allocated
+  double samplesPerRay = 0;         // MLP queries per ray: coarse + fine (vanilla), marched in the last step (fast)
+  uint32_t raysPerStep = 0;         // in the last step (the fast model adapts it)
+  uint64_t samplesPerStep = 0;      // field evaluations in the last step
+  // Fast model only.
+  std::optional<double> occupiedFraction;     // occupancy-grid cells marked occupied
+  std::optional<double> occupiedBoxFraction;  // the occupied cells' bounding box over the scene box (volume)
+  std::optional<double> keptByEarlyTermination;  // samples kept by early termination, over all steps
 };
 
 // Sampling when rendering a loaded model; 0 keeps what the model was trained with.
@@ -82,8 +97,8 @@ class Trainer {
   const Model& model() const;
   // Device milliseconds per kernel of the last step (GPU timestamps), in recording order.
   std::vector<std::pair<std::string, double>> lastStepTimings() const;
-  // What the model spends, as named numbers (fast model: occupied fraction, samples per ray, ...).
-  std::vector<std::pair<std::string, double>> statistics() const;
+  // What the model spends: parameters, device memory, samples per ray, occupancy (fast model).
+  ModelStatistics statistics() const;
 
   // Checkpoint: config, parameters, Adam state and the step, written atomically.
   void save(const std::string& path) const;

@@ -7,17 +7,35 @@
 
 namespace vknerf {
 
+const char* modelName(const ModelConfig& model) {
+  return std::holds_alternative<FastModel>(model) ? "fast" : "vanilla";
+}
+
+namespace {
+template <class M, class Variant>  // Variant: ModelConfig or const ModelConfig
+auto& modelOf(Variant& model) {
+  if (auto* m = std::get_if<M>(&model)) return *m;
+  throw Error(std::string("the configuration holds a ") + modelName(model) + " model");
+}
+}  // namespace
+
+VanillaModel& TrainConfig::vanillaModel() { return modelOf<VanillaModel>(model); }
+const VanillaModel& TrainConfig::vanillaModel() const { return modelOf<VanillaModel>(model); }
+FastModel& TrainConfig::fastModel() { return modelOf<FastModel>(model); }
+const FastModel& TrainConfig::fastModel() const { return modelOf<FastModel>(model); }
+
 TrainConfig TrainConfig::vanilla(const Context& ctx) {
   TrainConfig c;
+  VanillaModel& m = c.vanillaModel();
   if (ctx.isCpu()) {
     // The paper's 8x256 network with 64+128 samples needs days on a CPU. This keeps the recipe
     // (encodings, skip, late direction, coarse + fine) at a size that converges in minutes on
     // 100x100 images: ~1/60 of the paper's FLOPs per ray.
-    c.model.width = 64;
-    c.model.depth = 4;
-    c.model.skipLayer = 2;
-    c.model.coarseSamples = 32;
-    c.model.fineSamples = 64;
+    m.width = 64;
+    m.depth = 4;
+    m.skipLayer = 2;
+    m.coarseSamples = 32;
+    m.fineSamples = 64;
     c.raysPerBatch = 1024;
     c.learningRate = 2e-3f;
     c.learningRateFinal = 2e-4f;
@@ -30,13 +48,7 @@ TrainConfig TrainConfig::vanilla(const Context& ctx) {
 
 TrainConfig TrainConfig::fast(const Context& ctx) {
   TrainConfig c;
-  ModelConfig& m = c.model;
-  m.name = "fast";
-  m.depth = 1;  // instant-ngp: one hidden layer for density, the colour layer after it
-  m.width = 64;
-  m.skipLayer = 0;
-  m.density = DensityActivation::TruncExp;
-  m.separateFineNetwork = false;
+  FastModel& m = c.model.emplace<FastModel>();
   m.hashLevels = 16;
   m.hashFeatures = 2;
   m.hashLog2Size = 19;
@@ -46,7 +58,7 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
   m.marchSteps = 1024;
   m.maxSamplesPerRay = 1024;
   c.raysPerBatch = 1u << 18;  // the most rays a step may take; samplesPerBatch decides
-  c.samplesPerBatch = 1u << 18;
+  m.samplesPerBatch = 1u << 18;
   c.learningRate = 1e-2f;
   c.learningRateFinal = 1e-3f;
   c.decaySteps = 20000;
@@ -66,10 +78,10 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     m.marchSteps = 128;
     m.maxSamplesPerRay = 128;
     c.raysPerBatch = 1u << 14;
-    c.samplesPerBatch = 1u << 14;
+    m.samplesPerBatch = 1u << 14;
     c.decaySteps = 4000;
-    c.gridUpdateInterval = 16;
-    c.gridWarmupSteps = 64;
+    m.gridUpdateInterval = 16;
+    m.gridWarmupSteps = 64;
   }
   return c;
 }
@@ -82,18 +94,18 @@ TrainConfig TrainConfig::named(const std::string& name, const Context& ctx) {
 
 std::string TrainConfig::describe() const {
   std::ostringstream os;
-  if (model.name == "fast") {
-    os << "fast: hash grid L=" << model.hashLevels << " F=" << model.hashFeatures << " T=" << model.hashLog2Size
-       << " N=" << model.hashBaseResolution << " b=" << model.hashGrowth << ", MLP " << model.depth << "x"
-       << model.width << ", SH degree " << model.shDegree << ", occupancy " << model.gridResolution << "^3, "
-       << model.marchSteps << " steps per diagonal, ~" << samplesPerBatch << " samples/step, Adam lr "
-       << learningRate << " -> " << learningRateFinal << " over " << decaySteps << " steps";
-    return os.str();
+  if (const FastModel* m = std::get_if<FastModel>(&model)) {
+    os << "fast: hash grid L=" << m->hashLevels << " F=" << m->hashFeatures << " T=" << m->hashLog2Size
+       << " N=" << m->hashBaseResolution << " b=" << m->hashGrowth << ", MLP " << m->depth << "x" << m->width
+       << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3, " << m->marchSteps
+       << " steps per diagonal, ~" << m->samplesPerBatch << " samples/step";
+  } else {
+    const VanillaModel& v = std::get<VanillaModel>(model);
+    os << "vanilla: MLP " << v.depth << "x" << v.width << " (skip at " << v.skipLayer << "), gamma L=" << v.posLevels
+       << "/" << v.dirLevels << ", samples " << v.coarseSamples << "+" << v.fineSamples
+       << (v.separateFineNetwork ? ", coarse+fine networks" : ", one network") << ", " << raysPerBatch << " rays/step";
   }
-  os << model.name << ": MLP " << model.depth << "x" << model.width << " (skip at " << model.skipLayer << "), gamma L="
-     << model.posLevels << "/" << model.dirLevels << ", samples " << model.coarseSamples << "+" << model.fineSamples
-     << (model.separateFineNetwork ? ", coarse+fine networks" : ", one network") << ", " << raysPerBatch
-     << " rays/step, Adam lr " << learningRate << " -> " << learningRateFinal << " over " << decaySteps << " steps";
+  os << ", Adam lr " << learningRate << " -> " << learningRateFinal << " over " << decaySteps << " steps";
   return os.str();
 }
 

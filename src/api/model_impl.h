@@ -30,12 +30,4 @@ struct Model::Impl {
   RenderedImage render(const Camera& camera) const;
 };
 
-namespace nerf {
-// Rays per render batch of a loaded model.
-constexpr uint32_t kRenderRays = 4096;
-// The pipeline for config.model.name ("vanilla" or "fast"); throws vknerf::Error for others.
-std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig& config, const Aabb& box,
-                                                 uint32_t rayCapacity, bool training);
-}  // namespace nerf
-
 }  // namespace vknerf

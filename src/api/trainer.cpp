@@ -9,6 +9,7 @@
 #include "io/checkpoint.h"
 #include "io/config_json.h"
 #include "api/model_impl.h"
+#include "nerf/loss/photometric_loss.h"
 #include "nerf/rays/rays.h"
 #include "reference/rng.h"
 #include "vknerf/error.h"
@@ -101,14 +102,7 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   } catch (const json::exception& e) {
     throw Error(path + ": checkpoint bounds: " + e.what());
   }
-  TrainConfig sampling = impl->config;
-  if (settings.coarseSamples) sampling.model.coarseSamples = settings.coarseSamples;
-  if (settings.fineSamples) sampling.model.fineSamples = settings.fineSamples;
-  if (settings.marchSteps) {
-    sampling.model.renderMarchSteps = settings.marchSteps;
-    sampling.model.maxSamplesPerRay = std::max(sampling.model.maxSamplesPerRay, settings.marchSteps);
-  }
-  impl->own = nerf::makeFieldPipeline(*ctx, sampling, impl->box, nerf::kRenderRays, false);
+  impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false, settings);
   impl->pipe = impl->own.get();
   for (auto& a : impl->pipe->state()) uploadChecked(ck, a.name, *a.buffer, a.count);
   impl->pipe->stateLoaded();
@@ -179,7 +173,7 @@ StepStats Trainer::step(bool readLoss) {
   return st;
 }
 
-std::vector<std::pair<std::string, double>> Trainer::statistics() const { return impl_->pipe->statistics(); }
+ModelStatistics Trainer::statistics() const { return impl_->pipe->statistics(); }
 
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;

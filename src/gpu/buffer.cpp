@@ -67,12 +67,21 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes), id_
   buffer_ = raw.buffer;
   memory_ = raw.memory;
   if (ctx.unifiedMemory()) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  account_ = MemoryAccount::current();
+  if (account_) account_->charge(size_);
+}
+
+Buffer Buffer::zeros(Context& ctx, VkDeviceSize bytes) {
+  Buffer b(ctx, bytes);
+  b.zero();
+  return b;
 }
 
 Buffer::~Buffer() {
   if (!ctx_) return;
   Raw raw{buffer_, memory_};
   release(*ctx_, raw);  // unmapped implicitly by vkFreeMemory
+  if (account_) account_->refund(size_);
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
@@ -80,6 +89,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     if (ctx_) {
       Raw raw{buffer_, memory_};
       release(*ctx_, raw);
+      if (account_) account_->refund(size_);
     }
     ctx_ = std::exchange(o.ctx_, nullptr);
     buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
@@ -87,6 +97,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     size_ = std::exchange(o.size_, 0);
     mapped_ = std::exchange(o.mapped_, nullptr);
     id_ = std::exchange(o.id_, 0);
+    account_ = std::move(o.account_);
   }
   return *this;
 }

@@ -5,9 +5,11 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
+#include "gpu/memory_account.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {
@@ -22,6 +24,7 @@ class Buffer {
     return b;
   }
   template <class T> static Buffer of(Context& ctx, const std::vector<T>& data) { return of(ctx, std::span<const T>(data)); }
+  static Buffer zeros(Context& ctx, VkDeviceSize bytes);
   ~Buffer();
   Buffer(Buffer&& o) noexcept { *this = std::move(o); }
   Buffer& operator=(Buffer&& o) noexcept;
@@ -54,6 +57,7 @@ class Buffer {
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
   uint64_t id_ = 0;
+  std::shared_ptr<MemoryAccount> account_;  // charged with the allocation while it lives
 };
 
 // A bound range of a buffer: large arrays are split into ranges within maxStorageBufferRange.

@@ -1,26 +1,25 @@
 #pragma once
 // What Model and Trainer drive: one model configuration's whole device pipeline (vanilla:
 // nerf::VanillaPipeline, fast: nerf::FastPipeline), rendering a block of pixels and, when built for
-// training, one optimisation step. Buffers are allocated once for a ray capacity.
+// training, one optimisation step. Buffers are allocated once for a ray capacity; every buffer a
+// pipeline allocates, when it is built or later, is charged to its memory account.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "gpu/buffer.h"
+#include "gpu/memory_account.h"
 #include "gpu/recorder.h"
-#include "nerf/loss/photometric_loss.h"
-#include "nerf/optim/adam.h"
-#include "vknerf/config.h"
 #include "vknerf/camera.h"
+#include "vknerf/config.h"
+#include "vknerf/trainer.h"
 
 namespace vknerf::nerf {
 
 // Rays start this far in front of the camera (or at the scene box, whichever is further).
 constexpr float kNearPlane = 0.05f;
-
-// Adam's rate and moments as a training configuration sets them.
-AdamConfig adamConfigOf(const TrainConfig& config);
 
 // A named float array of the model's state, for checkpoints.
 struct StateArray {
@@ -48,8 +47,11 @@ class FieldPipeline {
   // the float sum w_i t_i, per ray. mayWait: `rec` is the pipeline's own and it may end, submit and
   // re-begin it to size later work from counts on the device; false: everything is recorded into
   // `rec` (a caller's command buffer) and nothing is submitted.
-  virtual void recordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                            uint32_t count, const std::array<float, 3>& background, bool mayWait) = 0;
+  void recordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
+                    uint32_t count, const std::array<float, 3>& background, bool mayWait) {
+    gpu::MemoryAccount::Scope charge(memory_);
+    doRecordRender(rec, cameras, camera, first, count, background, mayWait);
+  }
   virtual const gpu::Buffer& color() const = 0;
   virtual const gpu::Buffer& depth() const = 0;
 
@@ -59,15 +61,48 @@ class FieldPipeline {
     uint32_t rays = 0;
     uint64_t samples = 0;
   };
-  virtual StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) = 0;
+  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
+    gpu::MemoryAccount::Scope charge(memory_);
+    return doTrainStep(rec, data, step);
+  }
   virtual const gpu::Buffer& lossPartials() const = 0;
   // Called after resume() loads the state: rebuild anything derived from it.
   virtual void stateLoaded() {}
 
   // Parameters (and, when training, optimizer state and auxiliary structures) by name.
   virtual std::vector<StateArray> state() = 0;
-  // Numbers worth reporting about what the model spends ("occupied 12.5%", "samples/ray 18.2").
-  virtual std::vector<std::pair<std::string, double>> statistics() { return {}; }
+  // What the model spends; deviceMiB counts every buffer charged to the pipeline.
+  ModelStatistics statistics() {
+    ModelStatistics s = modelStatistics();
+    s.deviceMiB = double(memory_->bytes()) / double(1 << 20);
+    return s;
+  }
+
+  // The account the pipeline's buffers are charged to: open it (MemoryAccount::Scope) while
+  // constructing a pipeline, as makeFieldPipeline does.
+  const std::shared_ptr<gpu::MemoryAccount>& memory() const { return memory_; }
+
+ protected:
+  // The account open on this thread when the pipeline is constructed, or a new one.
+  FieldPipeline() : memory_(gpu::MemoryAccount::current() ? gpu::MemoryAccount::current()
+                                                           : std::make_shared<gpu::MemoryAccount>()) {}
+
+ private:
+  virtual void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
+                              uint32_t count, const std::array<float, 3>& background, bool mayWait) = 0;
+  virtual StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) = 0;
+  virtual ModelStatistics modelStatistics() = 0;
+
+  std::shared_ptr<gpu::MemoryAccount> memory_;
 };
+
+// Rays per render batch of a loaded model.
+constexpr uint32_t kRenderRays = 4096;
+
+// The pipeline for config.model, its buffers charged to its own memory account; `overrides` are a
+// loaded model's render-time sampling settings (zero fields keep the trained ones).
+std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig& config, const Aabb& box,
+                                                 uint32_t rayCapacity, bool training,
+                                                 const RenderSettings& overrides = {});
 
 }  // namespace vknerf::nerf

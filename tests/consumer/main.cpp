@@ -89,13 +89,14 @@ vknerf::Dataset sphereScene() {
 // The vanilla recipe at toy size, so that a step costs milliseconds on a CPU device.
 vknerf::TrainConfig tinyConfig() {
   vknerf::TrainConfig c;
-  c.model.width = 32;
-  c.model.depth = 2;
-  c.model.skipLayer = 1;
-  c.model.posLevels = 4;
-  c.model.dirLevels = 2;
-  c.model.coarseSamples = 8;
-  c.model.fineSamples = 8;
+  vknerf::VanillaModel& m = c.vanillaModel();
+  m.width = 32;
+  m.depth = 2;
+  m.skipLayer = 1;
+  m.posLevels = 4;
+  m.dirLevels = 2;
+  m.coarseSamples = 8;
+  m.fineSamples = 8;
   c.raysPerBatch = 256;
   c.learningRate = 5e-3f;
   c.learningRateFinal = 5e-4f;

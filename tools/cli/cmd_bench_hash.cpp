@@ -68,7 +68,7 @@ int run(const Options& o, Context& ctx) {
     nerf::HashGridConfig config;
   };
   // The fast model's grid as TrainConfig::fast picks it for this device (L=8 F=2 T=15 on a CPU).
-  const nerf::HashGridConfig fastGrid = nerf::hashGridConfigFor(TrainConfig::fast(ctx).model);
+  const nerf::HashGridConfig fastGrid = nerf::hashGridConfigFor(TrainConfig::fast(ctx).fastModel());
   auto label = [](const nerf::HashGridConfig& c, const char* what) {
     return "L=" + std::to_string(c.levels) + " F=" + std::to_string(c.featuresPerLevel) +
            " T=" + std::to_string(c.log2TableSize) + what;

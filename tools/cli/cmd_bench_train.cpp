@@ -129,7 +129,7 @@ int run(const Options& o, const Globals& g) {
     }
     std::ostringstream stats;
     stats << "- " << name << " after " << trainer.steps() << " steps:";
-    for (auto& [key, value] : trainer.statistics()) {
+    for (auto& [key, value] : statisticsRows(trainer.statistics())) {
       std::printf("  %-48s %g\n", key.c_str(), value);
       stats << "\n  - " << key << ": " << value;
     }

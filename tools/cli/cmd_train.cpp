@@ -37,6 +37,23 @@ std::string clock(double s) {
 
 int train(const Options& o, const Globals& g);
 
+// The first flag given that only the other model configuration reads, or "".
+std::string flagsForTheOtherModel(const Options& o, const TrainConfig& cfg) {
+  if (cfg.isFast()) {
+    if (o.coarse) return "--coarse";
+    if (o.fine) return "--fine";
+    return "";
+  }
+  const std::pair<bool, const char*> fastOnly[] = {
+      {o.hashLevels != 0, "--hash-levels"}, {o.hashLog2Size != 0, "--hash-log2-size"},
+      {o.hashMaxResolution != 0, "--hash-max-resolution"}, {o.grid != 0, "--grid"},
+      {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
+      {o.noEarlyTermination, "--no-early-termination"}};
+  for (auto [given, flag] : fastOnly)
+    if (given) return flag;
+  return "";
+}
+
 int run(const Options& o, const Globals& g) {
   Options opts = o;
   if (opts.output.empty()) {
@@ -64,25 +81,33 @@ int train(const Options& o, const Globals& g) {
               data.boundsSource.c_str());
   TrainConfig cfg = TrainConfig::named(o.config, *ctx);
   if (o.rays) cfg.raysPerBatch = o.rays;
-  if (o.width) cfg.model.width = o.width;
-  if (o.depth) cfg.model.depth = o.depth, cfg.model.skipLayer = std::min(cfg.model.skipLayer, o.depth - 1);
-  if (o.coarse) cfg.model.coarseSamples = o.coarse;
-  if (o.fine) cfg.model.fineSamples = o.fine;
-  if (o.hashLevels) cfg.model.hashLevels = o.hashLevels;
-  if (o.hashLog2Size) cfg.model.hashLog2Size = o.hashLog2Size;
-  if (o.hashLevels || o.hashMaxResolution) {
-    // keep N_min and the finest resolution, spread the levels geometrically between them
-    const double finest = o.hashMaxResolution ? o.hashMaxResolution
-                                               : cfg.model.hashBaseResolution *
-                                                     std::pow(double(cfg.model.hashGrowth), 7.0);
-    cfg.model.hashGrowth = cfg.model.hashLevels > 1
-                               ? float(std::pow(finest / cfg.model.hashBaseResolution, 1.0 / (cfg.model.hashLevels - 1)))
-                               : 1.0f;
+  if (const std::string wrong = flagsForTheOtherModel(o, cfg); !wrong.empty()) {
+    std::fprintf(stderr, "vknerf train: %s applies to the %s model, not --config %s\n", wrong.c_str(),
+                 cfg.isFast() ? "vanilla" : "fast", o.config.c_str());
+    return 2;
   }
-  if (o.grid) cfg.model.gridResolution = o.grid;
-  if (o.marchSteps) cfg.model.marchSteps = o.marchSteps, cfg.model.maxSamplesPerRay = o.marchSteps;
-  if (o.samplesPerStep) cfg.samplesPerBatch = o.samplesPerStep;
-  if (o.noEarlyTermination) cfg.earlyTermination = false;
+  if (auto* v = std::get_if<VanillaModel>(&cfg.model)) {
+    if (o.width) v->width = o.width;
+    if (o.depth) v->depth = o.depth, v->skipLayer = std::min(v->skipLayer, o.depth - 1);
+    if (o.coarse) v->coarseSamples = o.coarse;
+    if (o.fine) v->fineSamples = o.fine;
+  } else {
+    FastModel& f = cfg.fastModel();
+    if (o.width) f.width = o.width;
+    if (o.depth) f.depth = o.depth;
+    if (o.hashLevels) f.hashLevels = o.hashLevels;
+    if (o.hashLog2Size) f.hashLog2Size = o.hashLog2Size;
+    if (o.hashLevels || o.hashMaxResolution) {
+      // keep N_min and the finest resolution, spread the levels geometrically between them
+      const double finest = o.hashMaxResolution ? o.hashMaxResolution
+                                                 : f.hashBaseResolution * std::pow(double(f.hashGrowth), 7.0);
+      f.hashGrowth = f.hashLevels > 1 ? float(std::pow(finest / f.hashBaseResolution, 1.0 / (f.hashLevels - 1))) : 1.0f;
+    }
+    if (o.grid) f.gridResolution = o.grid;
+    if (o.marchSteps) f.marchSteps = o.marchSteps, f.maxSamplesPerRay = o.marchSteps;
+    if (o.samplesPerStep) f.samplesPerBatch = o.samplesPerStep;
+    if (o.noEarlyTermination) f.earlyTermination = false;
+  }
   cfg.seed = o.seed;
   const bool resuming = o.resume && std::filesystem::exists(o.output);
   if (resuming) cfg = Trainer::configOf(o.output);
@@ -123,7 +148,7 @@ int train(const Options& o, const Globals& g) {
     if (o.saveEvery && trainer.steps() % o.saveEvery == 0) trainer.save(o.output);
   }
   if (tty) std::printf("\n");
-  for (auto& [name, value] : trainer.statistics()) std::printf("  %-28s %g\n", name.c_str(), value);
+  for (auto& [name, value] : statisticsRows(trainer.statistics())) std::printf("  %-48s %g\n", name.c_str(), value);
   if (o.profile) {
     std::map<std::string, double> perKernel;
     double total = 0;

@@ -6,9 +6,11 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vknerf/context.h"
+#include "vknerf/trainer.h"
 
 namespace vknerf::cli {
 
@@ -32,5 +34,8 @@ struct Command {
   Setup setup;
 };
 std::vector<Command>& commands();
+
+// A model's statistics as named rows for printing and bench.md (the fast model's rows only for it).
+std::vector<std::pair<std::string, double>> statisticsRows(const ModelStatistics& s);
 
 }  // namespace vknerf::cli

@@ -6,102 +6,99 @@
 // -> hash-grid backward -> Adam (MLP and table), with the occupancy grid re-measured every K steps.
 // The number of samples a batch marches is known only on the device; a step submits the march,
 // reads the total (a few bytes, mapped), sizes the rest of the step to it and adapts the next
-// step's ray count to hold about TrainConfig::samplesPerBatch samples.
+// step's ray count to hold about FastModel::samplesPerBatch samples.
 #include <memory>
 #include <optional>
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "nerf/render/composite.h"
+#include "models/common/field_batch.h"
+#include "models/common/ray_batch.h"
+#include "models/common/trainable_parameters.h"
 #include "models/field_pipeline.h"
 #include "nerf/encoding/hash_encoding.h"
+#include "nerf/encoding/sh_encoding.h"
 #include "nerf/loss/photometric_loss.h"
-#include "nerf/sampling/marcher.h"
 #include "nerf/network/mlp.h"
 #include "nerf/occupancy/occupancy_grid.h"
-#include "nerf/optim/adam.h"
-#include "nerf/rays/rays.h"
-#include "nerf/encoding/sh_encoding.h"
+#include "nerf/render/composite.h"
+#include "nerf/sampling/marcher.h"
 #include "vknerf/config.h"
 
 namespace vknerf::nerf {
 
-HashGridConfig hashGridConfigFor(const ModelConfig& model);
+HashGridConfig hashGridConfigFor(const FastModel& model);
 
 class FastPipeline final : public FieldPipeline {
  public:
-  FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity, bool training);
+  FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity, bool training,
+               const RenderSettings& overrides = {});
 
   uint32_t rayCapacity() const override { return rayCapacity_; }
-  void recordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                    uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
   const gpu::Buffer& color() const override { return color_; }
   const gpu::Buffer& depth() const override { return depth_; }
-  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   const gpu::Buffer& lossPartials() const override { return partials_; }
   std::vector<StateArray> state() override;
-  std::vector<std::pair<std::string, double>> statistics() override;
 
   float marchStep() const { return dt_; }
   OccupancyGrid& occupancy() { return grid_; }
-  size_t parameterCount() const { return hash_.parameterCount() + mlp_.parameterCount(); }
+  size_t parameterCount() const { return table_.count() + network_.count(); }
 
  private:
-  // Marches rays [rayOffset, rayOffset + numRays) of rays_ into the sample buffers.
+  void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
+                      uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
+  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  ModelStatistics modelStatistics() override;
+
+  // A packed batch of samples (RayMarcher's layout): the march's, or its early-terminated copy.
+  struct Packed {
+    Packed(Context& ctx, uint32_t rays, uint32_t samples);
+    gpu::Buffer offsets, samples, sampleRay, totals;
+  };
+  // Marches rays [rayOffset, rayOffset + numRays) of rays_ into marched_.
   void recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, uint32_t maxSamples, uint32_t seed,
                    bool jitter);
   // How many of the marched rays are whole within the sample capacity (all when nothing was cut),
   // and their sample total. Reads offsets on the host (after the march was submitted and waited).
   std::pair<uint32_t, uint32_t> wholeRays(uint32_t numRays);
-  // The packed batch the field and the compositor read: the march's, or its early-terminated copy.
-  struct Packed {
-    gpu::Buffer *offsets, *samples, *sampleRay, *totals;
-  };
-  Packed marched() { return {&offsets_, &samples_, &sampleRay_, &totals_}; }
-  Packed terminated() { return {&termOffsets_, &termSamples_, &termSampleRay_, &termTotals_}; }
   // Field at `count` packed samples of the rays at rayOffset: points, encodings, MLP. With
   // limitToTotal, only the samples below the batch's device total are evaluated (count: capacity).
-  void recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count,
-                   NerfMlp::Workspace* keep, bool limitToTotal = false);
+  void recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count, bool keep,
+                   bool limitToTotal = false);
   void recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
                        const std::array<float, 3>& bg);
   void recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step);
-  void allocate(uint32_t sampleCapacity);
 
-  Context& ctx_;
   TrainConfig config_;
+  FastModel model_;
   Aabb box_;
-  uint32_t rayCapacity_, sampleCapacity_ = 0;
+  uint32_t rayCapacity_, sampleCapacity_;
   bool training_;
   float dt_, trainedDt_;  // march step now, and in training (the occupancy threshold's)
   HashEncoding hash_;
   ShEncoding sh_;
   NerfMlp mlp_;
+  TrainableParameters table_, network_;  // the hash grid's entries, the MLP's weights
   OccupancyGrid grid_;
-  RayGeneration rayGen_;
+  RayBatch rays_;
   RayMarcher marcher_;
   PackedSamplePoints points_;
   Compositor compositor_;
   std::optional<EarlyTermination> termination_;
-  BackgroundColors backgrounds_;
   std::optional<PhotometricLoss> loss_;
-  std::optional<Adam> adamMlp_, adamHash_;
-  std::unique_ptr<NerfMlp::Workspace> workspace_;
-  std::unique_ptr<gpu::Recorder> marchRec_;
 
-  gpu::Buffer hashParams_, hashGrads_, hashM_, hashV_;
-  gpu::Buffer mlpParams_, mlpGrads_, mlpM_, mlpV_;
   // per ray
-  gpu::Buffer rays_, pixelIds_, background_, color_, depth_, dColor_, zeroDepthGrad_, partials_, offsets_;
+  gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_;
   // per sample
-  gpu::Buffer samples_, sampleRay_, totals_, positions_, directions_, posFeatures_, dirFeatures_, field_, weights_,
-      dField_, dPos_;
-  // early termination (training): the samples in front of T < 1e-4
-  gpu::Buffer termOffsets_, termSamples_, termSampleRay_, termTotals_;
+  Packed marched_;
+  std::optional<Packed> kept_;  // early termination (training): the samples in front of T < 1e-4
+  FieldBatch field_;
+  gpu::Buffer weights_, dPos_;
   uint64_t marchedSamples_ = 0, keptSamples_ = 0;
-  // occupancy update
+  // occupancy update (training): jittered points in cells and the field there
   uint32_t occPoints_ = 0;
-  gpu::Buffer occPositions_, occCells_, occDirections_, occPosFeatures_, occDirFeatures_, occField_;
+  FieldBatch occField_;
+  gpu::Buffer occCells_;
 
   uint32_t raysNext_;  // adaptive ray count of the next training step
   double lastSamplesPerRay_ = 0;

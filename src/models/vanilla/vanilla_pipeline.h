@@ -10,91 +10,79 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "nerf/render/composite.h"
+#include "models/common/field_batch.h"
+#include "models/common/ray_batch.h"
+#include "models/common/trainable_parameters.h"
 #include "models/field_pipeline.h"
 #include "nerf/encoding/frequency_encoding.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/network/mlp.h"
-#include "nerf/optim/adam.h"
+#include "nerf/render/composite.h"
 #include "nerf/sampling/points.h"
-#include "nerf/rays/rays.h"
 #include "nerf/sampling/samplers.h"
 #include "vknerf/config.h"
 
 namespace vknerf::nerf {
 
-MlpConfig mlpConfigFor(const ModelConfig& model, uint32_t seed);
-
-// One network's parameters and, when training, its gradient and Adam moments.
-struct NetworkState {
-  std::unique_ptr<NerfMlp> mlp;
-  gpu::Buffer params, grads, m, v;
+// One network and its trainable parameters.
+struct Network {
+  Network(Context& ctx, const VanillaModel& model, uint32_t seed, const std::string& name,
+          const std::optional<AdamConfig>& adam);
+  NerfMlp mlp;
+  TrainableParameters parameters;
 };
 
-// Per-level buffers of a batch (coarse: Nc samples per ray, fine: Nc + Nf).
-struct LevelBuffers {
-  uint32_t samplesPerRay = 0;
-  gpu::Buffer samples, positions, directions, posFeatures, dirFeatures, field, color, depth, weights;
-  gpu::Buffer dField, dColor, partials;
-  std::unique_ptr<NerfMlp::Workspace> workspace;  // activations kept for backward (training only)
+// One level of the hierarchy (coarse: Nc samples per ray, fine: Nc + Nf): its samples, their
+// field, and per ray the composited colour and depth (and, training, the loss's gradient).
+struct Level {
+  Level(Context& ctx, const NerfMlp& mlp, uint32_t rays, uint32_t samplesPerRay, bool training);
+  uint32_t samplesPerRay;
+  gpu::Buffer samples, weights, color, depth;
+  FieldBatch field;
+  gpu::Buffer dColor, partials;  // training
 };
 
 class VanillaPipeline final : public FieldPipeline {
  public:
-  VanillaPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity, bool training);
+  VanillaPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity, bool training,
+                  const RenderSettings& overrides = {});
 
-  // FieldPipeline
   uint32_t rayCapacity() const override { return capacity_; }
-  void recordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                    uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
   const gpu::Buffer& color() const override { return levels_[1].color; }
   const gpu::Buffer& depth() const override { return levels_[1].depth; }
-  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
   std::vector<StateArray> state() override;
-  std::vector<std::pair<std::string, double>> statistics() override;
-
-  NetworkState& coarse() { return coarse_; }
-  NetworkState& fine() { return config_.model.separateFineNetwork ? fine_ : coarse_; }
-  const NetworkState& coarse() const { return coarse_; }
-  const NetworkState& fine() const { return config_.model.separateFineNetwork ? fine_ : coarse_; }
-  bool separateFine() const { return config_.model.separateFineNetwork; }
-
-  gpu::Buffer& rays() { return rays_; }
-  gpu::Buffer& pixelIds() { return pixelIds_; }
-  gpu::Buffer& background() { return background_; }
-  const LevelBuffers& coarseLevel() const { return levels_[0]; }
-  const LevelBuffers& fineLevel() const { return levels_[1]; }
-
-  RayGeneration& rayGeneration() { return rayGen_; }
-  BackgroundColors& backgroundColors() { return backgrounds_; }
-
-  // Coarse and fine passes for `numRays` rays in rays(); per-ray backgrounds from background().
-  void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t seed, bool jitter);
-  // Loss against the training pixels, backward through both levels, Adam on both networks.
-  void recordTrainStep(gpu::Recorder& rec, uint32_t numRays, const gpu::Buffer& images, const gpu::Buffer& cameras,
-                       uint32_t step, float learningRate);
 
  private:
-  void recordLevel(gpu::Recorder& rec, LevelBuffers& level, NetworkState& net, uint32_t numRays, bool keep);
+  void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
+                      uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
+  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  ModelStatistics modelStatistics() override;
 
-  Context& ctx_;
+  Network& fine() { return fine_ ? *fine_ : coarse_; }
+  // Coarse and fine passes for `numRays` rays of rays_.
+  void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t seed, bool jitter);
+  void recordLevel(gpu::Recorder& rec, Level& level, Network& net, uint32_t numRays, bool keep);
+  // Loss against the training pixels and backward through both levels; then Adam.
+  void recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, uint32_t step);
+
   TrainConfig config_;
+  VanillaModel model_;
   Aabb box_;
   uint32_t capacity_;
   bool training_;
-  RayGeneration rayGen_;
+  RayBatch rays_;
   StratifiedSampler stratified_;
   PdfSampler pdf_;
   SamplePoints points_;
   FrequencyEncoding posEncoding_, dirEncoding_;
   Compositor compositor_;
-  BackgroundColors backgrounds_;
   std::optional<PhotometricLoss> loss_;
-  std::optional<Adam> adam_;
-  NetworkState coarse_, fine_;
-  LevelBuffers levels_[2];
-  gpu::Buffer rays_, pixelIds_, background_, zeroDepthGrad_, noOffsets_;
+  std::optional<AdamConfig> adam_;  // training
+  Network coarse_;
+  std::unique_ptr<Network> fine_;  // separateFineNetwork; null: the coarse network is queried twice
+  Level levels_[2];
+  gpu::Buffer zeroDepthGrad_, noOffsets_;
 };
 
 }  // namespace vknerf::nerf

@@ -1,0 +1,24 @@
+#pragma once
+// The field's inputs and outputs for up to `capacity` samples, as every model evaluates it:
+// positions and directions (vec4 per sample), their encodings (the MLP's row strides), the field
+// (vec4 rgb, sigma) and, when training, the field's gradient and the MLP's kept activations.
+#include <cstdint>
+#include <memory>
+
+#include "gpu/buffer.h"
+#include "nerf/network/mlp.h"
+
+namespace vknerf::nerf {
+
+struct FieldBatch {
+  FieldBatch() = default;
+  // Zeroed, so a render recorded over the whole capacity never reads garbage.
+  FieldBatch(Context& ctx, const NerfMlp& mlp, uint32_t capacity, bool training);
+
+  uint32_t capacity = 0;
+  gpu::Buffer positions, directions, posFeatures, dirFeatures, field;
+  gpu::Buffer dField;                             // training
+  std::unique_ptr<NerfMlp::Workspace> workspace;  // training: activations kept for backward
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,42 @@
+#pragma once
+// The rays of one batch with their pixel ids and per-ray backgrounds: random pixels of the
+// training cameras for a training step, or a block of one view for rendering. Both models use it.
+#include <array>
+#include <cstdint>
+
+#include "gpu/buffer.h"
+#include "gpu/recorder.h"
+#include "models/field_pipeline.h"
+#include "nerf/loss/photometric_loss.h"
+#include "nerf/rays/rays.h"
+
+namespace vknerf::nerf {
+
+// The seed of training step `step`: rays, samples and backgrounds of a step all derive from it.
+uint32_t stepSeed(const TrainConfig& config, uint32_t step);
+
+class RayBatch {
+ public:
+  RayBatch(Context& ctx, uint32_t capacity);
+
+  // `count` rays through random training pixels (seed: stepSeed), with random backgrounds when
+  // config.randomBackground (empty space then learns zero density), else config.background.
+  void recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count, const Aabb& box,
+                      const TrainConfig& config);
+  // Rays through pixels [first, first + count) of camera `camera`, over a constant background.
+  void recordView(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first, uint32_t count,
+                  const Aabb& box, const std::array<float, 3>& background);
+
+  uint32_t capacity() const { return capacity_; }
+  gpu::Buffer& rays() { return rays_; }          // 2 x vec4 per ray (nerf::kRayBytes)
+  gpu::Buffer& pixelIds() { return pixelIds_; }  // uvec2 (camera, pixel) per ray
+  gpu::Buffer& background() { return background_; }  // vec4 per ray
+
+ private:
+  uint32_t capacity_;
+  RayGeneration generation_;
+  BackgroundColors backgrounds_;
+  gpu::Buffer rays_, pixelIds_, background_;
+};
+
+}  // namespace vknerf::nerf

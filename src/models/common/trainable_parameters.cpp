@@ -1,0 +1,41 @@
+#include "models/common/trainable_parameters.h"
+
+#include <utility>
+
+namespace vknerf::nerf {
+
+AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
+  AdamConfig ac;
+  ac.initialLearningRate = config.learningRate * rateScale;
+  ac.decayRate = config.learningRateFinal / config.learningRate;
+  ac.decaySteps = float(config.decaySteps);
+  ac.beta1 = config.beta1;
+  ac.beta2 = config.beta2;
+  ac.epsilon = config.epsilon;
+  return ac;
+}
+
+TrainableParameters::TrainableParameters(Context& ctx, std::string name, const std::vector<float>& initial,
+                                         const std::optional<AdamConfig>& adam)
+    : name_(std::move(name)), count_(initial.size()), params_(gpu::Buffer::of(ctx, initial)) {
+  if (!adam) return;
+  const VkDeviceSize bytes = count_ * sizeof(float);
+  grads_ = gpu::Buffer::zeros(ctx, bytes);
+  m_ = gpu::Buffer::zeros(ctx, bytes);
+  v_ = gpu::Buffer::zeros(ctx, bytes);
+  adam_.emplace(ctx, *adam);
+}
+
+void TrainableParameters::recordOptimizerStep(gpu::Recorder& rec, uint32_t step) {
+  // Adam counts steps from 1 (bias correction); the rate schedule from 0.
+  adam_->record(rec, params_, grads_, m_, v_, uint32_t(count_), step + 1, adam_->config().learningRate(step));
+}
+
+void TrainableParameters::appendState(std::vector<StateArray>& out) {
+  out.push_back({name_ + ".params", &params_, count_, false});
+  if (!adam_) return;
+  out.push_back({name_ + ".adam_m", &m_, count_, true});
+  out.push_back({name_ + ".adam_v", &v_, count_, true});
+}
+
+}  // namespace vknerf::nerf

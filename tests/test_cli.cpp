@@ -2,44 +2,15 @@
 // that name the file or field.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
-namespace {
+#include "cli_run.h"
 
-struct Result {
-  int code = -1;
-  std::string output;
-};
-
-Result runCli(const std::string& args) {
-  std::string cmd = std::string(VKNERF_BINARY_DIR) + "/vknerf " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 512> buf;
-  while (p && fgets(buf.data(), buf.size(), p)) r.output += buf.data();
-  int status = p ? pclose(p) : -1;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  // ctest's VKNERF_VALIDATION=1 reaches the command line too: any layer message fails the test.
-  if (r.output.find("vknerf: validation") != std::string::npos)
-    ADD_FAILURE() << "validation messages from: vknerf " << args << "\n" << r.output;
-  return r;
-}
-
-std::string scene() { return std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop"; }
-
-std::string temp(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("vknerf_cli_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
-
-}  // namespace
+using vknerf::test::runCli;
+using vknerf::test::scene;
+using vknerf::test::temp;
 
 TEST(Cli, HelpAndUsageErrors) {
   EXPECT_EQ(runCli("--help").code, 0);
@@ -73,19 +44,22 @@ TEST(Cli, UnknownDeviceIsARuntimeError) {
   EXPECT_NE(r.output.find("no-such-gpu"), std::string::npos) << r.output;
 }
 
-TEST(Cli, InterruptSavesALoadableCheckpoint) {
-  // SIGINT after a few seconds: training stops at a step boundary, saves, exits 0.
-  auto model = temp("interrupted.vknerf"), out = temp("interrupted_render");
+// SIGINT or SIGTERM after a few seconds: training stops at a step boundary, saves, exits 128 + signal.
+void interruptSavesALoadableCheckpoint(const std::string& signal, int expectedCode) {
+  auto model = temp("interrupted_" + signal + ".vknerf"), out = temp("interrupted_render_" + signal);
   auto r = runCli("train " + scene() + " -o " + model +
                   " --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128 --steps 1000000 --save-every 0 2>&1"
-                  " & pid=$!; sleep 6; kill -INT $pid; wait $pid");
-  EXPECT_EQ(r.code, 0) << r.output;
+                  " & pid=$!; sleep 6; kill -" + signal + " $pid; wait $pid");
+  EXPECT_EQ(r.code, expectedCode) << r.output;
   EXPECT_NE(r.output.find("interrupted after"), std::string::npos) << r.output;
   auto rr = runCli("render " + model + " --orbit 1 --size 8 -o " + out);
   EXPECT_EQ(rr.code, 0) << rr.output;
   EXPECT_TRUE(std::filesystem::exists(out + "/rgb_0000.png"));
   EXPECT_TRUE(std::filesystem::exists(out + "/depth_0000.pfm"));
 }
+
+TEST(Cli, InterruptSavesALoadableCheckpoint) { interruptSavesALoadableCheckpoint("INT", 130); }
+TEST(Cli, TerminateSavesALoadableCheckpoint) { interruptSavesALoadableCheckpoint("TERM", 143); }
 
 TEST(Cli, SelfCheckPasses) {
   auto r = runCli("selfcheck --size 24 --coarse 16 --fine 16");

@@ -70,6 +70,10 @@ struct TrainConfig {
   // "vanilla" or "fast"; throws vknerf::Error for anything else.
   static TrainConfig named(const std::string& name, const Context& ctx);
   std::string describe() const;                    // one line, printed at the start of training
+  // Every field finite and in the range the models accept; throws vknerf::Error naming the first
+  // field that is not, under its checkpoint key ("model.coarse_samples must be in [1, 4096], got 0").
+  // Used for a configuration built from command-line flags and for one read from a checkpoint.
+  void validate() const;
 };
 
 }  // namespace vknerf

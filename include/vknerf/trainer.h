@@ -102,7 +102,8 @@ class Trainer {
 
   // Checkpoint: config, parameters, Adam state and the step, written atomically.
   void save(const std::string& path) const;
-  // Continue exactly from a checkpoint written by save() for the same dataset.
+  // Continue exactly from a checkpoint written by save() for the same dataset; throws vknerf::Error when
+  // its model config, scene box, camera count or image size differ from this trainer's.
   void resume(const std::string& path);
   // The training configuration stored in a checkpoint (to resume with exactly the same settings).
   static TrainConfig configOf(const std::string& path);

@@ -3,6 +3,8 @@
 // dataset_colmap.cpp, the box in dataset_bounds.cpp.
 #include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <cstdio>
 #include <exception>
 #include <thread>
 
@@ -54,6 +56,20 @@ void checkRigid(const std::array<double, 16>& m, const std::string& where) {
     throw Error(where + ": transform_matrix last row is not (0, 0, 0, 1)");
 }
 
+// The device computes in 32-bit floats, and ray arithmetic squares positions and multiplies pixel
+// offsets by 1/f: a value that is finite as a double can be infinite there. kDeviceLimit leaves
+// room for those products (1e15 squared is 1e30, below float's 3.4e38).
+constexpr double kDeviceLimit = 1e15;
+
+float asDeviceFloat(double v, const FrameSpec& f, const char* field) {
+  if (!(std::fabs(v) <= kDeviceLimit)) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", v);
+    throw Error(f.where + ": " + field + " value " + value + " is beyond the range the device computes with (|x| <= 1e15)");
+  }
+  return float(v);
+}
+
 Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
   const Intrinsics& in = f.intrinsics;
   if ((in.width && in.width != width) || (in.height && in.height != height))
@@ -68,13 +84,14 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
   if (!std::isfinite(fx)) throw Error(f.where + ": no focal length (camera_angle_x or fl_x)");
   if (!(fx > 0) || !(fy > 0)) throw Error(f.where + ": focal length must be positive");
   Camera c;
-  c.fx = float(fx);
-  c.fy = float(fy);
-  c.cx = float(std::isfinite(in.cx) ? in.cx : 0.5 * width);
-  c.cy = float(std::isfinite(in.cy) ? in.cy : 0.5 * height);
+  c.fx = asDeviceFloat(fx, f, "focal length x (fl_x or camera_angle_x)");
+  c.fy = asDeviceFloat(fy, f, "focal length y (fl_y or camera_angle_y)");
+  if (!(c.fx > 0) || !(c.fy > 0)) throw Error(f.where + ": focal length is too small for 32-bit floats");
+  c.cx = asDeviceFloat(std::isfinite(in.cx) ? in.cx : 0.5 * width, f, "principal point cx");
+  c.cy = asDeviceFloat(std::isfinite(in.cy) ? in.cy : 0.5 * height, f, "principal point cy");
   c.width = width;
   c.height = height;
-  for (int i = 0; i < 16; ++i) c.c2w[i] = float(f.c2w[i]);
+  for (int i = 0; i < 16; ++i) c.c2w[i] = asDeviceFloat(f.c2w[i], f, "transform_matrix");
   return c;
 }
 

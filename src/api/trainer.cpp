@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "gpu/recorder.h"
 #include "io/checkpoint.h"
@@ -85,8 +86,29 @@ Aabb boxFromJson(const json& j) {
   return b;
 }
 
-void uploadChecked(const nerf::Checkpoint& ck, const std::string& name, gpu::Buffer& dst, size_t count) {
-  dst.upload(ck.get<float>(name, count));
+// A checksum proves the bytes are as written, not that they are a model: a NaN or infinite
+// parameter would render as garbage (or crash the depth writer) without a word.
+void uploadChecked(const nerf::Checkpoint& ck, const nerf::StateArray& a) {
+  auto values = ck.get<float>(a.name, a.count);
+  for (size_t i = 0; a.numbers && i < values.size(); ++i)
+    if (!std::isfinite(values[i]))
+      throw Error(ck.path + ": checkpoint section '" + a.name + "' holds a non-finite value at index " + std::to_string(i));
+  a.buffer->upload(values);
+}
+
+// The checkpoint's scene box, within float printing precision of `box`.
+bool sameBox(const Aabb& a, const Aabb& b) {
+  for (int k = 0; k < 3; ++k) {
+    const float tol = 1e-4f * std::max(1.0f, std::fabs(a.max[k] - a.min[k]));
+    if (!(std::fabs(a.min[k] - b.min[k]) <= tol) || !(std::fabs(a.max[k] - b.max[k]) <= tol)) return false;
+  }
+  return true;
+}
+
+std::string boxText(const Aabb& b) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "[%g %g %g]..[%g %g %g]", b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]);
+  return buf;
 }
 
 }  // namespace
@@ -104,7 +126,7 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   }
   impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false, settings);
   impl->pipe = impl->own.get();
-  for (auto& a : impl->pipe->state()) uploadChecked(ck, a.name, *a.buffer, a.count);
+  for (auto& a : impl->pipe->state()) uploadChecked(ck, a);
   impl->pipe->stateLoaded();
   return Model(std::move(impl));
 }
@@ -115,7 +137,7 @@ struct Trainer::Impl {
   std::shared_ptr<Context> ctx;
   TrainConfig config;
   Aabb box;
-  uint32_t numCameras = 0;
+  uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;
   gpu::Buffer images, cameras;
   std::unique_ptr<nerf::FieldPipeline> pipe;
   uint32_t lastRays = 0;
@@ -134,6 +156,8 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.config = config;
   s.box = train.bounds;
   s.numCameras = uint32_t(train.cameras.size());
+  s.imageWidth = train.images[0].width;
+  s.imageHeight = train.images[0].height;
   std::vector<uint8_t> pixels;
   for (const auto& im : train.images) pixels.insert(pixels.end(), im.rgba.begin(), im.rgba.end());
   s.images = gpu::Buffer::of(*ctx, pixels);
@@ -179,7 +203,8 @@ void Trainer::save(const std::string& path) const {
   auto& s = *impl_;
   nerf::Checkpoint ck;
   json j = {{"format", "vknerf"}, {"config", toJson(s.config)}, {"step", s.step},
-            {"bounds", {{"min", s.box.min}, {"max", s.box.max}}}};
+            {"bounds", {{"min", s.box.min}, {"max", s.box.max}}},
+            {"scene", {{"cameras", s.numCameras}, {"width", s.imageWidth}, {"height", s.imageHeight}}}};
   ck.config = j.dump(2);
   for (auto& a : s.pipe->state()) ck.put(a.name, a.buffer->download<float>(a.count));
   ck.save(path);
@@ -201,7 +226,25 @@ void Trainer::resume(const std::string& path) {
   TrainConfig saved = fromJson(j.at("config"), path);
   if (toJson(saved)["model"] != toJson(s.config)["model"])
     throw Error(path + ": checkpoint model config differs from this run's (" + saved.describe() + ")");
-  for (auto& a : s.pipe->state()) uploadChecked(ck, a.name, *a.buffer, a.count);
+  // Weights fitted to another scene would go on training inside this scene's box: refuse instead.
+  try {
+    const Aabb saved = boxFromJson(j.at("bounds"));
+    if (!sameBox(saved, s.box))
+      throw Error(path + ": checkpoint scene box " + boxText(saved) + " differs from this dataset's " + boxText(s.box) +
+                  "; it was trained on another scene");
+    if (j.contains("scene")) {  // checkpoints written before the scene record have the box alone
+      const json& sc = j.at("scene");
+      const uint32_t n = sc.at("cameras"), w = sc.at("width"), h = sc.at("height");
+      if (n != s.numCameras || w != s.imageWidth || h != s.imageHeight)
+        throw Error(path + ": checkpoint was trained on " + std::to_string(n) + " images of " + std::to_string(w) + "x" +
+                    std::to_string(h) + ", this dataset has " + std::to_string(s.numCameras) + " of " +
+                    std::to_string(s.imageWidth) + "x" + std::to_string(s.imageHeight) +
+                    "; it was trained on another scene or --downscale");
+    }
+  } catch (const json::exception& e) {
+    throw Error(path + ": checkpoint scene record: " + e.what());
+  }
+  for (auto& a : s.pipe->state()) uploadChecked(ck, a);
   s.pipe->stateLoaded();
   s.step = j.at("step");
 }

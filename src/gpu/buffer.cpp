@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <utility>
@@ -42,7 +43,11 @@ Raw allocate(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemor
   VkResult r = vkAllocateMemory(ctx.device(), &ai, nullptr, &raw.memory);
   if (r != VK_SUCCESS) {
     vkDestroyBuffer(ctx.device(), raw.buffer, nullptr);
-    throw Error("vkAllocateMemory of " + std::to_string(bytes) + " bytes failed: " + resultName(r));
+    // Out of memory is what an oversized batch or image gives: say how big, so the caller can say what to lower.
+    char size[32];
+    std::snprintf(size, sizeof size, "%.1f MiB", double(bytes) / (1 << 20));
+    throw Error(std::string("cannot allocate a device buffer of ") + size + " (" + std::to_string(bytes) +
+                " bytes): " + resultName(r));
   }
   check(vkBindBufferMemory(ctx.device(), raw.buffer, raw.memory, 0), "vkBindBufferMemory");
   return raw;

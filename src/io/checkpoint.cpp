@@ -1,14 +1,14 @@
 #include "io/checkpoint.h"
 
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 
 namespace vknerf::nerf {
 namespace {
@@ -63,21 +63,12 @@ void Checkpoint::save(const std::string& target) const {
   }
   append(out, fnv1a(out.data(), out.size()));
 
-  std::string tmp = target + ".tmp." + std::to_string(::getpid());
-  FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw Error(target + ": cannot write checkpoint: " + std::strerror(errno));
-  bool ok = std::fwrite(out.data(), 1, out.size(), f) == out.size();
-  ok = std::fflush(f) == 0 && ok;
-  ok = ::fsync(fileno(f)) == 0 && ok;
-  ok = std::fclose(f) == 0 && ok;
-  if (!ok || std::rename(tmp.c_str(), target.c_str()) != 0) {
-    int err = errno;
-    std::remove(tmp.c_str());
-    throw Error(target + ": writing the checkpoint failed: " + std::strerror(err));
-  }
+  writeFileAtomically(target, out.data(), out.size());
 }
 
 Checkpoint Checkpoint::load(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw Error(file + ": is a folder, not a checkpoint");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file + ": cannot open checkpoint: " + std::strerror(errno));
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

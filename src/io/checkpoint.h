@@ -1,7 +1,7 @@
 #pragma once
 // The checkpoint file: a versioned container of named binary sections plus a JSON config, closed by
-// a checksum over everything before it. Written to a temporary file, flushed, then renamed over the
-// target, so a crash never leaves a half-written checkpoint under the real name.
+// a checksum over everything before it. Written with writeFileAtomically (vknerf/file_output.h), so a
+// crash never leaves a half-written checkpoint under the real name.
 //
 //   "VKNERFCK"  u32 version  u32 configBytes  config (JSON text)
 //   u32 sectionCount  { u32 nameBytes  name  u64 dataBytes  data }*

@@ -84,7 +84,7 @@ TrainConfig trainConfigFromJson(const json& j, const std::string& file) {
     else if (name == "vanilla")
       c.model = vanillaModelFromJson(m);
     else
-      throw Error(file + ": checkpoint config: unknown model \"" + name + "\"");
+      throw Error("unknown model \"" + name + "\"");
     c.raysPerBatch = j.at("rays_per_batch");
     c.learningRate = j.at("lr");
     c.learningRateFinal = j.at("lr_final");
@@ -95,8 +95,11 @@ TrainConfig trainConfigFromJson(const json& j, const std::string& file) {
     c.randomBackground = j.at("random_background");
     c.background = j.at("background");
     c.seed = j.at("seed");
+    c.validate();
     return c;
   } catch (const json::exception& e) {
+    throw Error(file + ": checkpoint config: " + e.what());
+  } catch (const Error& e) {
     throw Error(file + ": checkpoint config: " + e.what());
   }
 }

@@ -10,7 +10,7 @@ namespace vknerf::nerf {
 
 nlohmann::json toJson(const TrainConfig& c);
 // Keys added after the first checkpoint version fall back to the defaults; a missing or mistyped
-// original key throws vknerf::Error naming `file`.
+// original key, or a value TrainConfig::validate rejects, throws vknerf::Error naming `file` and the key.
 TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& file);
 
 }  // namespace vknerf::nerf

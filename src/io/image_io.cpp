@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 
 // The one translation unit that holds the stb implementations.
 #define STB_IMAGE_IMPLEMENTATION
@@ -36,12 +37,25 @@ bool readImageSize(const std::string& path, uint32_t& width, uint32_t& height) {
   return true;
 }
 
+namespace {
+void appendBytes(void* context, void* data, int size) {
+  auto* out = static_cast<std::vector<uint8_t>*>(context);
+  out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+}
+}  // namespace
+
+std::vector<uint8_t> encodePng(uint32_t width, uint32_t height, int channels, const uint8_t* pixels) {
+  std::vector<uint8_t> png;
+  if (!stbi_write_png_to_func(appendBytes, &png, int(width), int(height), channels, pixels, int(width) * channels))
+    throw Error("cannot encode a " + std::to_string(width) + "x" + std::to_string(height) + " PNG");
+  return png;
+}
+
 void savePng(const std::string& path, const ImageRGBA8& image) {
   if (image.width == 0 || image.height == 0 || image.rgba.size() != size_t(image.width) * image.height * 4)
     throw Error("cannot write '" + path + "': image is empty or its pixel count does not match its size");
-  if (!stbi_write_png(path.c_str(), int(image.width), int(image.height), 4, image.rgba.data(),
-                      int(image.width * 4)))
-    throw Error("cannot write '" + path + "'");
+  const auto png = encodePng(image.width, image.height, 4, image.rgba.data());
+  writeFileAtomically(path, png.data(), png.size());
 }
 
 // Averages the stored sRGB values, not linear light: the trainer fits and composites these same

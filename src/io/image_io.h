@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <array>
 #include <string>
+#include <vector>
 
 #include "vknerf/dataset.h"
 
@@ -15,7 +16,10 @@ ImageRGBA8 loadImage(const std::string& path);
 // Width and height from the file header alone; false when the file cannot be read as an image.
 bool readImageSize(const std::string& path, uint32_t& width, uint32_t& height);
 
-// Writes an RGBA PNG. Throws vknerf::Error naming `path`.
+// PNG file bytes of `channels` (1 to 4) 8-bit values per pixel, rows top to bottom.
+std::vector<uint8_t> encodePng(uint32_t width, uint32_t height, int channels, const uint8_t* pixels);
+
+// Writes an RGBA PNG with writeFileAtomically. Throws vknerf::Error naming `path`.
 void savePng(const std::string& path, const ImageRGBA8& image);
 
 // Averages each factor x factor block into one pixel, weighting colours by alpha (premultiplied

@@ -27,6 +27,7 @@ struct StateArray {
   gpu::Buffer* buffer;
   size_t count;
   bool optimizer;  // Adam moments: saved for resuming, not needed to render
+  bool numbers = true;  // floats, checked finite on load; false for words of bits stored in float slots
 };
 
 // The training set on the device: packed RGBA8 images and packed cameras (nerf::packCameras).

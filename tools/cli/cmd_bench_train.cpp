@@ -5,14 +5,16 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
+#include "checks.h"
 #include "command.h"
 #include "io/image_io.h"
+#include "lib/csv.h"
 #include "lib/metrics.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 #include "vknerf/trainer.h"
 
 namespace vknerf::cli {
@@ -153,19 +155,20 @@ int run(const Options& o, const Globals& g) {
 
   const auto dir = std::filesystem::path(o.out);
   {
-    std::ofstream f(dir / "train.csv");
+    std::ostringstream f;
     f << "config,seconds,steps,psnr,ssim,steps_per_s,rays_per_s,samples_per_s\n";
     for (auto& r : rows)
-      f << r.config << "," << r.seconds << "," << r.steps << "," << r.score.psnr << "," << r.score.ssim << ","
-        << r.stepsPerSecond << "," << r.raysPerSecond << "," << r.samplesPerSecond << "\n";
-    if (!f) throw Error((dir / "train.csv").string() + ": cannot write");
+      f << nerf::csvField(r.config) << "," << r.seconds << "," << r.steps << "," << r.score.psnr << "," << r.score.ssim
+        << "," << r.stepsPerSecond << "," << r.raysPerSecond << "," << r.samplesPerSecond << "\n";
+    writeFileAtomically((dir / "train.csv").string(), f.str());
   }
   {
-    std::ofstream f(dir / "render.csv");
+    std::ostringstream f;
     f << "config,budget,seconds_per_frame,psnr,ssim\n";
     for (auto& r : renders)
-      f << r.config << "," << r.budget << "," << r.score.secondsPerImage << "," << r.score.psnr << "," << r.score.ssim << "\n";
-    if (!f) throw Error((dir / "render.csv").string() + ": cannot write");
+      f << nerf::csvField(r.config) << "," << nerf::csvField(r.budget) << "," << r.score.secondsPerImage << ","
+        << r.score.psnr << "," << r.score.ssim << "\n";
+    writeFileAtomically((dir / "render.csv").string(), f.str());
   }
   std::ostringstream md;
   char line[512];
@@ -191,8 +194,7 @@ int run(const Options& o, const Globals& g) {
                   r.score.secondsPerImage, r.score.psnr, r.score.ssim);
     md << line;
   }
-  std::ofstream f(dir / "bench.md");
-  if (!(f << md.str())) throw Error((dir / "bench.md").string() + ": cannot write");
+  writeFileAtomically((dir / "bench.md").string(), md.str());
   std::printf("\n%s\nwrote %s/{train.csv,render.csv,bench.md}; plot with: python3 tools/plot_bench.py %s\n",
               md.str().c_str(), o.out.c_str(), o.out.c_str());
   return 0;
@@ -205,7 +207,7 @@ Registration benchTrain(
       app.add_option("scene", o->scene, "Scene folder or transforms JSON (train and test splits)")->required();
       app.add_option("--config", o->configs, "Configurations to compare (default: vanilla fast)")
           ->check(CLI::IsMember({"vanilla", "fast"}));
-      app.add_option("--time", o->seconds, "Training budget per configuration, seconds")->check(CLI::PositiveNumber);
+      app.add_option("--time", o->seconds, "Training budget per configuration, seconds")->check(PositiveFinite);
       app.add_option("--points", o->points, "Evaluation points over the budget")->check(CLI::Range(1u, 1000u));
       app.add_option("--eval-views", o->evalViews, "Test views at intermediate points")->check(CLI::Range(1u, 100000u));
       app.add_option("--final-views", o->finalViews, "Test views at the last point and for rendering (0: all)");

@@ -1,15 +1,18 @@
 // `vknerf eval MODEL SCENE`: PSNR and SSIM on held-out views, as JSON and CSV.
 #include <chrono>
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "checks.h"
 #include "command.h"
 #include "io/image_io.h"
+#include "lib/csv.h"
 #include "lib/metrics.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 #include "vknerf/trainer.h"
 
 namespace vknerf::cli {
@@ -22,6 +25,9 @@ struct Options {
 
 
 int run(const Options& o, const Globals& g) {
+  // Before the evaluation: a report that cannot be written would lose it.
+  if (!o.json.empty()) checkOutput(o.json, "--json", o.scene);
+  if (!o.csv.empty()) checkOutput(o.csv, "--csv", o.scene);
   auto ctx = g.context();
   Model model = Model::load(ctx, o.model);
   DatasetOptions dopt;
@@ -47,15 +53,13 @@ int run(const Options& o, const Globals& g) {
                            {"seconds_per_image", sumSeconds / double(n)}, {"device", ctx->describe()}, {"images", images}};
   std::printf("mean over %zu %s views: PSNR %.2f dB, SSIM %.4f, %.3f s per image\n", n, o.split.c_str(),
               sumPsnr / double(n), sumSsim / double(n), sumSeconds / double(n));
-  if (!o.json.empty()) {
-    std::ofstream f(o.json);
-    if (!(f << result.dump(2) << "\n")) throw Error(o.json + ": cannot write");
-  }
+  if (!o.json.empty()) writeFileAtomically(o.json, result.dump(2) + "\n");
   if (!o.csv.empty()) {
-    std::ofstream f(o.csv);
+    std::ostringstream f;
     f << "name,psnr,ssim,seconds\n";
-    for (auto& im : images) f << im["name"].get<std::string>() << "," << im["psnr"] << "," << im["ssim"] << "," << im["seconds"] << "\n";
-    if (!f) throw Error(o.csv + ": cannot write");
+    for (auto& im : images)
+      f << nerf::csvField(im["name"].get<std::string>()) << "," << im["psnr"] << "," << im["ssim"] << "," << im["seconds"] << "\n";
+    writeFileAtomically(o.csv, f.str());
   }
   return 0;
 }

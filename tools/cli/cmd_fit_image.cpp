@@ -10,13 +10,13 @@
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb_image.h>
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb_image_write.h>
 
+#include "checks.h"
 #include "command.h"
+#include "io/image_io.h"
 #include "lib/fit_image.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 
 namespace vknerf::cli {
 namespace {
@@ -34,11 +34,13 @@ Registration fitImageCmd("fit-image", "Fit an image as (u, v) -> rgb with an MLP
   app.add_flag("--no-encoding", o->noEncoding, "Raw (u, v) inputs instead of the frequency encoding");
   app.add_option("--levels", o->cfg.levels, "Frequency octaves L of the encoding")->check(CLI::Range(1u, 16u));
   app.add_option("--width", o->cfg.width, "Hidden width (multiple of 4)")->check(CLI::Range(4u, 1024u));
-  app.add_option("--lr", o->cfg.learningRate, "Adam learning rate");
+  app.add_option("--lr", o->cfg.learningRate, "Adam learning rate")->check(PositiveFinite);
   app.add_option("--seed", o->cfg.seed, "Initialisation seed");
   app.add_option("--every", o->every, "Print the training loss every N steps (0: never)");
   app.add_option("-o,--output", o->output, "Write the fitted image (PNG)");
   return [o, &g] {
+    if (o->cfg.width % 4) throw UsageError("fit-image: --width must be a multiple of 4");
+    if (!o->output.empty()) checkOutput(o->output, "-o");  // before the fit, which a bad path would lose
     int w = 0, h = 0, channels = 0;
     unsigned char* data = stbi_load(o->image.c_str(), &w, &h, &channels, 4);
     if (!data) throw Error("fit-image: cannot read " + o->image + ": " + stbi_failure_reason());
@@ -47,7 +49,6 @@ Registration fitImageCmd("fit-image", "Fit an image as (u, v) -> rgb with an MLP
       rgba[i] = uint32_t(data[4 * i]) | uint32_t(data[4 * i + 1]) << 8 | uint32_t(data[4 * i + 2]) << 16 |
                 uint32_t(data[4 * i + 3]) << 24;
     stbi_image_free(data);
-    if (o->cfg.width % 4) throw Error("fit-image: --width must be a multiple of 4");
     o->cfg.encoding = !o->noEncoding;
     std::printf("fit-image: %s, %dx%d, %s, %u steps\n", o->image.c_str(), w, h,
                 o->cfg.encoding ? ("encoding L=" + std::to_string(o->cfg.levels)).c_str() : "raw (u, v)", o->cfg.steps);
@@ -59,7 +60,8 @@ Registration fitImageCmd("fit-image", "Fit an image as (u, v) -> rgb with an MLP
     if (!o->output.empty()) {
       std::vector<unsigned char> px(r.rgb.size());
       for (size_t i = 0; i < px.size(); ++i) px[i] = (unsigned char)(std::clamp(r.rgb[i], 0.0f, 1.0f) * 255.0f + 0.5f);
-      if (!stbi_write_png(o->output.c_str(), w, h, 3, px.data(), w * 3)) throw Error("fit-image: cannot write " + o->output);
+      const auto png = nerf::encodePng(uint32_t(w), uint32_t(h), 3, px.data());
+      writeFileAtomically(o->output, png.data(), png.size());
       std::printf("wrote %s\n", o->output.c_str());
     }
     return 0;

@@ -5,9 +5,12 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "checks.h"
 #include "command.h"
 #include "lib/render_output.h"
 #include "vknerf/dataset.h"
+#include "vknerf/error.h"
+#include "vknerf/file_output.h"
 #include "vknerf/trainer.h"
 
 namespace vknerf::cli {
@@ -44,6 +47,12 @@ int run(const Options& o, const Globals& g) {
     std::fprintf(stderr, "vknerf render: give a SCENE (renders its --split cameras) or --orbit N\n");
     return 2;
   }
+  // The output folder before any rendering: a path that cannot hold the frames fails now.
+  std::error_code ec;
+  std::filesystem::create_directories(o.outDir, ec);
+  if (!std::filesystem::is_directory(o.outDir))
+    throw Error("output folder " + o.outDir + ": " + (ec ? ec.message() : "exists and is not a folder"));
+  checkOutputPath(o.outDir + "/rgb_0000.png", "output folder " + o.outDir);
   auto ctx = g.context();
   Model model = Model::load(ctx, o.model);
   std::vector<Camera> cams;
@@ -67,7 +76,6 @@ int run(const Options& o, const Globals& g) {
   if (radius <= 0) radius = 4.0f;
   if (o.orbit) cams = orbitCameras(o.orbit, model.bounds(), radius, o.elevationDegrees, like);
   if (o.limit && cams.size() > o.limit) cams.resize(o.limit);
-  std::filesystem::create_directories(o.outDir);
   const auto& b = model.bounds();
   float diag = std::sqrt((b.max[0] - b.min[0]) * (b.max[0] - b.min[0]) + (b.max[1] - b.min[1]) * (b.max[1] - b.min[1]) +
                          (b.max[2] - b.min[2]) * (b.max[2] - b.min[2]));
@@ -94,8 +102,8 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   app.add_option("-o,--output", o->outDir, "Output folder")->required();
   app.add_option("--split", o->split, "Split of SCENE to render")->check(CLI::IsMember({"train", "val", "test", "all"}));
   app.add_option("--orbit", o->orbit, "Render N views on a circle around the scene instead")->check(CLI::Range(1u, 10000u));
-  app.add_option("--elevation", o->elevationDegrees, "Orbit elevation in degrees");
-  app.add_option("--radius", o->radius, "Orbit radius (default: the scene cameras' mean distance, else 4)");
+  app.add_option("--elevation", o->elevationDegrees, "Orbit elevation in degrees")->check(FiniteNumber);
+  app.add_option("--radius", o->radius, "Orbit radius (default: the scene cameras' mean distance, else 4)")->check(FiniteNumber);
   app.add_option("--size", o->size, "Orbit image size without a SCENE")->check(CLI::Range(1u, 8192u));
   app.add_option("--downscale", o->downscale, "Downscale SCENE's images by this factor")->check(CLI::Range(1u, 64u));
   app.add_option("--limit", o->limit, "Render at most this many views");

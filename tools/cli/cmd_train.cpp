@@ -1,15 +1,21 @@
 // `vknerf train SCENE -o MODEL`: fit a NeRF to posed photos.
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "checks.h"
 #include "command.h"
+#include "io/config_json.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
@@ -17,8 +23,15 @@
 namespace vknerf::cli {
 namespace {
 
-std::atomic<bool> interrupted{false};
-extern "C" void onSigint(int) { interrupted = true; }
+// SIGINT or SIGTERM ends training at the next step boundary, saves the checkpoint and exits
+// 128 + the signal's number. The handler only records the signal (async-signal-safe); a second
+// signal while that save runs means "now": it exits at once, and the atomic writer guarantees the
+// checkpoint on disk is the previous complete one.
+volatile std::sig_atomic_t stopSignal = 0;
+extern "C" void onStopSignal(int sig) {
+  if (stopSignal) ::_exit(128 + sig);
+  stopSignal = sig;
+}
 
 struct Options {
   std::string scene, output, config = "vanilla";
@@ -27,6 +40,7 @@ struct Options {
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
   double seconds = 0;
   bool resume = false, profile = false, noEarlyTermination = false;
+  bool configGiven = false, seedGiven = false;  // flags whose default is also a valid value
 };
 
 std::string clock(double s) {
@@ -54,38 +68,8 @@ std::string flagsForTheOtherModel(const Options& o, const TrainConfig& cfg) {
   return "";
 }
 
-int run(const Options& o, const Globals& g) {
-  Options opts = o;
-  if (opts.output.empty()) {
-    // `vknerf train assets/tabletop` writes tabletop.vknerf in the working directory.
-    auto p = std::filesystem::path(opts.scene);
-    std::string stem = (p.has_filename() ? p : p.parent_path()).stem().string();
-    if (stem.rfind("transforms", 0) == 0) stem = std::filesystem::absolute(p).parent_path().filename().string();
-    opts.output = (stem.empty() ? "model" : stem) + ".vknerf";
-  }
-  if (opts.steps == 0 && opts.seconds <= 0) {
-    opts.seconds = 300;  // converges to a usable model on a CPU device; say so, since it was not asked for
-    std::printf("no --steps or --time given: training for %.0f s\n", opts.seconds);
-  }
-  return train(opts, g);
-}
-
-int train(const Options& o, const Globals& g) {
-  auto ctx = g.context();
-  DatasetOptions dopt;
-  dopt.downscale = o.downscale;
-  Dataset data = Dataset::load(o.scene, dopt);
-  std::printf("scene: %zu training images of %ux%u from %s; box [%.2f %.2f %.2f]..[%.2f %.2f %.2f] (%s)\n",
-              data.images.size(), data.images[0].width, data.images[0].height, o.scene.c_str(), data.bounds.min[0],
-              data.bounds.min[1], data.bounds.min[2], data.bounds.max[0], data.bounds.max[1], data.bounds.max[2],
-              data.boundsSource.c_str());
-  TrainConfig cfg = TrainConfig::named(o.config, *ctx);
+void applyFlags(const Options& o, TrainConfig& cfg) {
   if (o.rays) cfg.raysPerBatch = o.rays;
-  if (const std::string wrong = flagsForTheOtherModel(o, cfg); !wrong.empty()) {
-    std::fprintf(stderr, "vknerf train: %s applies to the %s model, not --config %s\n", wrong.c_str(),
-                 cfg.isFast() ? "vanilla" : "fast", o.config.c_str());
-    return 2;
-  }
   if (auto* v = std::get_if<VanillaModel>(&cfg.model)) {
     if (o.width) v->width = o.width;
     if (o.depth) v->depth = o.depth, v->skipLayer = std::min(v->skipLayer, o.depth - 1);
@@ -109,15 +93,111 @@ int train(const Options& o, const Globals& g) {
     if (o.noEarlyTermination) f.earlyTermination = false;
   }
   cfg.seed = o.seed;
+}
+
+// A resumed run keeps the checkpoint's configuration: a flag asking for something else would be
+// silently ignored, so name it and the checkpoint's value instead.
+void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
+  const auto conflict = [&](const std::string& flag, const std::string& given, const std::string& stored) {
+    throw UsageError("train: " + flag + " " + given + " conflicts with " + o.output + "'s " + stored +
+                     " (--resume keeps the checkpoint's configuration; drop the flag or write a new model)");
+  };
+  if (o.configGiven && o.config != modelName(saved.model))
+    conflict("--config", o.config, std::string("model ") + modelName(saved.model));
+  if (const std::string wrong = flagsForTheOtherModel(o, saved); !wrong.empty())
+    conflict(wrong, "", std::string(modelName(saved.model)) + " model");
+  TrainConfig asked = saved;
+  applyFlags(o, asked);
+  if (!o.seedGiven) asked.seed = saved.seed;
+  const nlohmann::json a = nerf::toJson(asked), b = nerf::toJson(saved);
+  const std::pair<const char*, const char*> keys[] = {
+      {"--rays", "/rays_per_batch"}, {"--seed", "/seed"}, {"--width", "/model/width"}, {"--depth", "/model/depth"},
+      {"--coarse", "/model/coarse_samples"}, {"--fine", "/model/fine_samples"},
+      {"--hash-levels", "/model/hash_levels"}, {"--hash-log2-size", "/model/hash_log2_size"},
+      {"--hash-max-resolution", "/model/hash_growth"}, {"--grid", "/model/grid_resolution"},
+      {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
+      {"--no-early-termination", "/early_termination"}};
+  for (auto [flag, key] : keys) {
+    const nlohmann::json::json_pointer ptr(key);
+    if (a.contains(ptr) && a.at(ptr) != b.at(ptr))
+      conflict(flag, a.at(ptr).dump(), std::string(key + 1) + " " + b.at(ptr).dump());
+  }
+}
+
+// Only a checkpoint (or an empty file) may be replaced by one: anything else at the output path is
+// someone's data, and overwriting it is never what was meant.
+void checkReplaceable(const std::string& output) {
+  std::ifstream in(output, std::ios::binary);
+  if (!in) return;
+  char magic[8] = {};
+  in.read(magic, 8);
+  if (in.gcount() == 0) return;
+  if (in.gcount() < 8 || std::string(magic, 8) != "VKNERFCK")
+    throw Error("model " + output + ": exists and is not a vknerf checkpoint; refusing to overwrite it");
+}
+
+int run(const Options& o, const Globals& g) {
+  Options opts = o;
+  if (opts.output.empty()) {
+    // `vknerf train assets/tabletop` writes tabletop.vknerf in the working directory.
+    auto p = std::filesystem::path(opts.scene);
+    std::string stem = (p.has_filename() ? p : p.parent_path()).stem().string();
+    if (stem.rfind("transforms", 0) == 0) stem = std::filesystem::absolute(p).parent_path().filename().string();
+    opts.output = (stem.empty() ? "model" : stem) + ".vknerf";
+  }
+  checkOutput(opts.output, "model", opts.scene);  // before any work, which a bad path would lose
+  checkReplaceable(opts.output);
+  if (opts.steps == 0 && opts.seconds <= 0) {
+    opts.seconds = 300;  // converges to a usable model on a CPU device; say so, since it was not asked for
+    std::printf("no --steps or --time given: training for %.0f s\n", opts.seconds);
+  }
+  return train(opts, g);
+}
+
+int train(const Options& o, const Globals& g) {
+  auto ctx = g.context();
+  DatasetOptions dopt;
+  dopt.downscale = o.downscale;
+  Dataset data = Dataset::load(o.scene, dopt);
+  std::printf("scene: %zu training images of %ux%u from %s; box [%.2f %.2f %.2f]..[%.2f %.2f %.2f] (%s)\n",
+              data.images.size(), data.images[0].width, data.images[0].height, o.scene.c_str(), data.bounds.min[0],
+              data.bounds.min[1], data.bounds.min[2], data.bounds.max[0], data.bounds.max[1], data.bounds.max[2],
+              data.boundsSource.c_str());
   const bool resuming = o.resume && std::filesystem::exists(o.output);
-  if (resuming) cfg = Trainer::configOf(o.output);
+  TrainConfig cfg = resuming ? Trainer::configOf(o.output) : TrainConfig::named(o.config, *ctx);
+  if (resuming) {
+    checkAgainstCheckpoint(o, cfg);
+  } else {
+    if (const std::string wrong = flagsForTheOtherModel(o, cfg); !wrong.empty())
+      throw UsageError("train: " + wrong + " applies to the " + (cfg.isFast() ? "vanilla" : "fast") +
+                       " model, not --config " + o.config);
+    applyFlags(o, cfg);
+    try {
+      cfg.validate();
+    } catch (const Error& e) {
+      throw UsageError(std::string("train: the configuration from these flags is invalid: ") + e.what());
+    }
+  }
   std::printf("config: %s\n", cfg.describe().c_str());
-  Trainer trainer(ctx, data, cfg);
+  std::optional<Trainer> built;
+  try {
+    built.emplace(ctx, data, cfg);
+  } catch (const Error& e) {
+    const std::string why = e.what();
+    if (why.find("OUT_OF_DEVICE_MEMORY") == std::string::npos && why.find("OUT_OF_HOST_MEMORY") == std::string::npos) throw;
+    throw Error(why + " while building the model for " + std::to_string(cfg.raysPerBatch) +
+                " rays per batch; lower --rays" + (cfg.isFast() ? " or --samples-per-step" : "") + " or raise --downscale");
+  }
+  Trainer& trainer = *built;
   if (resuming) {
     trainer.resume(o.output);
     std::printf("resumed %s at step %u\n", o.output.c_str(), trainer.steps());
   }
-  std::signal(SIGINT, onSigint);
+  if (uint64_t(trainer.steps()) + o.steps > UINT32_MAX)
+    throw UsageError("train: --steps " + std::to_string(o.steps) + " from step " + std::to_string(trainer.steps()) +
+                     " passes the step counter's limit of " + std::to_string(UINT32_MAX));
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
   const bool tty = ::isatty(fileno(stdout));
   const uint32_t first = trainer.steps();
   const uint32_t last = o.steps ? first + o.steps : UINT32_MAX;
@@ -125,7 +205,7 @@ int train(const Options& o, const Globals& g) {
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   StepStats st;
   double lastPsnr = 0;
-  while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !interrupted) {
+  while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !stopSignal) {
     bool report = (trainer.steps() + 1) % o.logEvery == 0 || trainer.steps() + 1 == last;
     st = trainer.step(report);
     if (st.hasLoss) lastPsnr = st.psnr;
@@ -158,8 +238,8 @@ int train(const Options& o, const Globals& g) {
   }
   trainer.save(o.output);
   std::printf("%s after %u steps (%.1f s, last train PSNR %.2f dB); model saved to %s\n",
-              interrupted ? "interrupted" : "done", trainer.steps(), elapsed(), lastPsnr, o.output.c_str());
-  return 0;
+              stopSignal ? "interrupted" : "done", trainer.steps(), elapsed(), lastPsnr, o.output.c_str());
+  return stopSignal ? 128 + stopSignal : 0;
 }
 
 Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON or COLMAP text model)",
@@ -169,7 +249,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("-o,--output", o->output, "Model checkpoint to write (default: <scene name>.vknerf)");
                      app.add_option("--config", o->config, "Model configuration: vanilla (NeRF paper) or fast (hash grid + occupancy grid)")->check(CLI::IsMember({"vanilla", "fast"}));
                      app.add_option("--steps", o->steps, "Number of training steps");
-                     app.add_option("--time", o->seconds, "Wall-clock budget in seconds (default without --steps: 300)")->check(CLI::PositiveNumber);
+                     app.add_option("--time", o->seconds, "Wall-clock budget in seconds (default without --steps: 300)")->check(PositiveFinite);
                      app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
                      app.add_option("--rays", o->rays, "Rays per batch (default: sized for the device)");
                      app.add_option("--width", o->width, "MLP width (multiple of 8)")->check(CLI::Range(8u, 1024u));
@@ -187,8 +267,12 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");
                      app.add_flag("--profile", o->profile, "Print the device time per kernel of the last step");
-                     app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config wins)");
-                     return [o, &g] { return run(*o, g); };
+                     app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config is kept; flags must agree with it)");
+                     return [o, &g, &app] {
+                       o->configGiven = app.count("--config") > 0;
+                       o->seedGiven = app.count("--seed") > 0;
+                       return run(*o, g);
+                     };
                    });
 
 }  // namespace

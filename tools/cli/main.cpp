@@ -1,9 +1,11 @@
-// vknerf command line. Exit codes: 0 success, 1 runtime error, 2 usage error.
+// vknerf command line. Exit codes: 0 success, 1 runtime error, 2 usage error, 128 + N when stopped
+// by signal N (train saves first: 130 for SIGINT, 143 for SIGTERM).
 #include <cstdio>
 #include <exception>
 #include <map>
 #include <sstream>
 
+#include "checks.h"
 #include "command.h"
 #include "vknerf/error.h"
 
@@ -27,6 +29,28 @@ std::shared_ptr<Context> Globals::context() const {
   return ctx;
 }
 
+namespace {
+
+// CLI11 answers a misspelt command with "A subcommand is required": name the word and the commands
+// it could have been instead. True when that was the error (and it has been printed).
+bool reportUnknownCommand(CLI::App& app) {
+  const std::function<bool(CLI::App*)> any = [](CLI::App*) { return true; };
+  CLI::App* level = &app;
+  for (bool deeper = true; deeper;) {
+    deeper = false;
+    for (CLI::App* sub : level->get_subcommands(any))
+      if (sub->parsed()) level = sub, deeper = true;
+  }
+  if (level->get_subcommands(any).empty()) return false;  // a command, not a group of them
+  const auto rest = level->remaining();
+  if (rest.empty() || rest.front().empty() || rest.front()[0] == '-') return false;
+  std::string names;
+  for (CLI::App* sub : level->get_subcommands(any)) names += (names.empty() ? "" : ", ") + sub->get_name();
+  std::fprintf(stderr, "vknerf: unknown command '%s' (commands: %s)\n", rest.front().c_str(), names.c_str());
+  return true;
+}
+
+}  // namespace
 }  // namespace vknerf::cli
 
 int main(int argc, char** argv) {
@@ -66,12 +90,16 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    if (reportUnknownCommand(app)) return 2;
     int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }
   try {
     for (auto& [sub, act] : actions)
       if (sub->parsed()) return act();
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "vknerf: %s\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "vknerf: error: %s\n", e.what());
     return 1;

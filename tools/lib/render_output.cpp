@@ -2,21 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 
 #include "io/image_io.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 
 namespace vknerf::nerf {
 namespace {
 
 uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 
-// A compact perceptual map (dark blue -> teal -> yellow), piecewise linear through 5 stops.
+// A compact perceptual map (dark blue -> teal -> yellow), piecewise linear through 5 stops. A NaN
+// (an unknown depth, or a depth range that is not finite) is drawn black like empty space: it must
+// never reach the stop index, where int(NaN) is undefined.
 void colormap(float t, uint8_t* rgb) {
   static const float stops[5][3] = {{0.05f, 0.03f, 0.35f}, {0.15f, 0.35f, 0.60f}, {0.15f, 0.60f, 0.55f},
                                     {0.55f, 0.80f, 0.25f}, {0.99f, 0.91f, 0.15f}};
+  if (std::isnan(t)) {
+    rgb[0] = rgb[1] = rgb[2] = 0;
+    return;
+  }
   t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
   int i = std::min(int(t), 3);
   float f = t - float(i);
@@ -53,15 +59,13 @@ void saveDepthPng(const std::string& path, const RenderedImage& img, float nearD
 }
 
 void saveDepthPfm(const std::string& path, const RenderedImage& img) {
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
   // PFM: greyscale "Pf", negative scale = little-endian, rows bottom to top.
-  std::fprintf(f, "Pf\n%u %u\n-1.0\n", img.width, img.height);
-  bool ok = true;
-  for (uint32_t y = img.height; y-- > 0;)
-    ok = ok && std::fwrite(&img.depth[size_t(y) * img.width], 4, img.width, f) == img.width;
-  ok = (std::fclose(f) == 0) && ok;
-  if (!ok) throw Error(path + ": write failed");
+  std::string pfm = "Pf\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n-1.0\n";
+  const size_t header = pfm.size(), row = size_t(img.width) * 4;
+  pfm.resize(header + row * img.height);
+  for (uint32_t y = 0; y < img.height; ++y)
+    std::memcpy(&pfm[header + size_t(img.height - 1 - y) * row], &img.depth[size_t(y) * img.width], row);
+  writeFileAtomically(path, pfm);
 }
 
 }  // namespace vknerf::nerf

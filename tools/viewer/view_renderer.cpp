@@ -10,6 +10,7 @@
 #include <stb/stb_image_write.h>
 
 #include "vk_util.h"
+#include "vknerf/file_output.h"
 
 namespace viewer {
 namespace {
@@ -279,8 +280,15 @@ void ViewRenderer::saveScreenshot(const std::string& path) {
   const auto* rgba = static_cast<const uint8_t*>(stagingMapped_);
   std::vector<uint8_t> rgb(size_t(t.width) * t.height * 3);
   for (size_t p = 0; p < size_t(t.width) * t.height; ++p) std::memcpy(&rgb[p * 3], &rgba[p * 4], 3);
-  if (!stbi_write_png(path.c_str(), int(t.width), int(t.height), 3, rgb.data(), int(t.width) * 3))
-    throw vknerf::Error(path + ": cannot write the screenshot PNG");
+  // Encoded in memory, then written atomically: a full disk is an error, not a 0-byte screenshot.
+  std::vector<uint8_t> png;
+  const auto append = [](void* out, void* data, int size) {
+    auto* bytes = static_cast<std::vector<uint8_t>*>(out);
+    bytes->insert(bytes->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+  };
+  if (!stbi_write_png_to_func(append, &png, int(t.width), int(t.height), 3, rgb.data(), int(t.width) * 3))
+    throw vknerf::Error(path + ": cannot encode the screenshot PNG");
+  vknerf::writeFileAtomically(path, png.data(), png.size());
 }
 
 }  // namespace viewer

@@ -287,7 +287,7 @@ std::vector<StateArray> FastPipeline::state() {
   network_.appendState(s);
   s.push_back({"occupancy.density", &grid_.density(), grid_.numCells(), false});
   // uint words, carried bit for bit through the float section
-  s.push_back({"occupancy.bits", &grid_.bits(), grid_.numWords(), false});
+  s.push_back({"occupancy.bits", &grid_.bits(), grid_.numWords(), false, false});
   return s;
 }
 

@@ -1,0 +1,44 @@
+#pragma once
+// Running the built vknerf command line from a test: exit code and combined output.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace vknerf::test {
+
+struct CliResult {
+  int code = -1;
+  std::string output;
+};
+
+// `args` is appended to the binary's path and run by the shell, stdout and stderr together.
+inline CliResult runCli(const std::string& args) {
+  std::string cmd = std::string(VKNERF_BINARY_DIR) + "/vknerf " + args + " 2>&1";
+  CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 512> buf;
+  while (p && fgets(buf.data(), buf.size(), p)) r.output += buf.data();
+  int status = p ? pclose(p) : -1;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  // ctest's VKNERF_VALIDATION=1 reaches the command line too: any layer message fails the test.
+  if (r.output.find("vknerf: validation") != std::string::npos)
+    ADD_FAILURE() << "validation messages from: vknerf " << args << "\n" << r.output;
+  return r;
+}
+
+inline std::string scene() { return std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop"; }
+
+// A path in this test process's own temporary folder.
+inline std::string temp(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() / ("vknerf_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+}  // namespace vknerf::test

@@ -1,0 +1,90 @@
+// Outputs: the atomic writer reports every failure and never leaves a partial file, and the depth
+// colour map survives depths and ranges that are not finite.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "lib/csv.h"
+#include "lib/render_output.h"
+#include "vknerf/error.h"
+#include "vknerf/file_output.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+  auto dir = fs::temp_directory_path() / ("vknerf_output_" + std::to_string(::getpid())) / name;
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string contents(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST(FileOutput, ReplacesTheTargetAndLeavesNoTemporaryFile) {
+  auto dir = tempDir("replace");
+  const auto target = (dir / "out.json").string();
+  vknerf::writeFileAtomically(target, std::string("old"));
+  vknerf::writeFileAtomically(target, std::string("new content"));
+  EXPECT_EQ(contents(target), "new content");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);
+}
+
+TEST(FileOutput, FullDeviceIsAnErrorNamingThePath) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  try {
+    vknerf::writeFileAtomically("/dev/full", std::string(100000, 'x'));
+    FAIL() << "writing to /dev/full succeeded";
+  } catch (const vknerf::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FileOutput, MissingFolderAndFolderTargetAreErrors) {
+  auto dir = tempDir("missing");
+  EXPECT_THROW(vknerf::writeFileAtomically((dir / "no" / "x.csv").string(), std::string("a")), vknerf::Error);
+  EXPECT_THROW(vknerf::writeFileAtomically(dir.string(), std::string("a")), vknerf::Error);
+  EXPECT_THROW(vknerf::checkOutputPath((dir / "no" / "x.csv").string(), "--csv"), vknerf::Error);
+  EXPECT_THROW(vknerf::checkOutputPath(dir.string(), "--csv"), vknerf::Error);
+  EXPECT_NO_THROW(vknerf::checkOutputPath((dir / "x.csv").string(), "--csv"));
+  EXPECT_NO_THROW(vknerf::checkOutputPath("/dev/null", "--csv"));
+}
+
+TEST(FileOutput, DepthColourMapToleratesNonFiniteDepthsAndRanges) {
+  // A NaN radius or a camera at 1e39 gives NaN or infinite depths and depth ranges; the colour map
+  // once used them as a table index.
+  auto dir = tempDir("depth");
+  vknerf::RenderedImage img;
+  img.width = 4;
+  img.height = 2;
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  img.depth = {nan, inf, -inf, 0.5f, 1e30f, -1e30f, 0.0f, 2.0f};
+  img.opacity.assign(8, 1.0f);
+  img.rgb.assign(24, 0.5f);
+  const std::pair<float, float> ranges[] = {{nan, nan}, {0.0f, inf}, {-inf, inf}, {inf, inf}, {0.0f, 1.0f}};
+  for (auto [lo, hi] : ranges) {
+    const auto path = (dir / "depth.png").string();
+    vknerf::nerf::saveDepthPng(path, img, lo, hi);
+    EXPECT_GT(fs::file_size(path), 0u);
+  }
+}
+
+TEST(FileOutput, CsvFieldsAreQuotedPerRfc4180) {
+  EXPECT_EQ(vknerf::nerf::csvField("r_0.png"), "r_0.png");
+  EXPECT_EQ(vknerf::nerf::csvField("a,b"), "\"a,b\"");
+  EXPECT_EQ(vknerf::nerf::csvField("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(vknerf::nerf::csvField("two\nlines"), "\"two\nlines\"");
+}

@@ -1,0 +1,27 @@
+#pragma once
+// Argument checks shared by the commands: numbers that must be finite, outputs that must be writable
+// before any work starts, and the usage error that main() turns into exit code 2.
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "vknerf/error.h"
+
+namespace vknerf::cli {
+
+// A bad argument found after parsing (a flag combination, a value out of the model's range):
+// main() prints it and exits 2, like a parse error.
+struct UsageError : Error {
+  using Error::Error;
+};
+
+// CLI11's PositiveNumber lets NaN through (NaN <= 0 is false) and Range prints double's largest
+// value as a 309-digit bound: these say what is wanted in words.
+extern const CLI::Validator PositiveFinite;
+extern const CLI::Validator FiniteNumber;
+
+// Throws vknerf::Error naming `what` and `path` when `path` cannot be written (see
+// vknerf::checkOutputPath) or is one of the files of the scene at `scene` (when given).
+void checkOutput(const std::string& path, const std::string& what, const std::string& scene = "");
+
+}  // namespace vknerf::cli

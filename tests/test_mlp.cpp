@@ -11,7 +11,6 @@
 #include "reference/rng.h"
 
 using namespace vknerf;
-using vknerf::ref::DensityActivation;
 
 namespace {
 

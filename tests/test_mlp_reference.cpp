@@ -37,7 +37,7 @@ double nerfLoss(const ref::NerfShape& s, const std::vector<double>& p, const std
 // wrong term of an O(0.01..1) gradient still fails.
 constexpr double kFdStep = 1e-5, kFdTol = 1e-6;
 
-class MlpReference : public ::testing::TestWithParam<ref::DensityActivation> {};
+class MlpReference : public ::testing::TestWithParam<DensityActivation> {};
 
 }  // namespace
 
@@ -81,8 +81,8 @@ TEST_P(MlpReference, NerfGradientsMatchFiniteDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(MlpDensity, MlpReference,
-                         ::testing::Values(ref::DensityActivation::Relu, ref::DensityActivation::TruncExp,
-                                           ref::DensityActivation::Softplus));
+                         ::testing::Values(DensityActivation::Relu, DensityActivation::TruncExp,
+                                           DensityActivation::Softplus));
 
 TEST(MlpReferenceDense, GradientsMatchFiniteDifferences) {
   auto s = ref::DenseMlpShape::make(5, 8, 2, 3);
@@ -115,7 +115,7 @@ TEST(MlpReferenceDense, GradientsMatchFiniteDifferences) {
 }
 
 TEST(MlpReferenceNerf, SigmaNeverDependsOnDirection) {
-  auto s = ref::NerfShape::make(4, 16, 2, 63, 27, ref::DensityActivation::Softplus);
+  auto s = ref::NerfShape::make(4, 16, 2, 63, 27, DensityActivation::Softplus);
   auto p = ref::initialParameters(s.layers, s.total, 3);
   auto pos = randomVector(63, 4, 1.0);
   auto dirA = randomVector(27, 5, 1.0), dirB = randomVector(27, 6, 1.0);
@@ -130,7 +130,7 @@ TEST(MlpReferenceNerf, SigmaNeverDependsOnDirection) {
 }
 
 TEST(MlpReferenceNerf, LayoutAndInitialisation) {
-  auto s = ref::NerfShape::make(8, 256, 5, 63, 27, ref::DensityActivation::Relu);
+  auto s = ref::NerfShape::make(8, 256, 5, 63, 27, DensityActivation::Relu);
   // trunk: 64x256 + 7 x 256x256 (+64 rows at the skip), feature 256 x 260, colour (256+28) x 128,
   // head 128 x 4; each with a bias row.
   uint64_t expect = (64 + 1) * 256ull + 7 * (256 + 1) * 256ull + 64 * 256ull + (256 + 1) * 260ull +

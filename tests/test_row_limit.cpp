@@ -108,7 +108,7 @@ TEST_F(RowLimit, ShEncoding) {
 TEST_F(RowLimit, NerfMlpForwardInChunks) {
   std::vector<nerf::MlpConfig> configs(2);
   configs[0].depth = 1, configs[0].width = 64, configs[0].skipLayer = 0, configs[0].posDims = 16, configs[0].dirDims = 16;
-  configs[0].density = nerf::DensityActivation::TruncExp;
+  configs[0].density = DensityActivation::TruncExp;
   configs[1].depth = 3, configs[1].width = 32, configs[1].skipLayer = 2, configs[1].posDims = 21, configs[1].dirDims = 9;
   for (const auto& cfg : configs) {
     for (bool keep : {false, true}) {

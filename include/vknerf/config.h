@@ -10,10 +10,9 @@
 #include <variant>
 
 #include "vknerf/context.h"
+#include "vknerf/density_activation.h"
 
 namespace vknerf {
-
-enum class DensityActivation : uint32_t { Relu = 0, TruncExp = 1, Softplus = 2 };
 
 struct VanillaModel {
   uint32_t width = 256, depth = 8, skipLayer = 4;  // trunk: depth layers of width, gamma(x) re-injected at skipLayer

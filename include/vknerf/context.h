@@ -3,9 +3,7 @@
 // or one adopted from the embedding application, whose handles vknerf then never destroys.
 #include <vulkan/vulkan.h>
 
-#include <atomic>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,6 +39,10 @@ struct DeviceInfo {
   bool usable = false;  // Vulkan 1.2+ with a compute queue
 };
 
+namespace gpu {
+class Device;  // vknerf's internal Vulkan host (not installed): what Context holds
+}
+
 class Context {
  public:
   static std::shared_ptr<Context> create(const ContextOptions& options = {});
@@ -51,51 +53,28 @@ class Context {
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
 
-  VkInstance instance() const { return instance_; }
-  VkPhysicalDevice physicalDevice() const { return physical_; }
-  VkDevice device() const { return device_; }
-  VkQueue queue() const { return queue_; }
-  uint32_t queueFamily() const { return queueFamily_; }
-  const VkPhysicalDeviceProperties& properties() const { return props_; }
-  std::string deviceName() const { return props_.deviceName; }
+  VkInstance instance() const;
+  VkPhysicalDevice physicalDevice() const;
+  VkDevice device() const;
+  VkQueue queue() const;
+  uint32_t queueFamily() const;
+  const VkPhysicalDeviceProperties& properties() const;
+  std::string deviceName() const;
   std::string describe() const;  // "llvmpipe (LLVM 15.0.6, 256 bits) [cpu, Vulkan 1.3]"
-  bool isCpu() const { return props_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
-  bool floatAtomics() const { return floatAtomics_; }
-  bool owned() const { return ownsDevice_; }
+  bool isCpu() const;
+  bool floatAtomics() const;
+  bool owned() const;
 
   // Validation-layer warnings and errors reported since creation (own contexts with validation only).
-  uint32_t validationMessages() const { return validationMessages_.load(); }
-  bool validationEnabled() const { return messenger_ != VK_NULL_HANDLE; }
-
-  // Memory type with all of `required`; -1 if none.
-  int findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
-  // True when device memory is host-visible (lavapipe, integrated GPUs): buffers are mapped, no staging.
-  bool unifiedMemory() const { return unified_; }
-
-  // Records `fn` into a one-time command buffer, submits it and waits. For uploads and setup only.
-  void runOnce(const std::function<void(VkCommandBuffer)>& record);
-  VkCommandPool commandPool() const { return pool_; }
-  VkPipelineCache pipelineCache() const { return pipelineCache_; }
+  uint32_t validationMessages() const;
+  bool validationEnabled() const;
 
  private:
-  Context() = default;
-  void initDevice(int physicalIndex);
-  void initCommon();
-
-  VkInstance instance_ = VK_NULL_HANDLE;
-  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
-  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
-  VkDevice device_ = VK_NULL_HANDLE;
-  VkQueue queue_ = VK_NULL_HANDLE;
-  uint32_t queueFamily_ = 0;
-  VkPhysicalDeviceProperties props_{};
-  VkPhysicalDeviceMemoryProperties memProps_{};
-  VkCommandPool pool_ = VK_NULL_HANDLE;
-  VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
-  bool ownsDevice_ = false;
-  bool floatAtomics_ = false;
-  bool unified_ = false;
-  std::atomic<uint32_t> validationMessages_{0};
+  // Internals stay out of the installed headers: vknerf's own code reaches them through
+  // gpu::device(ctx), which goes through this friendship.
+  friend class gpu::Device;
+  explicit Context(std::unique_ptr<gpu::Device> device);
+  std::unique_ptr<gpu::Device> device_;
 };
 
 }  // namespace vknerf

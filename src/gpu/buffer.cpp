@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "gpu/device.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -32,7 +33,7 @@ Raw allocate(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemor
   check(vkCreateBuffer(ctx.device(), &bi, nullptr, &raw.buffer), "vkCreateBuffer");
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(ctx.device(), raw.buffer, &req);
-  int type = ctx.findMemoryType(req.memoryTypeBits, want);
+  int type = device(ctx).findMemoryType(req.memoryTypeBits, want);
   if (type < 0) {
     vkDestroyBuffer(ctx.device(), raw.buffer, nullptr);
     throw Error("no Vulkan memory type for a buffer of " + std::to_string(bytes) + " bytes");
@@ -66,12 +67,13 @@ constexpr VkMemoryPropertyFlags kHostFlags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT
 Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes), id_(nextBufferId++) {
   // Vulkan forbids empty buffers; an empty array still gets a valid (unused) handle.
   VkDeviceSize alloc = std::max<VkDeviceSize>(bytes, 16);
-  VkMemoryPropertyFlags want = ctx.unifiedMemory() ? (kHostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
-                                                    : VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  const bool unified = device(ctx).unifiedMemory();
+  VkMemoryPropertyFlags want = unified ? (kHostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
+                                       : VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   Raw raw = allocate(ctx, alloc, kUsage, want);
   buffer_ = raw.buffer;
   memory_ = raw.memory;
-  if (ctx.unifiedMemory()) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  if (unified) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
   account_ = MemoryAccount::current();
   if (account_) account_->charge(size_);
 }
@@ -118,7 +120,7 @@ void Buffer::upload(const void* src, VkDeviceSize bytes, VkDeviceSize offset) {
   void* p;
   check(vkMapMemory(ctx_->device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &p), "vkMapMemory");
   std::memcpy(p, src, bytes);
-  ctx_->runOnce([&](VkCommandBuffer cmd) {
+  device(*ctx_).runOnce([&](VkCommandBuffer cmd) {
     VkBufferCopy region{0, offset, bytes};
     vkCmdCopyBuffer(cmd, staging.buffer, buffer_, 1, &region);
   });
@@ -133,7 +135,7 @@ void Buffer::download(void* dst, VkDeviceSize bytes, VkDeviceSize offset) const 
     return;
   }
   Raw staging = allocate(*ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, kHostFlags | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-  ctx_->runOnce([&](VkCommandBuffer cmd) {
+  device(*ctx_).runOnce([&](VkCommandBuffer cmd) {
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cmd, buffer_, staging.buffer, 1, &region);
   });
@@ -148,7 +150,7 @@ void Buffer::zero() {
     std::memset(mapped_, 0, size_);
     return;
   }
-  ctx_->runOnce([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, 0); });
+  device(*ctx_).runOnce([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, 0); });
 }
 
 uint32_t rowsPerBinding(const Context& ctx, VkDeviceSize rowBytes, uint64_t texelsPerRow) {

@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "gpu/device.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -70,7 +71,7 @@ Kernel::Kernel(Context& ctx, KernelDesc desc) : ctx_(&ctx), desc_(std::move(desc
   ci.stage.pName = "main";
   ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
   ci.layout = layout_;
-  check(vkCreateComputePipelines(dev, ctx.pipelineCache(), 1, &ci, nullptr, &pipeline_),
+  check(vkCreateComputePipelines(dev, device(ctx).pipelineCache(), 1, &ci, nullptr, &pipeline_),
         (std::string("vkCreateComputePipelines(") + desc_.shader.name + ")").c_str());
 }
 

@@ -2,13 +2,14 @@
 
 #include <functional>
 
+#include "gpu/device.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
 
 Recorder::Recorder(Context& ctx, bool timestamps, uint32_t maxTimestamps) : ctx_(ctx) {
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  ai.commandPool = ctx.commandPool();
+  ai.commandPool = device(ctx).commandPool();
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   ai.commandBufferCount = 1;
   check(vkAllocateCommandBuffers(ctx.device(), &ai, &cmd_), "vkAllocateCommandBuffers");
@@ -33,7 +34,7 @@ Recorder::~Recorder() {
   VkDevice dev = ctx_.device();
   if (queries_) vkDestroyQueryPool(dev, queries_, nullptr);
   vkDestroyFence(dev, fence_, nullptr);
-  vkFreeCommandBuffers(dev, ctx_.commandPool(), 1, &cmd_);
+  vkFreeCommandBuffers(dev, device(ctx_).commandPool(), 1, &cmd_);
 }
 
 void Recorder::begin() {

@@ -82,7 +82,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                           .skipLayer = 0,  // the hash grid's features need no re-injection through a shallow trunk
                           .posDims = hash_.outputDims(),
                           .dirDims = sh_.outputDims(),
-                          .density = static_cast<ref::DensityActivation>(model_.density),
+                          .density = model_.density,
                           .seed = config.seed}),
       table_(ctx, "encoding", hash_.initialParameters(config.seed),
              training ? std::optional(tableAdamOf(config)) : std::nullopt),

@@ -21,7 +21,7 @@ Network::Network(Context& ctx, const VanillaModel& m, uint32_t seed, const std::
                          .skipLayer = m.skipLayer,
                          .posDims = 3 + 6 * m.posLevels,
                          .dirDims = 3 + 6 * m.dirLevels,
-                         .density = static_cast<ref::DensityActivation>(m.density),
+                         .density = m.density,
                          .seed = seed}),
       parameters(ctx, name, mlp.initialParameters(), adam) {}
 

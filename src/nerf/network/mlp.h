@@ -22,8 +22,6 @@
 
 namespace vknerf::nerf {
 
-using ref::DensityActivation;
-
 struct MlpConfig {
   uint32_t depth = 8;       // trunk layers
   uint32_t width = 256;     // trunk width W (multiple of 8); the colour layer is W/2 wide

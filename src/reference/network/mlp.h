@@ -17,18 +17,13 @@
 #include <vector>
 
 #include "reference/rng.h"
+#include "vknerf/density_activation.h"
 
 namespace vknerf::ref {
 
 enum class Activation : uint32_t { None = 0, Relu = 1, Sigmoid = 2 };
 
-// Density activation of the NeRF sigma head.
-//   Relu:     sigma = max(x, 0), d/dx = [x > 0] (the paper).
-//   TruncExp: sigma = exp(min(x, 15)), d/dx = exp(clamp(x, -15, 15)) (instant-ngp's "truncated exp":
-//             the forward is capped so sigma never overflows; the derivative is clamped the same way
-//             and stays non-zero above the cap so a saturated density can still be pushed down).
-//   Softplus: sigma = log(1 + exp(x)) (computed as max(x,0) + log1p(exp(-|x|))), d/dx = sigmoid(x).
-enum class DensityActivation : uint32_t { Relu = 0, TruncExp = 1, Softplus = 2 };
+// The sigma head's activation is the public vknerf::DensityActivation (formulas there); TruncExp caps at this.
 constexpr double kTruncExpCap = 15.0;
 // Sigmoid arguments are clamped to +-kSigmoidClamp so exp() never overflows; sigmoid(80) is 1 in float.
 constexpr double kSigmoidClamp = 80.0;

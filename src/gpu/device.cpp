@@ -1,0 +1,190 @@
+#include "gpu/device.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "gpu/physical_devices.h"
+#include "gpu/vk_check.h"
+
+namespace vknerf::gpu {
+namespace {
+
+bool envFlag(const char* name) {
+  const char* v = std::getenv(name);
+  return v && *v && std::strcmp(v, "0") != 0;
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                              VkDebugUtilsMessageTypeFlagsEXT,
+                                              const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+    static_cast<std::atomic<uint32_t>*>(user)->fetch_add(1);
+    std::fprintf(stderr, "vknerf: validation %s: %s\n",
+                 severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
+                 data->pMessage ? data->pMessage : "");
+  }
+  return VK_FALSE;
+}
+
+}  // namespace
+
+// Built inside a unique_ptr from the start: if a later step throws, the destructor releases what
+// the earlier ones created.
+std::unique_ptr<Device> Device::create(const ContextOptions& options) {
+  std::unique_ptr<Device> d(new Device());
+  bool forced = envFlag("VKNERF_VALIDATION");
+  bool validation = options.validation || forced;
+  if (validation && !layerAvailable("VK_LAYER_KHRONOS_validation")) {
+    if (forced) throw Error("VKNERF_VALIDATION=1 but VK_LAYER_KHRONOS_validation is not installed (vulkan-validationlayers)");
+    validation = false;
+  }
+  d->ownsDevice_ = true;
+  d->instance_ = createInstance(validation);
+  if (validation) {
+    VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+    mi.pfnUserCallback = onDebugMessage;
+    mi.pUserData = &d->validationMessages_;
+    auto fn = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(d->instance_, "vkCreateDebugUtilsMessengerEXT"));
+    if (fn) check(fn(d->instance_, &mi, nullptr, &d->messenger_), "vkCreateDebugUtilsMessengerEXT");
+  }
+  d->initDevice(selectDevice(describeDevices(d->instance_), options.device));
+  return d;
+}
+
+void Device::initDevice(int physicalIndex) {
+  physical_ = physicalDevices(instance_)[physicalIndex];
+  queueFamily_ = uint32_t(computeQueueFamily(physical_));
+
+  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomicFloat{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+  uint32_t extCount = 0;
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &extCount, nullptr);
+  std::vector<VkExtensionProperties> exts(extCount);
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &extCount, exts.data());
+  bool hasAtomicFloat = std::any_of(exts.begin(), exts.end(), [](auto& e) {
+    return std::strcmp(e.extensionName, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) == 0;
+  });
+  VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  if (hasAtomicFloat) supported.pNext = &atomicFloat;
+  vkGetPhysicalDeviceFeatures2(physical_, &supported);
+  floatAtomics_ = hasAtomicFloat && atomicFloat.shaderBufferFloat32AtomicAdd;
+
+  // Enable only what the kernels use.
+  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT enableAtomic{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+  enableAtomic.shaderBufferFloat32AtomicAdd = atomicFloat.shaderBufferFloat32AtomicAdd;
+  enableAtomic.shaderSharedFloat32AtomicAdd = atomicFloat.shaderSharedFloat32AtomicAdd;
+  VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  enable.features.shaderInt64 = supported.features.shaderInt64;
+  if (floatAtomics_) enable.pNext = &enableAtomic;
+  std::vector<const char*> deviceExts;
+  if (floatAtomics_) deviceExts.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qi.queueFamilyIndex = queueFamily_;
+  qi.queueCount = 1;
+  qi.pQueuePriorities = &priority;
+  VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  di.pNext = &enable;
+  di.queueCreateInfoCount = 1;
+  di.pQueueCreateInfos = &qi;
+  di.enabledExtensionCount = uint32_t(deviceExts.size());
+  di.ppEnabledExtensionNames = deviceExts.data();
+  check(vkCreateDevice(physical_, &di, nullptr, &device_), "vkCreateDevice");
+  vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+  initCommon();
+}
+
+std::unique_ptr<Device> Device::adopt(const AdoptedDevice& h) {
+  if (!h.instance || !h.physicalDevice || !h.device || !h.queue)
+    throw Error("Context::adopt: instance, physicalDevice, device and queue must all be set");
+  std::unique_ptr<Device> d(new Device());
+  d->ownsDevice_ = false;
+  d->instance_ = h.instance;
+  d->physical_ = h.physicalDevice;
+  d->device_ = h.device;
+  d->queue_ = h.queue;
+  d->queueFamily_ = h.queueFamily;
+  d->floatAtomics_ = h.floatAtomicsEnabled;
+  uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(h.physicalDevice, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> fams(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(h.physicalDevice, &n, fams.data());
+  if (h.queueFamily >= n || !(fams[h.queueFamily].queueFlags & VK_QUEUE_COMPUTE_BIT))
+    throw Error("Context::adopt: queue family " + std::to_string(h.queueFamily) + " has no compute support");
+  d->initCommon();
+  return d;
+}
+
+void Device::initCommon() {
+  vkGetPhysicalDeviceProperties(physical_, &props_);
+  vkGetPhysicalDeviceMemoryProperties(physical_, &memProps_);
+  if (props_.apiVersion < VK_API_VERSION_1_2) throw Error(std::string(props_.deviceName) + " supports only Vulkan < 1.2");
+  // Unified memory: every buffer can live in device-local, host-visible, coherent memory and be
+  // mapped once. True on lavapipe (one memory type) and integrated GPUs; discrete GPUs use staging.
+  const auto unifiedFlags = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  unified_ = props_.deviceType != VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU && findMemoryType(~0u, unifiedFlags) >= 0;
+
+  VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pi.queueFamilyIndex = queueFamily_;
+  check(vkCreateCommandPool(device_, &pi, nullptr, &pool_), "vkCreateCommandPool");
+  VkPipelineCacheCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+  check(vkCreatePipelineCache(device_, &ci, nullptr, &pipelineCache_), "vkCreatePipelineCache");
+}
+
+Device::~Device() {
+  if (device_) {
+    vkDeviceWaitIdle(device_);
+    if (pipelineCache_) vkDestroyPipelineCache(device_, pipelineCache_, nullptr);
+    if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
+  }
+  if (!ownsDevice_) return;  // an adopted device: the caller's handles stay alive
+  if (device_) vkDestroyDevice(device_, nullptr);
+  if (messenger_) {
+    auto fn = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    if (fn) fn(instance_, messenger_, nullptr);
+  }
+  if (instance_) vkDestroyInstance(instance_, nullptr);
+}
+
+int Device::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const {
+  for (uint32_t i = 0; i < memProps_.memoryTypeCount; ++i)
+    if ((typeBits & (1u << i)) && (memProps_.memoryTypes[i].propertyFlags & required) == required) return int(i);
+  return -1;
+}
+
+void Device::runOnce(const std::function<void(VkCommandBuffer)>& record) {
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = pool_;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  check(vkAllocateCommandBuffers(device_, &ai, &cmd), "vkAllocateCommandBuffers");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  vkBeginCommandBuffer(cmd, &bi);
+  record(cmd);
+  vkEndCommandBuffer(cmd);
+  VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence;
+  check(vkCreateFence(device_, &fi, nullptr, &fence), "vkCreateFence");
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  VkResult r = vkQueueSubmit(queue_, 1, &si, fence);
+  if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+  vkDestroyFence(device_, fence, nullptr);
+  vkFreeCommandBuffers(device_, pool_, 1, &cmd);
+  check(r, "vkQueueSubmit/vkWaitForFences");
+}
+
+}  // namespace vknerf::gpu

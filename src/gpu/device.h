@@ -1,0 +1,79 @@
+#pragma once
+// The Vulkan device behind a vknerf::Context: its handles, what vknerf created on it (command pool,
+// pipeline cache, and for an own device the instance, debug messenger and VkDevice), and the host
+// services buffers, kernels and recorders need. Internal: the public Context exposes only what an
+// embedding application needs and holds this behind a pointer; vknerf's own code reaches it
+// through gpu::device(ctx).
+#include <vulkan/vulkan.h>
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include "vknerf/context.h"
+
+namespace vknerf::gpu {
+
+class Device {
+ public:
+  // vknerf's own instance and device (options as for Context::create).
+  static std::unique_ptr<Device> create(const ContextOptions& options);
+  // The caller's handles, never destroyed here.
+  static std::unique_ptr<Device> adopt(const AdoptedDevice& handles);
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physicalDevice() const { return physical_; }
+  VkDevice handle() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queueFamily() const { return queueFamily_; }
+  const VkPhysicalDeviceProperties& properties() const { return props_; }
+  bool floatAtomics() const { return floatAtomics_; }
+  bool owned() const { return ownsDevice_; }
+  uint32_t validationMessages() const { return validationMessages_.load(); }
+  bool validationEnabled() const { return messenger_ != VK_NULL_HANDLE; }
+
+  // Memory type with all of `required`; -1 if none.
+  int findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
+  // True when device memory is host-visible (lavapipe, integrated GPUs): buffers are mapped, no staging.
+  bool unifiedMemory() const { return unified_; }
+
+  // Records `fn` into a one-time command buffer, submits it and waits. For uploads and setup only.
+  void runOnce(const std::function<void(VkCommandBuffer)>& record);
+  VkCommandPool commandPool() const { return pool_; }
+  VkPipelineCache pipelineCache() const { return pipelineCache_; }
+
+ private:
+  Device() = default;
+  void initDevice(int physicalIndex);
+  void initCommon();
+  // Context befriends Device so that this, and nothing public, can reach a Context's device.
+  static Device& of(Context& ctx) { return *ctx.device_; }
+  static const Device& of(const Context& ctx) { return *ctx.device_; }
+  friend Device& device(Context& ctx);
+  friend const Device& device(const Context& ctx);
+
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queueFamily_ = 0;
+  VkPhysicalDeviceProperties props_{};
+  VkPhysicalDeviceMemoryProperties memProps_{};
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
+  bool ownsDevice_ = false;
+  bool floatAtomics_ = false;
+  bool unified_ = false;
+  std::atomic<uint32_t> validationMessages_{0};  // the debug messenger's callback counts into this
+};
+
+// The one way from a Context to its internals.
+inline Device& device(Context& ctx) { return Device::of(ctx); }
+inline const Device& device(const Context& ctx) { return Device::of(ctx); }
+
+}  // namespace vknerf::gpu

@@ -36,6 +36,17 @@ class Recorder {
                 uint32_t gz = 1, const char* label = nullptr) {
     dispatch(k, bindings, &push, sizeof(P), gx, gy, gz, label);
   }
+  // `invocations` of a kernel of `local` invocations per workgroup that indexes them flatly
+  // (sampling.glsl's flatInvocation()): groups over x, spilling into y past the device's
+  // maxComputeWorkGroupCount[0], so a batch is not capped at 65,535 groups. Throws vknerf::Error when
+  // even x and y together cannot hold it.
+  void dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+                    uint64_t invocations, uint32_t local, const char* label);
+  template <class P>
+  void dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindings, const P& push, uint64_t invocations,
+                    uint32_t local, const char* label) {
+    dispatchFlat(k, bindings, &push, sizeof(P), invocations, local, label);
+  }
   // With a descriptor set the caller prepared (Kernel::transientSet: a caller's resources).
   void dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
                        uint32_t gy = 1, uint32_t gz = 1, const char* label = nullptr);

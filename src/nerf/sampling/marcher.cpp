@@ -55,14 +55,6 @@ void recordTotalsWith(Context& ctx, gpu::Recorder& rec, gpu::Kernel& k, const gp
   rec.dispatch(k, {offsets, totals}, p, 1, 1, 1, "march_totals");
 }
 
-// Groups of `local` over x, spilling into y past maxComputeWorkGroupCount[0] (shaders index flatly).
-std::pair<uint32_t, uint32_t> flatGroups(Context& ctx, uint64_t invocations, uint32_t local) {
-  uint64_t groups = (invocations + local - 1) / local;
-  uint64_t maxX = ctx.properties().limits.maxComputeWorkGroupCount[0];
-  uint64_t gy = (groups + maxX - 1) / maxX;
-  return {uint32_t(gy ? (groups + gy - 1) / gy : 0), uint32_t(gy)};
-}
-
 uint32_t blocksFor(uint32_t n) { return (n + kScanBlock - 1) / kScanBlock; }
 
 }  // namespace
@@ -155,10 +147,10 @@ void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32
               {float(r) / (box.max[0] - box.min[0]), float(r) / (box.max[1] - box.min[1]),
                float(r) / (box.max[2] - box.min[2]), 0},
               numRays, r, maxSamplesPerRay, seed, jitter ? 1u : 0u, uint32_t(capacity)};
-  auto [gx, gy] = flatGroups(ctx_, numRays, kMarchLocal);
-  rec.dispatch(count_, {rays, grid.bits(), counts_}, p, gx, gy, 1, "march_count");
+  rec.dispatchFlat(count_, {rays, grid.bits(), counts_}, p, numRays, kMarchLocal, "march_count");
   scan_.record(rec, counts_, numRays, offsets, numRays + 1, uint32_t(capacity));
-  if (capacity > 0) rec.dispatch(write_, {rays, grid.bits(), offsets, samples, sampleRay}, p, gx, gy, 1, "march_write");
+  if (capacity > 0)
+    rec.dispatchFlat(write_, {rays, grid.bits(), offsets, samples, sampleRay}, p, numRays, kMarchLocal, "march_write");
   recordTotals(rec, offsets, numRays, kIndirectLocal, totals);
 }
 
@@ -188,8 +180,7 @@ void PackedSamplePoints::record(gpu::Recorder& rec, const gpu::BufferRange& rays
   requireBytes("PackedSamplePoints", "positions", positions, uint64_t(capacity) * 16);
   requireBytes("PackedSamplePoints", "directions", directions, uint64_t(capacity) * 16);
   PointsPush p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}};
-  auto [gx, gy] = flatGroups(ctx_, capacity, 64);
-  rec.dispatch(kernel_, {rays, samples, sampleRay, totals, positions, directions}, p, gx, gy, 1, "march_points");
+  rec.dispatchFlat(kernel_, {rays, samples, sampleRay, totals, positions, directions}, p, capacity, 64, "march_points");
 }
 
 // ---- EarlyTermination ----
@@ -223,14 +214,13 @@ void EarlyTermination::record(gpu::Recorder& rec, uint32_t numRays, const gpu::B
   // smaller ones clamp like the marcher's (the last rays lose samples).
   uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(outSamples) / kSampleBytes, gpu::boundBytes(outSampleRay) / 4,
                                           gpu::boundBytes(outField) / 16, 0xffffffffull});
-  auto [gx, gy] = flatGroups(ctx_, numRays, kMarchLocal);
   TruncatePush tp{numRays, maxOpticalDepth(minTransmittance)};
-  rec.dispatch(truncate_, {offsets, samples, field, kept_}, tp, gx, gy, 1, "march_truncate");
+  rec.dispatchFlat(truncate_, {offsets, samples, field, kept_}, tp, numRays, kMarchLocal, "march_truncate");
   scan_.record(rec, kept_, numRays, outOffsets, numRays + 1, uint32_t(capacity));
   CompactPush cp{numRays};
   if (capacity > 0)
-    rec.dispatch(compact_, {offsets, samples, sampleRay, field, outOffsets, outSamples, outSampleRay, outField}, cp, gx,
-                 gy, 1, "march_compact");
+    rec.dispatchFlat(compact_, {offsets, samples, sampleRay, field, outOffsets, outSamples, outSampleRay, outField}, cp,
+                     numRays, kMarchLocal, "march_compact");
   recordTotalsWith(ctx_, rec, totals_, outOffsets, numRays, RayMarcher::kIndirectLocal, outTotals);
 }
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "nerf/sampling/marcher.h"  // PrefixSum
+#include "gpu/prefix_sum.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
@@ -191,7 +191,7 @@ void HashEncoding::ensureSortScratch(uint64_t slots, uint64_t entries) {
     if (scan_) retiredScans_.push_back(std::move(scan_));
     counts_ = gpu::Buffer(ctx_, entries * 4);
     cursor_ = gpu::Buffer(ctx_, entries * 4);
-    scan_ = std::make_unique<PrefixSum>(ctx_, uint32_t(entries));
+    scan_ = std::make_unique<gpu::PrefixSum>(ctx_, uint32_t(entries));
     entryCap_ = entries;
   }
 }

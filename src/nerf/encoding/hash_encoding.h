@@ -14,9 +14,12 @@
 #include "gpu/recorder.h"
 #include "reference/encoding/hash_encoding.h"
 
+namespace vknerf::gpu {
+class PrefixSum;
+}  // namespace vknerf::gpu
+
 namespace vknerf::nerf {
 
-class PrefixSum;
 using HashGridConfig = ref::HashGridConfig;
 
 // How the backward pass scatters into the table. Atomic is the default: on lavapipe it was the
@@ -107,9 +110,9 @@ class HashEncoding {
   uint32_t slotBudget_ = 0;
   uint64_t slotCap_ = 0, entryCap_ = 0;
   gpu::Buffer counts_, cursor_, slots_, spanMax_, spanAcc_;
-  std::unique_ptr<PrefixSum> scan_;
+  std::unique_ptr<gpu::PrefixSum> scan_;
   std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
-  std::vector<std::unique_ptr<PrefixSum>> retiredScans_;
+  std::vector<std::unique_ptr<gpu::PrefixSum>> retiredScans_;
   gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
   gpu::LimitedDispatch limited_;
 };

@@ -10,6 +10,7 @@
 #include "gpu/recorder.h"
 #include "nerf/render/composite.h"
 #include "nerf/encoding/frequency_encoding.h"
+#include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/optim/adam.h"
 #include "nerf/sampling/points.h"

@@ -5,6 +5,7 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "nerf/encoding/frequency_encoding.h"
+#include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
 #include "lib/metrics.h"
 #include "nerf/network/mlp.h"

@@ -77,8 +77,8 @@ DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuni
   if (shape.offset % 4) throw Error("MLP: layer weights must start on a multiple of 4 floats");
 }
 
-void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-                         const Mat& y, const char* label, const gpu::LimitedRows* limited) {
+void DenseLayer::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a,
+                               const Mat& b, const Mat& y, const char* label, const gpu::LimitedRows* limited) {
   if (count == 0) return;
   const auto& s = shape_;
   if (!forward_) {
@@ -102,8 +102,9 @@ void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRa
                  1, label);
 }
 
-void DenseLayer::inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,
-                           GradMode modeA, const Mat& da, GradMode modeB, const Mat& db, const char* label) {
+void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz,
+                                     const Mat& a, GradMode modeA, const Mat& da, GradMode modeB, const Mat& db,
+                                     const char* label) {
   const auto& s = shape_;
   if (s.kb == 0) modeB = GradMode::Skip;
   if (count == 0 || (modeA == GradMode::Skip && modeB == GradMode::Skip)) return;
@@ -145,8 +146,8 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
   add(nMain, s.n4() - nMain, 4);
 }
 
-void DenseLayer::weightGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& grads, const Mat& a, const Mat& b,
-                            const Mat& dz, const char* label) {
+void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const Mat& a, const Mat& b, const Mat& dz,
+                                       const gpu::BufferRange& grads, const char* label) {
   if (count == 0) return;
   const auto& s = shape_;
   if (dwA_.empty()) {

@@ -125,9 +125,9 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     const gpu::LimitedRows* L = dense ? &*dense : nullptr;
     auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], W}.rows(row, n); };
     Mat F = Mat{ws.f_, W + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
-    for (uint32_t l = 0; l < D; ++l) layers_[l].forward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk", L);
-    layers_[D].forward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma", L);
-    layers_[D + 1].forward(rec, n, params, F, d, C, "nerf colour", L);
+    for (uint32_t l = 0; l < D; ++l) layers_[l].recordForward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk", L);
+    layers_[D].recordForward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma", L);
+    layers_[D + 1].recordForward(rec, n, params, F, d, C, "nerf colour", L);
     HeadPush hp{n, C.stride / 4, F.stride / 4, 1, head ? head->base : gpu::kNoRowLimit};
     if (head)
       rec.dispatchIndirect(*head_, {C.range, F.range, params, o.range, head->limit}, &hp, sizeof hp, *head->args,
@@ -165,22 +165,22 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4};
     rec.dispatch(*headBackward_, {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range}, hp,
                  gpu::groupsFor(n, kHeadLocal), 1, 1, "nerf head backward");
-    layers_[D + 2].weightGrad(rec, n, grads, C, C, dzh, "nerf head dW");
-    layers_[D + 1].weightGrad(rec, n, grads, F, d, dC, "nerf colour dW");
-    layers_[D + 1].inputGrad(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, "nerf colour dX");
-    layers_[D].weightGrad(rec, n, grads, H(D - 1), H(D - 1), dF, "nerf feature+sigma dW");
+    layers_[D + 2].recordBackwardWeights(rec, n, C, C, dzh, grads, "nerf head dW");
+    layers_[D + 1].recordBackwardWeights(rec, n, F, d, dC, grads, "nerf colour dW");
+    layers_[D + 1].recordBackwardInput(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, "nerf colour dX");
+    layers_[D].recordBackwardWeights(rec, n, H(D - 1), H(D - 1), dF, grads, "nerf feature+sigma dW");
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
-    layers_[D].inputGrad(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
+    layers_[D].recordBackwardInput(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
                          "nerf feature+sigma dX");
     for (uint32_t l = D; l-- > 0;) {
       Mat a = l ? H(l - 1) : p;
-      layers_[l].weightGrad(rec, n, grads, a, p, cur, "nerf trunk dW");
+      layers_[l].recordBackwardWeights(rec, n, a, p, cur, grads, "nerf trunk dW");
       if (l > 0) {
-        layers_[l].inputGrad(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
+        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
                              dPos ? GradMode::Store : GradMode::Skip, dP, "nerf trunk dX");
         std::swap(cur, other);
       } else if (dPos) {
-        layers_[0].inputGrad(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
+        layers_[0].recordBackwardInput(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
                              GradMode::Skip, dP, "nerf trunk dX");
       }
     }
@@ -238,7 +238,7 @@ void DenseMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     Mat x = Mat{in, inputStride()}.rows(first, n), y = Mat{out, outputStride()}.rows(first, n);
     for (uint32_t l = 0; l < L; ++l) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].forward(rec, n, params, a, a, l + 1 < L ? H(l) : y, "mlp forward");
+      layers_[l].recordForward(rec, n, params, a, a, l + 1 < L ? H(l) : y, "mlp forward");
     }
   });
 }
@@ -267,15 +267,15 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buf
     int next = 0;
     for (uint32_t l = L; l-- > 0;) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].weightGrad(rec, n, grads, a, a, cur, "mlp dW");
+      layers_[l].recordBackwardWeights(rec, n, a, a, cur, grads, "mlp dW");
       if (l > 0) {
         Mat da = Mat{ws.dz_[next], W}.rows(0, n);
-        layers_[l].inputGrad(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, "mlp dX");
+        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, "mlp dX");
         cur = da;
         next ^= 1;
       } else if (dIn) {
         Mat d = Mat{*dIn, inputStride()}.rows(first, n);
-        layers_[0].inputGrad(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, "mlp dX");
+        layers_[0].recordBackwardInput(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, "mlp dX");
       }
     }
   });

@@ -64,8 +64,8 @@ void Recorder::barrierIfNeeded(bool indirectNext) {
   pending_ = false;
 }
 
-VkDescriptorSet Recorder::cachedSet(Kernel& k, std::initializer_list<BufferRange> bindings) {
-  return k.descriptorSet(std::span<const BufferRange>(bindings.begin(), bindings.size()));
+VkDescriptorSet Recorder::cachedSet(Kernel& k, std::span<const BufferRange> bindings) {
+  return k.descriptorSet(bindings);
 }
 
 void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
@@ -88,7 +88,7 @@ void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, ui
   pending_ = true;
 }
 
-void Recorder::dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+void Recorder::dispatch(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes,
                         uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
   recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
@@ -112,7 +112,7 @@ void Recorder::dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push,
   recordKernel(k, set, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
-void Recorder::dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
+void Recorder::dispatchIndirect(Kernel& k, std::span<const BufferRange> bindings, const void* push,
                                 uint32_t pushBytes, const Buffer& args, VkDeviceSize offset, const char* label) {
   if (offset % 4 || offset + 12 > args.size()) throw Error("dispatchIndirect: arguments lie outside the buffer");
   recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, true,

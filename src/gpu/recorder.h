@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,7 +31,12 @@ class Recorder {
 
   void begin();  // owned command buffer: reset and begin recording
   void dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
-                uint32_t gx, uint32_t gy = 1, uint32_t gz = 1, const char* label = nullptr);
+                uint32_t gx, uint32_t gy = 1, uint32_t gz = 1, const char* label = nullptr) {
+    dispatch(k, std::span<const BufferRange>(bindings.begin(), bindings.size()), push, pushBytes, gx, gy, gz, label);
+  }
+  // With bindings assembled at run time.
+  void dispatch(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes, uint32_t gx,
+                uint32_t gy, uint32_t gz, const char* label);
   template <class P>
   void dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const P& push, uint32_t gx, uint32_t gy = 1,
                 uint32_t gz = 1, const char* label = nullptr) {
@@ -53,7 +59,12 @@ class Recorder {
   // Workgroup counts read on the device from a VkDispatchIndirectCommand at `offset` (e.g. written
   // by the marcher from its sample total), so a step needs no host round trip.
   void dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
-                        const Buffer& args, VkDeviceSize offset, const char* label = nullptr);
+                        const Buffer& args, VkDeviceSize offset, const char* label = nullptr) {
+    dispatchIndirect(k, std::span<const BufferRange>(bindings.begin(), bindings.size()), push, pushBytes, args, offset,
+                     label);
+  }
+  void dispatchIndirect(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes,
+                        const Buffer& args, VkDeviceSize offset, const char* label);
   void copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset = 0, VkDeviceSize dstOffset = 0);
   void fill(Buffer& dst, uint32_t value, VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
   // vkCmdUpdateBuffer: `bytes` (a multiple of 4, at most 65536) copied into the command buffer now,
@@ -71,7 +82,7 @@ class Recorder {
   void barrierIfNeeded(bool indirectNext = false);
   void recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
                     bool indirect, const std::function<void()>& issue);
-  static VkDescriptorSet cachedSet(Kernel& k, std::initializer_list<BufferRange> bindings);
+  static VkDescriptorSet cachedSet(Kernel& k, std::span<const BufferRange> bindings);
   Context& ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

@@ -113,7 +113,6 @@ class HashEncoding {
   std::unique_ptr<gpu::PrefixSum> scan_;
   std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
   std::vector<std::unique_ptr<gpu::PrefixSum>> retiredScans_;
-  gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
   gpu::LimitedDispatch limited_;
 };
 

@@ -29,7 +29,6 @@ class ShEncoding {
   Context& ctx_;
   uint32_t degree_;
   gpu::Kernel kernel_;
-  gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
   gpu::LimitedDispatch limited_;
 };
 

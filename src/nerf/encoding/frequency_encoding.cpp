@@ -34,8 +34,8 @@ FrequencyEncoding::FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t 
   if (outputDims_ == 0) throw Error("FrequencyEncoding: no output columns (0 levels and no raw input)");
 }
 
-void FrequencyEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& inputs, uint32_t count,
-                               const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset) {
+void FrequencyEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& inputs,
+                                      const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset) {
   if (stride % 4 || columnOffset % 4)
     throw Error("FrequencyEncoding: stride " + std::to_string(stride) + " and column offset " +
                 std::to_string(columnOffset) + " must be multiples of 4");

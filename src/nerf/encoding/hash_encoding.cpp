@@ -127,7 +127,7 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
   });
 }
 
-void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+void HashEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                                  const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
                                  uint32_t columnOffset, const gpu::BufferRange* rowLimit) {
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("HashEncoding::recordForward: row limit binding holds no uint");
@@ -143,7 +143,7 @@ void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& pos
             });
 }
 
-void HashEncoding::recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+void HashEncoding::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                                   const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
                                   const gpu::BufferRange& grads) {
   if (mode_ == HashBackwardMode::SortReduce) {

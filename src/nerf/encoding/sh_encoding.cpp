@@ -26,9 +26,9 @@ ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
                     {degree}}),
       limited_(ctx) {}
 
-void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, uint32_t count,
-                        const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
-                        const gpu::BufferRange* rowLimit) {
+void ShEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& directions,
+                               const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
+                               const gpu::BufferRange* rowLimit) {
   if (stride % 4 || columnOffset % 4)
     throw Error("ShEncoding: stride " + std::to_string(stride) + " and column offset " + std::to_string(columnOffset) +
                 " must be multiples of 4");

@@ -36,7 +36,7 @@ std::vector<float> encode(Context& ctx, nerf::FrequencyEncoding& enc, const std:
   auto out = gpu::Buffer::of(ctx, init);
   gpu::Recorder rec(ctx);
   rec.begin();
-  enc.record(rec, in, count, out, stride, offset);
+  enc.recordForward(rec, count, in, out, stride, offset);
   rec.end();
   rec.submitAndWait();
   return out.download<float>(init.size());
@@ -170,8 +170,8 @@ TEST_F(Encoding, PositionAndDirectionShareOneMatrix) {
   auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(count) * stride, kSentinel));
   gpu::Recorder rec(ctx());
   rec.begin();
-  dir.record(rec, db, count, out, stride, pos.paddedDims());  // order does not matter: blocks are disjoint
-  pos.record(rec, xb, count, out, stride, 0);
+  dir.recordForward(rec, count, db, out, stride, pos.paddedDims());  // order does not matter: blocks are disjoint
+  pos.recordForward(rec, count, xb, out, stride, 0);
   rec.end();
   rec.submitAndWait();
   auto m = out.download<float>();
@@ -195,10 +195,10 @@ TEST_F(Encoding, EmptyBatchAndBadLayouts) {
   gpu::Buffer out(ctx(), 4 * 64 * 4);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(enc.record(rec, in, 4, out, 32, 2), Error);   // offset not a multiple of 4
-  EXPECT_THROW(enc.record(rec, in, 4, out, 30, 0), Error);   // stride not a multiple of 4
-  EXPECT_THROW(enc.record(rec, in, 4, out, 28, 4), Error);   // block overruns the row
-  EXPECT_THROW(enc.record(rec, in, 5, out, 28, 0), Error);   // more rows than the inputs hold
+  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 32, 2), Error);   // offset not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 30, 0), Error);   // stride not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 28, 4), Error);   // block overruns the row
+  EXPECT_THROW(enc.recordForward(rec, 5, in, out, 28, 0), Error);   // more rows than the inputs hold
   rec.end();
   EXPECT_THROW(nerf::FrequencyEncoding(ctx(), 5, 4, true), Error);
 }

@@ -90,7 +90,7 @@ std::vector<float> forward(Context& ctx, nerf::HashEncoding& enc, const std::vec
   auto out = gpu::Buffer::of(ctx, std::vector<float>(std::max<size_t>(1, size_t(count) * stride), kSentinel));
   gpu::Recorder rec(ctx);
   rec.begin();
-  enc.recordForward(rec, pb, count, tb, out, stride, offset);
+  enc.recordForward(rec, count, pb, tb, out, stride, offset);
   rec.end();
   rec.submitAndWait();
   return out.download<float>();
@@ -145,7 +145,7 @@ std::vector<float> backwardFromZero(Context& ctx, nerf::HashEncoding& enc, const
   gb.zero();
   gpu::Recorder rec(ctx);
   rec.begin();
-  enc.recordBackward(rec, pb, n, db, stride, 0, gb);
+  enc.recordBackward(rec, n, pb, db, stride, 0, gb);
   rec.end();
   rec.submitAndWait();
   return gb.download<float>();
@@ -168,9 +168,9 @@ std::vector<float> expectBackwardMatches(Context& ctx, nerf::HashEncoding& enc, 
   auto pb = gpu::Buffer::of(ctx, pos), db = gpu::Buffer::of(ctx, dF), gb = gpu::Buffer::of(ctx, start);
   gpu::Recorder rec(ctx);
   rec.begin();
-  enc.recordBackward(rec, pb, n1, db, stride, offset, gb);
+  enc.recordBackward(rec, n1, pb, db, stride, offset, gb);
   if (n2)
-    enc.recordBackward(rec, gpu::BufferRange(pb, 16 * n1, 16 * n2), n2,
+    enc.recordBackward(rec, n2, gpu::BufferRange(pb, 16 * n1, 16 * n2),
                        gpu::BufferRange(db, 4ull * stride * n1, 4ull * stride * n2), stride, offset, gb);
   rec.end();
   rec.submitAndWait();
@@ -460,13 +460,13 @@ TEST_F(HashEncoding, EmptyBatchesAndBadLayouts) {
   gpu::Buffer out(ctx(), 4 * 64 * 4), small(ctx(), 4 * 10);
   gpu::Recorder rec(ctx());
   rec.begin();
-  enc.recordBackward(rec, pos, 0, out, 4, 0, gb);             // count 0: no dispatch
-  EXPECT_THROW(enc.recordForward(rec, pos, 4, tb, out, 8, 2), Error);   // offset not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, pos, 4, tb, out, 6, 0), Error);   // stride not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, pos, 4, tb, out, 4, 4), Error);   // block overruns the row
-  EXPECT_THROW(enc.recordForward(rec, pos, 5, tb, out, 4, 0), Error);   // more rows than positions
-  EXPECT_THROW(enc.recordForward(rec, pos, 4, small, out, 4, 0), Error);  // table too small
-  EXPECT_THROW(enc.recordBackward(rec, pos, 4, out, 4, 0, small), Error); // gradient too small
+  enc.recordBackward(rec, 0, pos, out, 4, 0, gb);             // count 0: no dispatch
+  EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 8, 2), Error);   // offset not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 6, 0), Error);   // stride not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 4, 4), Error);   // block overruns the row
+  EXPECT_THROW(enc.recordForward(rec, 5, pos, tb, out, 4, 0), Error);   // more rows than positions
+  EXPECT_THROW(enc.recordForward(rec, 4, pos, small, out, 4, 0), Error);  // table too small
+  EXPECT_THROW(enc.recordBackward(rec, 4, pos, out, 4, 0, small), Error); // gradient too small
   rec.end();
   rec.submitAndWait();
   EXPECT_EQ(gb.download<float>(), table);  // the empty backward added nothing
@@ -493,7 +493,7 @@ TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
   gpu::Recorder rec(*adopted);
   rec.begin();
   try {
-    enc.recordBackward(rec, pb, 10, db, 4, 0, gb);
+    enc.recordBackward(rec, 10, pb, db, 4, 0, gb);
     ADD_FAILURE() << "recordBackward did not throw";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("float atomics"), std::string::npos) << e.what();
@@ -519,8 +519,8 @@ TEST_F(HashEncoding, TableInsideALargerBuffer) {
   gpu::BufferRange inner(bb, lead * 4, VK_WHOLE_SIZE);
   gpu::Recorder rec(ctx());
   rec.begin();
-  enc.recordForward(rec, pb, 150, inner, feat, stride, 0);
-  enc.recordBackward(rec, pb, 150, feat, stride, 0, inner);  // dFeatures = features, into the table itself
+  enc.recordForward(rec, 150, pb, inner, feat, stride, 0);
+  enc.recordBackward(rec, 150, pb, feat, stride, 0, inner);  // dFeatures = features, into the table itself
   rec.end();
   rec.submitAndWait();
   EXPECT_EQ(feat.download<float>(), forward(ctx(), enc, pos, table, stride, 0));

@@ -9,10 +9,13 @@
 #include <vector>
 
 #include "gpu/buffer.h"
+#include "gpu/prefix_sum.h"
 #include "gpu/recorder.h"
 #include "gpu_test.h"
-#include "nerf/sampling/marcher.h"
 #include "nerf/occupancy/occupancy_grid.h"
+#include "nerf/sampling/early_termination.h"
+#include "nerf/sampling/packed_points.h"
+#include "nerf/sampling/ray_marcher.h"
 #include "reference/encoding/frequency_encoding.h"
 #include "reference/occupancy/occupancy_grid.h"
 #include "reference/rays/rays.h"
@@ -156,7 +159,7 @@ std::vector<uint32_t> ballBits(const nerf::OccupancyGrid& grid) {
 // ---- Prefix sum ----
 
 TEST_F(Scan, ExclusiveSumAtAwkwardSizes) {
-  nerf::PrefixSum scan(ctx(), 1100001);
+  gpu::PrefixSum scan(ctx(), 1100001);
   std::mt19937 rng(2);
   // One block, exactly one block, one past, several blocks, and three levels (> 1024^2).
   for (uint32_t n : {1u, 5u, 1023u, 1024u, 1025u, 4097u, 70001u, 1100000u}) {
@@ -177,7 +180,7 @@ TEST_F(Scan, ExclusiveSumAtAwkwardSizes) {
 }
 
 TEST_F(Scan, ClampsOnlyTheFinalSums) {
-  nerf::PrefixSum scan(ctx(), 5000);
+  gpu::PrefixSum scan(ctx(), 5000);
   std::vector<uint32_t> in(4999, 3);
   auto inBuf = gpu::Buffer::of(ctx(), in);
   gpu::Buffer out(ctx(), 5000 * 4);

@@ -4,6 +4,7 @@
 // through a staging buffer.
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -101,6 +102,18 @@ inline VkDeviceSize boundBytes(const BufferRange& r) {
 // also viewed as rgba32f texels (`texelsPerRow` > 0), within maxTexelBufferElements. Rounded down
 // to a multiple of 64 rows, so chunk offsets keep any sane alignment; throws if not even 64 fit.
 uint32_t rowsPerBinding(const Context& ctx, VkDeviceSize rowBytes, uint64_t texelsPerRow = 0);
+
+// Calls fn(first, n, chunk) over rows [0, count) in chunks of at most `chunkRows` (chunk: the index).
+template <class Fn>
+void forRowChunks(uint32_t count, uint32_t chunkRows, Fn&& fn) {
+  for (uint32_t first = 0, chunk = 0; first < count; first += chunkRows, ++chunk)
+    fn(first, std::min(chunkRows, count - first), chunk);
+}
+
+// Rows [first, first + n) of a row-major matrix of `rowBytes` per row, as their own binding.
+inline BufferRange rowsOf(const BufferRange& matrix, VkDeviceSize rowBytes, uint32_t first, uint32_t n) {
+  return BufferRange(*matrix.buffer, matrix.offset + first * rowBytes, n * rowBytes);
+}
 
 // Throws vknerf::Error "<stage>: <what> buffer holds N bytes, needs M" when the range is too small.
 void requireBytes(const char* stage, const char* what, const BufferRange& r, uint64_t needed);

@@ -1,6 +1,7 @@
 #include "gpu/limited_dispatch.h"
 
 #include <string>
+#include <vector>
 
 #include "vknerf/error.h"
 
@@ -11,6 +12,14 @@ struct ArgsPush {  // limited_dispatch_args.comp
   uint32_t rowsPerGroup[4];
 };
 }  // namespace
+
+LimitedDispatch::LimitedDispatch(Context& ctx) : ctx_(ctx), none_(std::make_unique<Buffer>(ctx, 16)) {}
+
+void LimitedDispatch::begin(Recorder& rec, const BufferRange* limit, uint32_t count, uint32_t chunkRows,
+                            std::initializer_list<uint32_t> rowsPerGroup) {
+  cut_ = limit != nullptr;
+  if (cut_) recordArgs(rec, *limit, count, chunkRows, rowsPerGroup);
+}
 
 void LimitedDispatch::recordArgs(Recorder& rec, const BufferRange& limit, uint32_t count, uint32_t chunkRows,
                                  std::initializer_list<uint32_t> rowsPerGroup) {
@@ -31,13 +40,24 @@ void LimitedDispatch::recordArgs(Recorder& rec, const BufferRange& limit, uint32
                                                         sizeof(ArgsPush), {}});
     args_ = std::make_unique<Buffer>(ctx_, VkDeviceSize(kMaxEntries) * 12);
   }
-  limit_ = limit, chunkRows_ = chunkRows, kinds_ = p.kinds, chunks_ = p.chunks;
+  limit_ = limit, chunkRows_ = chunkRows, kinds_ = p.kinds, chunks_ = p.chunks, cut_ = true;
   rec.dispatch(*kernel_, {limit, *args_}, p, groupsFor(uint64_t(p.chunks) * p.kinds, 64), 1, 1, "limited dispatch args");
 }
 
 LimitedRows LimitedDispatch::rows(uint32_t chunk, uint32_t kind) const {
+  if (!cut_) return uncut();
   if (!args_ || chunk >= chunks_ || kind >= kinds_) throw Error("LimitedDispatch: no arguments recorded for this dispatch");
   return {limit_, chunk * chunkRows_, args_.get(), VkDeviceSize(chunk * kinds_ + kind) * 12};
+}
+
+void dispatchLimited(Recorder& rec, Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
+                     uint32_t pushBytes, const LimitedRows& rows, uint32_t groups, const char* label) {
+  std::vector<BufferRange> all(bindings);
+  all.push_back(rows.limit);
+  if (rows.args)
+    rec.dispatchIndirect(k, all, push, pushBytes, *rows.args, rows.argsOffset, label);
+  else
+    rec.dispatch(k, all, push, pushBytes, groups, 1, 1, label);
 }
 
 }  // namespace vknerf::gpu

@@ -1,6 +1,7 @@
 #include "gpu/recorder.h"
 
 #include <functional>
+#include <string>
 
 #include "gpu/device.h"
 #include "gpu/vk_check.h"
@@ -64,8 +65,8 @@ void Recorder::barrierIfNeeded(bool indirectNext) {
   pending_ = false;
 }
 
-VkDescriptorSet Recorder::cachedSet(Kernel& k, std::initializer_list<BufferRange> bindings) {
-  return k.descriptorSet(std::span<const BufferRange>(bindings.begin(), bindings.size()));
+VkDescriptorSet Recorder::cachedSet(Kernel& k, std::span<const BufferRange> bindings) {
+  return k.descriptorSet(bindings);
 }
 
 void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
@@ -88,10 +89,22 @@ void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, ui
   pending_ = true;
 }
 
-void Recorder::dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+void Recorder::dispatch(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes,
                         uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
   recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
+}
+
+void Recorder::dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
+                            uint32_t pushBytes, uint64_t invocations, uint32_t local, const char* label) {
+  const auto& limits = ctx_.properties().limits;
+  const uint64_t groups = (invocations + local - 1) / local;
+  const uint64_t maxX = limits.maxComputeWorkGroupCount[0];
+  const uint64_t gy = (groups + maxX - 1) / maxX;
+  const uint64_t gx = gy ? (groups + gy - 1) / gy : 0;  // as even a split as x allows
+  if (gy > limits.maxComputeWorkGroupCount[1])
+    throw Error(std::string(label) + ": " + std::to_string(invocations) + " invocations exceed the device's dispatch limits");
+  dispatch(k, bindings, push, pushBytes, uint32_t(gx), uint32_t(gy), 1, label);
 }
 
 void Recorder::dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
@@ -100,7 +113,7 @@ void Recorder::dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push,
   recordKernel(k, set, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
-void Recorder::dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
+void Recorder::dispatchIndirect(Kernel& k, std::span<const BufferRange> bindings, const void* push,
                                 uint32_t pushBytes, const Buffer& args, VkDeviceSize offset, const char* label) {
   if (offset % 4 || offset + 12 > args.size()) throw Error("dispatchIndirect: arguments lie outside the buffer");
   recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, true,

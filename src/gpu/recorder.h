@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,11 +31,27 @@ class Recorder {
 
   void begin();  // owned command buffer: reset and begin recording
   void dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
-                uint32_t gx, uint32_t gy = 1, uint32_t gz = 1, const char* label = nullptr);
+                uint32_t gx, uint32_t gy = 1, uint32_t gz = 1, const char* label = nullptr) {
+    dispatch(k, std::span<const BufferRange>(bindings.begin(), bindings.size()), push, pushBytes, gx, gy, gz, label);
+  }
+  // With bindings assembled at run time.
+  void dispatch(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes, uint32_t gx,
+                uint32_t gy, uint32_t gz, const char* label);
   template <class P>
   void dispatch(Kernel& k, std::initializer_list<BufferRange> bindings, const P& push, uint32_t gx, uint32_t gy = 1,
                 uint32_t gz = 1, const char* label = nullptr) {
     dispatch(k, bindings, &push, sizeof(P), gx, gy, gz, label);
+  }
+  // `invocations` of a kernel of `local` invocations per workgroup that indexes them flatly
+  // (sampling.glsl's flatInvocation()): groups over x, spilling into y past the device's
+  // maxComputeWorkGroupCount[0], so a batch is not capped at 65,535 groups. Throws vknerf::Error when
+  // even x and y together cannot hold it.
+  void dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
+                    uint64_t invocations, uint32_t local, const char* label);
+  template <class P>
+  void dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindings, const P& push, uint64_t invocations,
+                    uint32_t local, const char* label) {
+    dispatchFlat(k, bindings, &push, sizeof(P), invocations, local, label);
   }
   // With a descriptor set the caller prepared (Kernel::transientSet: a caller's resources).
   void dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
@@ -42,7 +59,12 @@ class Recorder {
   // Workgroup counts read on the device from a VkDispatchIndirectCommand at `offset` (e.g. written
   // by the marcher from its sample total), so a step needs no host round trip.
   void dispatchIndirect(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push, uint32_t pushBytes,
-                        const Buffer& args, VkDeviceSize offset, const char* label = nullptr);
+                        const Buffer& args, VkDeviceSize offset, const char* label = nullptr) {
+    dispatchIndirect(k, std::span<const BufferRange>(bindings.begin(), bindings.size()), push, pushBytes, args, offset,
+                     label);
+  }
+  void dispatchIndirect(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes,
+                        const Buffer& args, VkDeviceSize offset, const char* label);
   void copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset = 0, VkDeviceSize dstOffset = 0);
   void fill(Buffer& dst, uint32_t value, VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
   // vkCmdUpdateBuffer: `bytes` (a multiple of 4, at most 65536) copied into the command buffer now,
@@ -60,7 +82,7 @@ class Recorder {
   void barrierIfNeeded(bool indirectNext = false);
   void recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
                     bool indirect, const std::function<void()>& issue);
-  static VkDescriptorSet cachedSet(Kernel& k, std::initializer_list<BufferRange> bindings);
+  static VkDescriptorSet cachedSet(Kernel& k, std::span<const BufferRange> bindings);
   Context& ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

@@ -5,6 +5,7 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "nerf/encoding/frequency_encoding.h"
+#include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
 #include "lib/metrics.h"
 #include "nerf/network/mlp.h"
@@ -58,7 +59,7 @@ FitImageResult fitImage(Context& ctx, const std::vector<uint32_t>& rgba8, uint32
   gpu::Recorder rec(ctx);
   rec.begin();
   bg.recordConstant(rec, background, n, {0, 0, 0});
-  if (config.encoding) enc.record(rec, uvBuf, n, encoded, mlp.inputStride(), 0);
+  if (config.encoding) enc.recordForward(rec, n, uvBuf, encoded, mlp.inputStride(), 0);
   rec.end();
   rec.submitAndWait();
 

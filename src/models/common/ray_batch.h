@@ -7,6 +7,7 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "models/field_pipeline.h"
+#include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/rays/rays.h"
 

@@ -150,8 +150,8 @@ void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t
   // The sample total is the first uint of the totals (RayMarcher::kTotalsBytes).
   const gpu::BufferRange total(batch.totals, 0, 4);
   const gpu::BufferRange* limit = limitToTotal ? &total : nullptr;
-  hash_.recordForward(rec, f.positions, count, table_.params(), f.posFeatures, mlp_.posStride(), 0, limit);
-  sh_.record(rec, f.directions, count, f.dirFeatures, mlp_.dirStride(), 0, limit);
+  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0, limit);
+  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, limit);
   mlp_.recordForward(rec, count, network_.params(), f.posFeatures, f.dirFeatures, f.field,
                      keep ? f.workspace.get() : nullptr, limit);
 }
@@ -219,8 +219,8 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   for (float d : density) sum += std::isfinite(d) ? d : 0.0f;
   const float threshold = std::min(OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_),
                                    float(sum / double(density.size())));
-  hash_.recordForward(rec, f.positions, count, table_.params(), f.posFeatures, mlp_.posStride(), 0);
-  sh_.record(rec, f.directions, count, f.dirFeatures, mlp_.dirStride(), 0);
+  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0);
+  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0);
   mlp_.recordForward(rec, count, network_.params(), f.posFeatures, f.dirFeatures, f.field, nullptr);
   grid_.recordUpdate(rec, occCells_, f.field, count, kOccupancyDecay, threshold, 4, 3);
 }
@@ -266,7 +266,7 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   gpu::BufferRange dPos(dPos_);
   mlp_.recordBackward(rec, samples, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
                       field_.dField, network_.grads(), *field_.workspace, &dPos);
-  hash_.recordBackward(rec, field_.positions, samples, dPos_, mlp_.posStride(), 0, table_.grads());
+  hash_.recordBackward(rec, samples, field_.positions, dPos_, mlp_.posStride(), 0, table_.grads());
   network_.recordOptimizerStep(rec, step);
   table_.recordOptimizerStep(rec, step);
   rec.end();

@@ -22,7 +22,9 @@
 #include "nerf/network/mlp.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/render/composite.h"
-#include "nerf/sampling/marcher.h"
+#include "nerf/sampling/early_termination.h"
+#include "nerf/sampling/packed_points.h"
+#include "nerf/sampling/ray_marcher.h"
 #include "vknerf/config.h"
 
 namespace vknerf::nerf {

@@ -66,8 +66,8 @@ void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, ui
   const uint32_t n = numRays * l.samplesPerRay;
   FieldBatch& f = l.field;
   points_.record(rec, rays_.rays(), l.samples, numRays, l.samplesPerRay, box_, f.positions, f.directions);
-  posEncoding_.record(rec, f.positions, n, f.posFeatures, net.mlp.posStride(), 0);
-  dirEncoding_.record(rec, f.directions, n, f.dirFeatures, net.mlp.dirStride(), 0);
+  posEncoding_.recordForward(rec, n, f.positions, f.posFeatures, net.mlp.posStride(), 0);
+  dirEncoding_.recordForward(rec, n, f.directions, f.dirFeatures, net.mlp.dirStride(), 0);
   net.mlp.recordForward(rec, n, net.parameters.params(), f.posFeatures, f.dirFeatures, f.field,
                         keep ? f.workspace.get() : nullptr);
   gpu::BufferRange bg(rays_.background());

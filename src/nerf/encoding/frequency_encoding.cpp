@@ -34,8 +34,8 @@ FrequencyEncoding::FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t 
   if (outputDims_ == 0) throw Error("FrequencyEncoding: no output columns (0 levels and no raw input)");
 }
 
-void FrequencyEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& inputs, uint32_t count,
-                               const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset) {
+void FrequencyEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& inputs,
+                                      const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset) {
   if (stride % 4 || columnOffset % 4)
     throw Error("FrequencyEncoding: stride " + std::to_string(stride) + " and column offset " +
                 std::to_string(columnOffset) + " must be multiples of 4");
@@ -50,13 +50,11 @@ void FrequencyEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& input
   // rows, each bound at its own offset.
   const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
   const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes));
-  for (uint32_t first = 0; first < count; first += chunk) {
-    const uint32_t rows = std::min(chunk, count - first);
-    gpu::BufferRange in(*inputs.buffer, inputs.offset + VkDeviceSize(first) * 16, VkDeviceSize(rows) * 16);
-    gpu::BufferRange out(*features.buffer, features.offset + first * rowBytes, rows * rowBytes);
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t rows, uint32_t) {
     Push p{rows, stride / 4, columnOffset / 4};
-    rec.dispatch(kernel_, {in, out}, p, gpu::groupsFor(rows, kLocal), 1, 1, "encode_frequency");
-  }
+    rec.dispatch(kernel_, {gpu::rowsOf(inputs, 16, first, rows), gpu::rowsOf(features, rowBytes, first, rows)}, p,
+                 gpu::groupsFor(rows, kLocal), 1, 1, "encode_frequency");
+  });
 }
 
 }  // namespace vknerf::nerf

@@ -27,8 +27,8 @@ class FrequencyEncoding {
 
   // inputs: `count` vec4; features: `count` rows of `stride` floats. stride and columnOffset are
   // multiples of 4 and columnOffset + paddedDims() <= stride.
-  void record(gpu::Recorder& rec, const gpu::BufferRange& inputs, uint32_t count, const gpu::BufferRange& features,
-              uint32_t stride, uint32_t columnOffset);
+  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& inputs, const gpu::BufferRange& features,
+                     uint32_t stride, uint32_t columnOffset);
 
  private:
   Context& ctx_;

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "nerf/sampling/marcher.h"  // PrefixSum
+#include "gpu/prefix_sum.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
@@ -48,7 +48,6 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                      {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                       gpu::Binding::Storage},
                      sizeof(Push), {config.levels, config.featuresPerLevel, config.log2TableSize}}),
-      noLimit_(ctx, 16),
       limited_(ctx) {
   for (uint32_t l = 0; l < config_.levels; ++l) {
     push_.res[l] = resolution(l);
@@ -120,17 +119,15 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
     throw Error(name + "buffers too small for " + std::to_string(count) + " rows");
   // Rows beyond one binding (storage range or texel count) go in chunks bound at row offsets.
   const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes, std::max<uint64_t>(stride / 4, 1)));
-  for (uint32_t first = 0; first < count; first += chunk) {
-    const uint32_t n = std::min(chunk, count - first);
-    gpu::BufferRange in(*positions.buffer, positions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);
-    gpu::BufferRange m(*matrix.buffer, matrix.offset + first * rowBytes, n * rowBytes);
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
     Push p = push_;
     p.count = n, p.strideVec4 = stride / 4, p.offsetVec4 = columnOffset / 4, p.limitBase = gpu::kNoRowLimit;
-    fn(in, m, p, gpu::groupsFor(n, kLocal), first / chunk, chunk);
-  }
+    fn(gpu::rowsOf(positions, 16, first, n), gpu::rowsOf(matrix, rowBytes, first, n), p, gpu::groupsFor(n, kLocal), c,
+       chunk);
+  });
 }
 
-void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+void HashEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                                  const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
                                  uint32_t columnOffset, const gpu::BufferRange* rowLimit) {
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("HashEncoding::recordForward: row limit binding holds no uint");
@@ -140,19 +137,13 @@ void HashEncoding::recordForward(gpu::Recorder& rec, const gpu::BufferRange& pos
   forChunks(count, stride, columnOffset, positions, features, params, "recordForward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& out, Push p, uint32_t groups, uint32_t c,
                 uint32_t chunkRows) {
-              if (!rowLimit) {
-                rec.dispatch(forward_, {in, exactly(params), out, noLimit_}, p, groups, 1, 1, "encode_hash");
-                return;
-              }
-              if (c == 0) limited_.recordArgs(rec, *rowLimit, count, chunkRows, {kLocal});
-              const gpu::LimitedRows l = limited_.rows(c, 0);
-              p.limitBase = l.base;
-              rec.dispatchIndirect(forward_, {in, exactly(params), out, l.limit}, &p, sizeof p, *l.args, l.argsOffset,
+              if (c == 0) limited_.begin(rec, rowLimit, count, chunkRows, {kLocal});
+              gpu::dispatchLimited(rec, forward_, {in, exactly(params), out}, p, limited_.rows(c, 0), groups,
                                    "encode_hash");
             });
 }
 
-void HashEncoding::recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+void HashEncoding::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                                   const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
                                   const gpu::BufferRange& grads) {
   if (mode_ == HashBackwardMode::SortReduce) {
@@ -191,7 +182,7 @@ void HashEncoding::ensureSortScratch(uint64_t slots, uint64_t entries) {
     if (scan_) retiredScans_.push_back(std::move(scan_));
     counts_ = gpu::Buffer(ctx_, entries * 4);
     cursor_ = gpu::Buffer(ctx_, entries * 4);
-    scan_ = std::make_unique<PrefixSum>(ctx_, uint32_t(entries));
+    scan_ = std::make_unique<gpu::PrefixSum>(ctx_, uint32_t(entries));
     entryCap_ = entries;
   }
 }

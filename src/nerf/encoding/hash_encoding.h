@@ -14,9 +14,12 @@
 #include "gpu/recorder.h"
 #include "reference/encoding/hash_encoding.h"
 
+namespace vknerf::gpu {
+class PrefixSum;
+}  // namespace vknerf::gpu
+
 namespace vknerf::nerf {
 
-class PrefixSum;
 using HashGridConfig = ref::HashGridConfig;
 
 // How the backward pass scatters into the table. Atomic is the default: on lavapipe it was the
@@ -64,7 +67,7 @@ class HashEncoding {
   // features: `count` rows of `stride` floats, block at columnOffset (both multiples of 4).
   // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are encoded,
   // the rest of the `count` rows are left untouched (shaders/row_limit.glsl).
-  void recordForward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                      const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
                      uint32_t columnOffset, const gpu::BufferRange* rowLimit = nullptr);
   // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params.
@@ -72,7 +75,7 @@ class HashEncoding {
   // need float atomics. SortReduce does not; it works in passes of at most sortSlotBudget()
   // contributions (levels x 8 corners x samples) through scratch buffers this object owns, grown on
   // demand. Grown buffers are kept, not freed, so every recording stays valid while this object lives.
-  void recordBackward(gpu::Recorder& rec, const gpu::BufferRange& positions, uint32_t count,
+  void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                       const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
                       const gpu::BufferRange& grads);
 
@@ -107,10 +110,9 @@ class HashEncoding {
   uint32_t slotBudget_ = 0;
   uint64_t slotCap_ = 0, entryCap_ = 0;
   gpu::Buffer counts_, cursor_, slots_, spanMax_, spanAcc_;
-  std::unique_ptr<PrefixSum> scan_;
+  std::unique_ptr<gpu::PrefixSum> scan_;
   std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
-  std::vector<std::unique_ptr<PrefixSum>> retiredScans_;
-  gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
+  std::vector<std::unique_ptr<gpu::PrefixSum>> retiredScans_;
   gpu::LimitedDispatch limited_;
 };
 

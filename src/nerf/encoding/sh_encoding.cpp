@@ -12,7 +12,6 @@ struct Push {
 };
 constexpr uint32_t kLocal = 64;
 
-
 uint32_t checkedDegree(uint32_t degree) {
   if (degree < 1 || degree > 4) throw Error("ShEncoding: degree must be 1..4, got " + std::to_string(degree));
   return degree;
@@ -25,12 +24,11 @@ ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
       degree_(checkedDegree(degree)),
       kernel_(ctx, {gpu::shaders::encode_sh, {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push),
                     {degree}}),
-      noLimit_(ctx, 16),
       limited_(ctx) {}
 
-void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, uint32_t count,
-                        const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
-                        const gpu::BufferRange* rowLimit) {
+void ShEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& directions,
+                               const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
+                               const gpu::BufferRange* rowLimit) {
   if (stride % 4 || columnOffset % 4)
     throw Error("ShEncoding: stride " + std::to_string(stride) + " and column offset " + std::to_string(columnOffset) +
                 " must be multiples of 4");
@@ -45,20 +43,12 @@ void ShEncoding::record(gpu::Recorder& rec, const gpu::BufferRange& directions, 
   // Matrices beyond one binding are encoded in chunks of rows bound at their own offsets (the
   // directions are read as one texel per row).
   const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes, 1));
-  for (uint32_t first = 0; first < count; first += chunk) {
-    const uint32_t n = std::min(chunk, count - first);
-    gpu::BufferRange in(*directions.buffer, directions.offset + VkDeviceSize(first) * 16, VkDeviceSize(n) * 16);
-    gpu::BufferRange out(*features.buffer, features.offset + first * rowBytes, n * rowBytes);
-    Push p{n, stride / 4, columnOffset / 4, gpu::kNoRowLimit};
-    if (!rowLimit) {
-      rec.dispatch(kernel_, {in, out, noLimit_}, p, gpu::groupsFor(n, kLocal), 1, 1, "encode_sh");
-      continue;
-    }
-    if (first == 0) limited_.recordArgs(rec, *rowLimit, count, chunk, {kLocal});
-    const gpu::LimitedRows l = limited_.rows(first / chunk, 0);
-    p.limitBase = l.base;
-    rec.dispatchIndirect(kernel_, {in, out, l.limit}, &p, sizeof p, *l.args, l.argsOffset, "encode_sh");
-  }
+  limited_.begin(rec, rowLimit, count, chunk, {kLocal});
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
+    gpu::dispatchLimited(rec, kernel_, {gpu::rowsOf(directions, 16, first, n), gpu::rowsOf(features, rowBytes, first, n)},
+                         Push{n, stride / 4, columnOffset / 4, 0}, limited_.rows(c, 0), gpu::groupsFor(n, kLocal),
+                         "encode_sh");
+  });
 }
 
 }  // namespace vknerf::nerf

@@ -22,14 +22,14 @@ class ShEncoding {
   // directions: `count` vec4 (xyz unit, w ignored; texel-buffer aligned offset); features: `count`
   // rows of `stride` floats. rowLimit (optional): a uint on the device; only rows below it are
   // encoded, the rest left untouched (shaders/row_limit.glsl).
-  void record(gpu::Recorder& rec, const gpu::BufferRange& directions, uint32_t count, const gpu::BufferRange& features,
-              uint32_t stride, uint32_t columnOffset, const gpu::BufferRange* rowLimit = nullptr);
+  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& directions,
+                     const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
+                     const gpu::BufferRange* rowLimit = nullptr);
 
  private:
   Context& ctx_;
   uint32_t degree_;
   gpu::Kernel kernel_;
-  gpu::Buffer noLimit_;  // bound as the row limit when there is none (never read)
   gpu::LimitedDispatch limited_;
 };
 

@@ -8,31 +8,11 @@
 
 namespace vknerf::nerf {
 namespace {
-struct BackgroundPush {
-  float constant[4];
-  uint32_t random, seed, count;
-};
 struct LossPush {
   uint32_t numRays;
   float gradScale;
 };
-constexpr uint32_t kBackgroundLocal = 64;
 }  // namespace
-
-BackgroundColors::BackgroundColors(Context& ctx)
-    : kernel_(ctx, {gpu::shaders::random_background, {gpu::Binding::Storage}, sizeof(BackgroundPush), {}}) {}
-
-void BackgroundColors::recordRandom(gpu::Recorder& rec, const gpu::BufferRange& background, uint32_t numRays,
-                                    uint32_t seed) {
-  BackgroundPush p{{0, 0, 0, 1}, 1, seed, numRays};
-  rec.dispatch(kernel_, {background}, p, gpu::groupsFor(numRays, kBackgroundLocal), 1, 1, "random_background");
-}
-
-void BackgroundColors::recordConstant(gpu::Recorder& rec, const gpu::BufferRange& background, uint32_t numRays,
-                                      const std::array<float, 3>& rgb) {
-  BackgroundPush p{{rgb[0], rgb[1], rgb[2], 1}, 0, 0, numRays};
-  rec.dispatch(kernel_, {background}, p, gpu::groupsFor(numRays, kBackgroundLocal), 1, 1, "random_background");
-}
 
 PhotometricLoss::PhotometricLoss(Context& ctx)
     : ctx_(ctx),

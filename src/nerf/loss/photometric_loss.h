@@ -1,12 +1,10 @@
 #pragma once
-// Per-ray background colours (shaders/random_background.comp) and the photometric MSE loss with its
-// gradient (shaders/loss_photometric.comp).
-// Layouts: background and predictions are one vec4 per ray, pred = (r, g, b, opacity); pixel ids
-// are uvec2(camera, pixel within image) per ray; images are all training images concatenated as
+// The photometric MSE loss with its gradient (shaders/loss/loss_photometric.comp).
+// Layouts: background (BackgroundColors) and predictions are one vec4 per ray, pred = (r, g, b,
+// opacity); pixel ids are uvec2(camera, pixel within image) per ray; images are all training images concatenated as
 // packed RGBA8 (uint per pixel, R in the low byte), image c starting at cameras[c].size[2]
 // (CameraGpu); dPred is one vec4 per ray (opacity component 0); partials is one float per
 // workgroup of kRaysPerPartial rays: that workgroup's sum of squared errors over rgb.
-#include <array>
 #include <cstdint>
 #include <span>
 
@@ -14,19 +12,6 @@
 #include "gpu/recorder.h"
 
 namespace vknerf::nerf {
-
-class BackgroundColors {
- public:
-  explicit BackgroundColors(Context& ctx);
-  // background[i] = (rng01(seed, i, 100), rng01(seed, i, 101), rng01(seed, i, 102), 1).
-  void recordRandom(gpu::Recorder& rec, const gpu::BufferRange& background, uint32_t numRays, uint32_t seed);
-  // background[i] = (rgb, 1).
-  void recordConstant(gpu::Recorder& rec, const gpu::BufferRange& background, uint32_t numRays,
-                      const std::array<float, 3>& rgb);
-
- private:
-  gpu::Kernel kernel_;
-};
 
 struct LossStats {
   double mse = 0;   // mean over rays and the 3 channels

@@ -77,8 +77,8 @@ DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuni
   if (shape.offset % 4) throw Error("MLP: layer weights must start on a multiple of 4 floats");
 }
 
-void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-                         const Mat& y, const char* label, const gpu::LimitedRows* limited) {
+void DenseLayer::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a,
+                               const Mat& b, const Mat& y, const gpu::LimitedRows& limited, const char* label) {
   if (count == 0) return;
   const auto& s = shape_;
   if (!forward_) {
@@ -90,20 +90,16 @@ void DenseLayer::forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRa
                               sizeof(RowPush),
                               {t_.local, s.ka4(), s.kb4(), s.n4(), s.n, act, u32(s.offset / 4, "weight offset"), t_.rows,
                                std::min(t_.block, s.n4())}});
-    noLimit_ = std::make_unique<gpu::Buffer>(ctx_, 16);
   }
   const Mat& bb = s.kb ? b : a;
-  RowPush p{count, a.stride / 4, bb.stride / 4, y.stride / 4, limited ? limited->base : gpu::kNoRowLimit};
-  if (limited)
-    rec.dispatchIndirect(*forward_, {a.range, bb.range, params, y.range, limited->limit}, &p, sizeof p, *limited->args,
-                         limited->argsOffset, label);
-  else
-    rec.dispatch(*forward_, {a.range, bb.range, params, y.range, *noLimit_}, p, gpu::groupsFor(count, rowsPerGroup()), 1,
-                 1, label);
+  gpu::dispatchLimited(rec, *forward_, {a.range, bb.range, params, y.range},
+                       RowPush{count, a.stride / 4, bb.stride / 4, y.stride / 4, 0}, limited,
+                       gpu::groupsFor(count, rowsPerGroup()), label);
 }
 
-void DenseLayer::inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,
-                           GradMode modeA, const Mat& da, GradMode modeB, const Mat& db, const char* label) {
+void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz,
+                                     const Mat& a, GradMode modeA, const Mat& da, GradMode modeB, const Mat& db,
+                                     const char* label) {
   const auto& s = shape_;
   if (s.kb == 0) modeB = GradMode::Skip;
   if (count == 0 || (modeA == GradMode::Skip && modeB == GradMode::Skip)) return;
@@ -145,8 +141,8 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
   add(nMain, s.n4() - nMain, 4);
 }
 
-void DenseLayer::weightGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& grads, const Mat& a, const Mat& b,
-                            const Mat& dz, const char* label) {
+void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const Mat& a, const Mat& b, const Mat& dz,
+                                       const gpu::BufferRange& grads, const char* label) {
   if (count == 0) return;
   const auto& s = shape_;
   if (dwA_.empty()) {

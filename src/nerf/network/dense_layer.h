@@ -45,18 +45,19 @@ class DenseLayer {
   const ref::DenseShape& shape() const { return shape_; }
 
   // y[rows][n4] = act(concat(a, b) W + bias); columns >= n are stored as 0. `b` is ignored when kb == 0.
-  // limited (optional): these rows are cut on the device to a limit (gpu/limited_dispatch.h), whose
+  // limited: these rows uncut, or cut on the device to a limit (gpu/limited_dispatch.h) whose
   // arguments were recorded for rowsPerGroup() rows per workgroup.
-  void forward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-               const Mat& y, const char* label = "mlp forward", const gpu::LimitedRows* limited = nullptr);
+  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
+                     const Mat& y, const gpu::LimitedRows& limited, const char* label = "mlp forward");
   uint32_t rowsPerGroup() const { return t_.local * t_.rows; }
   // From dz = dL/d(pre-activation): da (ka4 columns) and db (kb4 columns) per GradMode; StoreReluMasked
   // multiplies by [a > 0]. Skipped parts need no buffer (pass any Mat).
-  void inputGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz, const Mat& a,
-                 GradMode modeA, const Mat& da, GradMode modeB, const Mat& db, const char* label = "mlp dX");
+  void recordBackwardInput(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz,
+                           const Mat& a, GradMode modeA, const Mat& da, GradMode modeB, const Mat& db,
+                           const char* label = "mlp dX");
   // grads[W, bias] += concat(a, b)^T dz, sum(dz) (float atomics: accumulates).
-  void weightGrad(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& grads, const Mat& a, const Mat& b,
-                  const Mat& dz, const char* label = "mlp dW");
+  void recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const Mat& a, const Mat& b, const Mat& dz,
+                             const gpu::BufferRange& grads, const char* label = "mlp dW");
 
  private:
   struct DwPart {
@@ -69,7 +70,6 @@ class DenseLayer {
   ref::DenseShape shape_;
   MlpTuning t_;
   std::unique_ptr<gpu::Kernel> forward_;
-  std::unique_ptr<gpu::Buffer> noLimit_;  // bound as the row limit when there is none (never read)
   std::map<std::pair<GradMode, GradMode>, gpu::Kernel> dx_;
   std::vector<std::unique_ptr<DwPart>> dwA_, dwB_, dwBias_;
 };

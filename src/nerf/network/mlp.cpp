@@ -1,7 +1,6 @@
 #include "nerf/network/mlp.h"
 
 #include <algorithm>
-#include <optional>
 #include <string>
 
 #include "vknerf/error.h"
@@ -31,11 +30,6 @@ uint32_t deviceChunkRows(const Context& ctx, uint32_t maxStride) {
 
 gpu::Buffer rowsBuffer(Context& ctx, uint32_t rows, uint32_t stride) {
   return gpu::Buffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(rows) * stride * 4, 16));
-}
-
-// Calls fn(first, n) over [0, count) in chunks of at most `chunk` rows.
-template <class Fn> void forChunks(uint32_t count, uint32_t chunk, Fn&& fn) {
-  for (uint32_t first = 0; first < count; first += chunk) fn(first, std::min(chunk, count - first));
 }
 
 ref::NerfShape nerfShape(const MlpConfig& c) {
@@ -78,7 +72,7 @@ NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacit
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config) : NerfMlp(ctx, config, MlpTuning::forDevice(ctx)) {}
 
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning)
-    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), noLimit_(ctx, 16), limited_(ctx) {
+    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), limited_(ctx) {
   if (!ctx.floatAtomics()) throw Error("NeRF MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
   for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
   chunkRows_ = deviceChunkRows(ctx, std::max({posStride(), dirStride(), config.width + 4}));
@@ -115,26 +109,19 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
                               {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
   }
   // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
-  if (rowLimit) limited_.recordArgs(rec, *rowLimit, count, chunk, {layers_[0].rowsPerGroup(), kHeadLocal});
-  forChunks(count, chunk, [&](uint32_t first, uint32_t n) {
+  limited_.begin(rec, rowLimit, count, chunk, {layers_[0].rowsPerGroup(), kHeadLocal});
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
     uint32_t row = keep ? first : 0;
     Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
     Mat o = Mat{out, 4}.rows(first, n);
-    std::optional<gpu::LimitedRows> dense, head;
-    if (rowLimit) dense = limited_.rows(first / chunk, 0), head = limited_.rows(first / chunk, 1);
-    const gpu::LimitedRows* L = dense ? &*dense : nullptr;
+    const gpu::LimitedRows L = limited_.rows(c, 0), head = limited_.rows(c, 1);
     auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], W}.rows(row, n); };
     Mat F = Mat{ws.f_, W + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
-    for (uint32_t l = 0; l < D; ++l) layers_[l].forward(rec, n, params, l ? H(l - 1) : p, p, H(l), "nerf trunk", L);
-    layers_[D].forward(rec, n, params, H(D - 1), H(D - 1), F, "nerf feature+sigma", L);
-    layers_[D + 1].forward(rec, n, params, F, d, C, "nerf colour", L);
-    HeadPush hp{n, C.stride / 4, F.stride / 4, 1, head ? head->base : gpu::kNoRowLimit};
-    if (head)
-      rec.dispatchIndirect(*head_, {C.range, F.range, params, o.range, head->limit}, &hp, sizeof hp, *head->args,
-                           head->argsOffset, "nerf head");
-    else
-      rec.dispatch(*head_, {C.range, F.range, params, o.range, noLimit_}, hp, gpu::groupsFor(n, kHeadLocal), 1, 1,
-                   "nerf head");
+    for (uint32_t l = 0; l < D; ++l) layers_[l].recordForward(rec, n, params, l ? H(l - 1) : p, p, H(l), L, "nerf trunk");
+    layers_[D].recordForward(rec, n, params, H(D - 1), H(D - 1), F, L, "nerf feature+sigma");
+    layers_[D + 1].recordForward(rec, n, params, F, d, C, L, "nerf colour");
+    gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range}, HeadPush{n, C.stride / 4, F.stride / 4, 1, 0},
+                         head, gpu::groupsFor(n, kHeadLocal), "nerf head");
   });
 }
 
@@ -154,7 +141,7 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head_backward, b, sizeof(HeadBackwardPush),
                               {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
   }
-  forChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n) {
+  gpu::forRowChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n, uint32_t) {
     Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
     Mat o = Mat{out, 4}.rows(first, n), dO = Mat{dOut, 4}.rows(first, n);
     auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };
@@ -165,22 +152,22 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4};
     rec.dispatch(*headBackward_, {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range}, hp,
                  gpu::groupsFor(n, kHeadLocal), 1, 1, "nerf head backward");
-    layers_[D + 2].weightGrad(rec, n, grads, C, C, dzh, "nerf head dW");
-    layers_[D + 1].weightGrad(rec, n, grads, F, d, dC, "nerf colour dW");
-    layers_[D + 1].inputGrad(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, "nerf colour dX");
-    layers_[D].weightGrad(rec, n, grads, H(D - 1), H(D - 1), dF, "nerf feature+sigma dW");
+    layers_[D + 2].recordBackwardWeights(rec, n, C, C, dzh, grads, "nerf head dW");
+    layers_[D + 1].recordBackwardWeights(rec, n, F, d, dC, grads, "nerf colour dW");
+    layers_[D + 1].recordBackwardInput(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, "nerf colour dX");
+    layers_[D].recordBackwardWeights(rec, n, H(D - 1), H(D - 1), dF, grads, "nerf feature+sigma dW");
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
-    layers_[D].inputGrad(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
+    layers_[D].recordBackwardInput(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
                          "nerf feature+sigma dX");
     for (uint32_t l = D; l-- > 0;) {
       Mat a = l ? H(l - 1) : p;
-      layers_[l].weightGrad(rec, n, grads, a, p, cur, "nerf trunk dW");
+      layers_[l].recordBackwardWeights(rec, n, a, p, cur, grads, "nerf trunk dW");
       if (l > 0) {
-        layers_[l].inputGrad(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
+        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
                              dPos ? GradMode::Store : GradMode::Skip, dP, "nerf trunk dX");
         std::swap(cur, other);
       } else if (dPos) {
-        layers_[0].inputGrad(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
+        layers_[0].recordBackwardInput(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
                              GradMode::Skip, dP, "nerf trunk dX");
       }
     }
@@ -207,7 +194,7 @@ DenseMlp::Workspace::Workspace(Context& ctx, const DenseMlp& mlp, uint32_t capac
 DenseMlp::DenseMlp(Context& ctx, const DenseMlpConfig& config) : DenseMlp(ctx, config, MlpTuning::forDevice(ctx)) {}
 
 DenseMlp::DenseMlp(Context& ctx, const DenseMlpConfig& config, const MlpTuning& tuning)
-    : ctx_(ctx), config_(config), shape_(denseShape(config)), tuning_(tuning) {
+    : ctx_(ctx), config_(config), shape_(denseShape(config)), tuning_(tuning), uncut_(ctx) {
   if (!ctx.floatAtomics()) throw Error("dense MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
   for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
   chunkRows_ = deviceChunkRows(ctx, std::max({inputStride(), outputStride(), config.width}));
@@ -232,13 +219,13 @@ void DenseMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
   Workspace& ws = keep ? *keep : *scratch_;
   const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, scratch_->capacity_);
   const uint32_t L = uint32_t(layers_.size());
-  forChunks(count, chunk, [&](uint32_t first, uint32_t n) {
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t) {
     uint32_t row = keep ? first : 0;
     auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], config_.width}.rows(row, n); };
     Mat x = Mat{in, inputStride()}.rows(first, n), y = Mat{out, outputStride()}.rows(first, n);
     for (uint32_t l = 0; l < L; ++l) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].forward(rec, n, params, a, a, l + 1 < L ? H(l) : y, "mlp forward");
+      layers_[l].recordForward(rec, n, params, a, a, l + 1 < L ? H(l) : y, uncut_.uncut(), "mlp forward");
     }
   });
 }
@@ -256,7 +243,7 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buf
                               sizeof(SigmoidBackwardPush),
                               {outputStride(), config_.outputs}});
   const uint32_t W = config_.width, L = uint32_t(layers_.size());
-  forChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n) {
+  gpu::forRowChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n, uint32_t) {
     auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };
     Mat x = Mat{in, inputStride()}.rows(first, n);
     Mat y = Mat{out, outputStride()}.rows(first, n), dy = Mat{dOut, outputStride()}.rows(first, n);
@@ -267,15 +254,15 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buf
     int next = 0;
     for (uint32_t l = L; l-- > 0;) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].weightGrad(rec, n, grads, a, a, cur, "mlp dW");
+      layers_[l].recordBackwardWeights(rec, n, a, a, cur, grads, "mlp dW");
       if (l > 0) {
         Mat da = Mat{ws.dz_[next], W}.rows(0, n);
-        layers_[l].inputGrad(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, "mlp dX");
+        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, "mlp dX");
         cur = da;
         next ^= 1;
       } else if (dIn) {
         Mat d = Mat{*dIn, inputStride()}.rows(first, n);
-        layers_[0].inputGrad(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, "mlp dX");
+        layers_[0].recordBackwardInput(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, "mlp dX");
       }
     }
   });

@@ -85,7 +85,6 @@ class NerfMlp {
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_;
-  gpu::Buffer noLimit_;  // bound as the head's row limit when there is none (never read)
   gpu::LimitedDispatch limited_;  // the forward's workgroup counts under a row limit
   std::unique_ptr<Workspace> scratch_;
   uint32_t chunkRows_ = 0;
@@ -139,6 +138,7 @@ class DenseMlp {
   ref::DenseMlpShape shape_;
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;
+  gpu::LimitedDispatch uncut_;  // the layers' placeholder row limit: this network is never cut
   std::unique_ptr<gpu::Kernel> sigmoidBackward_;
   std::unique_ptr<Workspace> scratch_;
   uint32_t chunkRows_ = 0;

@@ -54,16 +54,6 @@ OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution)
   bits_.zero();
 }
 
-void OccupancyGrid::dispatchFlat(gpu::Recorder& rec, gpu::Kernel& k, std::initializer_list<gpu::BufferRange> bindings,
-                                 const void* push, uint32_t pushBytes, uint64_t invocations, uint32_t local,
-                                 const char* label) {
-  uint64_t groups = (invocations + local - 1) / local;
-  uint64_t maxX = ctx_.properties().limits.maxComputeWorkGroupCount[0];
-  uint64_t gy = (groups + maxX - 1) / maxX;
-  uint64_t gx = gy ? (groups + gy - 1) / gy : 0;
-  rec.dispatch(k, bindings, push, pushBytes, uint32_t(gx), uint32_t(gy), 1, label);
-}
-
 void OccupancyGrid::recordMarkAllOccupied(gpu::Recorder& rec) { rec.fill(bits_, 0xffffffffu); }
 
 void OccupancyGrid::recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const gpu::BufferRange& positions,
@@ -71,7 +61,7 @@ void OccupancyGrid::recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const
   requireBytes("positions", positions, uint64_t(numCells_) * 16);
   requireBytes("cells", cells, uint64_t(numCells_) * 4);
   PointsPush p{resolution_, numCells_, seed, 0};
-  dispatchFlat(rec, points_, {positions, cells}, &p, sizeof p, numCells_, kPointsLocal, "occupancy_points");
+  rec.dispatchFlat(points_, {positions, cells}, p, numCells_, kPointsLocal, "occupancy_points");
 }
 
 void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, uint32_t count,
@@ -79,7 +69,7 @@ void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, ui
   requireBytes("positions", positions, uint64_t(count) * 16);
   requireBytes("cells", cells, uint64_t(count) * 4);
   PointsPush p{resolution_, count, seed, 1};
-  dispatchFlat(rec, points_, {positions, cells}, &p, sizeof p, count, kPointsLocal, "occupancy_points");
+  rec.dispatchFlat(points_, {positions, cells}, p, count, kPointsLocal, "occupancy_points");
 }
 
 void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density,
@@ -95,16 +85,16 @@ void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cel
   requireBytes("density", density, uint64_t(count) * densityStride * 4);
   rec.fill(fresh_, 0u);
   SplatPush sp{count, densityStride, densityComponent};
-  dispatchFlat(rec, splat_, {cells, density, fresh_}, &sp, sizeof sp, count, kSplatLocal, "occupancy_splat");
+  rec.dispatchFlat(splat_, {cells, density, fresh_}, sp, count, kSplatLocal, "occupancy_splat");
   EmaPush ep{numCells_, decay, threshold};
-  dispatchFlat(rec, ema_, {density_, fresh_, bits_}, &ep, sizeof ep, numWords(), kEmaLocal, "occupancy_ema");
+  rec.dispatchFlat(ema_, {density_, fresh_, bits_}, ep, numWords(), kEmaLocal, "occupancy_ema");
 }
 
 void OccupancyGrid::recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter) {
   rec.fill(counter, 0u, 0, 4);
   CountPush p{numCells_};
-  dispatchFlat(rec, count_, {bits_, counter}, &p, sizeof p, (numWords() + kCountWords - 1) / kCountWords, kCountLocal,
-               "occupancy_count");
+  rec.dispatchFlat(count_, {bits_, counter}, p, (numWords() + kCountWords - 1) / kCountWords, kCountLocal,
+                   "occupancy_count");
 }
 
 float OccupancyGrid::occupiedFraction() {

@@ -57,8 +57,6 @@ class OccupancyGrid {
   float occupiedFraction();
 
  private:
-  void dispatchFlat(gpu::Recorder& rec, gpu::Kernel& k, std::initializer_list<gpu::BufferRange> bindings,
-                    const void* push, uint32_t pushBytes, uint64_t invocations, uint32_t local, const char* label);
   Context& ctx_;
   uint32_t resolution_, numCells_;
   gpu::Buffer density_, bits_, fresh_, counter_;

@@ -29,24 +29,11 @@ void requireIndexable(const char* stage, uint64_t count) {
     throw Error(std::string(stage) + ": " + std::to_string(count) + " samples in one batch overflow 32-bit indices; split the batch");
 }
 
-// Groups over x, spilling into y past maxComputeWorkGroupCount[0]; shaders use flatInvocation().
-void dispatchFlat(Context& ctx, gpu::Recorder& rec, gpu::Kernel& k, std::initializer_list<gpu::BufferRange> bindings,
-                  const void* push, uint32_t pushBytes, uint64_t invocations, uint32_t local, const char* label) {
-  uint64_t groups = (invocations + local - 1) / local;
-  uint64_t maxX = ctx.properties().limits.maxComputeWorkGroupCount[0];
-  uint64_t gy = (groups + maxX - 1) / maxX;
-  uint64_t gx = gy ? (groups + gy - 1) / gy : 0;
-  if (gy > ctx.properties().limits.maxComputeWorkGroupCount[1])
-    throw Error(std::string(label) + ": " + std::to_string(invocations) + " invocations exceed the device's dispatch limits");
-  rec.dispatch(k, bindings, push, pushBytes, uint32_t(gx), uint32_t(gy), 1, label);
-}
-
 }  // namespace
 
 StratifiedSampler::StratifiedSampler(Context& ctx)
-    : ctx_(ctx),
-      kernel_(ctx, {gpu::shaders::sample_stratified, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(StratifiedPush),
-                    {kStratifiedLocal}}) {}
+    : kernel_(ctx, {gpu::shaders::sample_stratified, {gpu::Binding::Storage, gpu::Binding::Storage},
+                    sizeof(StratifiedPush), {kStratifiedLocal}}) {}
 
 void StratifiedSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays,
                                uint32_t samplesPerRay, uint32_t seed, bool jitter, const gpu::BufferRange& samples) {
@@ -55,12 +42,11 @@ void StratifiedSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays,
   requireBytes("sample_stratified", "rays", rays, uint64_t(numRays) * kRayBytes);
   requireBytes("sample_stratified", "samples", samples, count * kSampleBytes);
   StratifiedPush p{numRays, samplesPerRay, seed, jitter ? 1u : 0u};
-  dispatchFlat(ctx_, rec, kernel_, {rays, samples}, &p, sizeof p, numRays, kStratifiedLocal, "sample_stratified");
+  rec.dispatchFlat(kernel_, {rays, samples}, p, numRays, kStratifiedLocal, "sample_stratified");
 }
 
 PdfSampler::PdfSampler(Context& ctx)
-    : ctx_(ctx),
-      kernel_(ctx, {gpu::shaders::sample_pdf,
+    : kernel_(ctx, {gpu::shaders::sample_pdf,
                     {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                     sizeof(PdfPush),
                     {kPdfLocal}}) {}
@@ -78,8 +64,7 @@ void PdfSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32
   requireBytes("sample_pdf", "coarse weights", coarseWeights, uint64_t(numRays) * nCoarse * sizeof(float));
   requireBytes("sample_pdf", "merged samples", mergedSamples, uint64_t(numRays) * perRay * kSampleBytes);
   PdfPush p{numRays, nCoarse, nFine, seed, jitter ? 1u : 0u, padding};
-  dispatchFlat(ctx_, rec, kernel_, {rays, coarseSamples, coarseWeights, mergedSamples}, &p, sizeof p, numRays,
-               kPdfLocal, "sample_pdf");
+  rec.dispatchFlat(kernel_, {rays, coarseSamples, coarseWeights, mergedSamples}, p, numRays, kPdfLocal, "sample_pdf");
 }
 
 }  // namespace vknerf::nerf

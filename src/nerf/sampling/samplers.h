@@ -27,7 +27,6 @@ class StratifiedSampler {
               uint32_t seed, bool jitter, const gpu::BufferRange& samples);
 
  private:
-  Context& ctx_;
   gpu::Kernel kernel_;
 };
 
@@ -47,7 +46,6 @@ class PdfSampler {
               uint32_t nFine, uint32_t seed, bool jitter, float padding, const gpu::BufferRange& mergedSamples);
 
  private:
-  Context& ctx_;
   gpu::Kernel kernel_;
 };
 

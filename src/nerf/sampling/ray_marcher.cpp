@@ -1,0 +1,79 @@
+#include "nerf/sampling/ray_marcher.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "nerf/rays/rays.h"
+#include "nerf/sampling/sample_layout.h"
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+namespace {
+
+struct MarchPush {
+  float boxMin[4];     // w = dt
+  float gridScale[4];
+  uint32_t numRays, resolution, maxSamples, seed, jitter, capacity;
+};
+
+constexpr uint32_t kMarchLocal = 32;  // march_count.comp, march_write.comp
+
+using gpu::requireBytes;
+
+}  // namespace
+
+RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays)
+    : maxRays_(maxRays),
+      counts_(ctx, VkDeviceSize(std::max(maxRays, 1u)) * 4),
+      scan_(ctx, maxRays + 1),
+      count_(ctx, {gpu::shaders::march_count, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                   sizeof(MarchPush), {}}),
+      write_(ctx, {gpu::shaders::march_write,
+                   {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+                    gpu::Binding::Storage},
+                   sizeof(MarchPush), {}}),
+      totals_(ctx) {}
+
+float RayMarcher::defaultStep(const Aabb& box) {
+  double s = 0;
+  for (int k = 0; k < 3; ++k) s += double(box.max[k] - box.min[k]) * (box.max[k] - box.min[k]);
+  return float(std::sqrt(s) / 1024.0);
+}
+
+void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays, const OccupancyGrid& grid,
+                        const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
+                        const gpu::BufferRange& offsets, const gpu::BufferRange& samples,
+                        const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals) {
+  if (numRays > maxRays_)
+    throw Error("RayMarcher: " + std::to_string(numRays) + " rays exceed the capacity " + std::to_string(maxRays_));
+  if (!(std::isfinite(dt) && dt > 0.0f)) throw Error("RayMarcher: step " + std::to_string(dt) + " must be finite and > 0");
+  if (maxSamplesPerRay == 0) throw Error("RayMarcher: maxSamplesPerRay must be at least 1");
+  if (uint64_t(numRays) * maxSamplesPerRay > 0xffffffffull)
+    throw Error("RayMarcher: " + std::to_string(numRays) + " rays x " + std::to_string(maxSamplesPerRay) +
+                " samples overflow 32-bit offsets; lower the cap or split the batch");
+  for (int k = 0; k < 3; ++k)
+    if (!(box.max[k] > box.min[k])) throw Error("RayMarcher: scene box is empty along axis " + std::to_string(k));
+  requireBytes("RayMarcher", "rays", rays, uint64_t(numRays) * kRayBytes);
+  requireBytes("RayMarcher", "offsets", offsets, (uint64_t(numRays) + 1) * 4);
+  requireBytes("RayMarcher", "totals", totals, kTotalsBytes);
+  uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(samples) / kSampleBytes, gpu::boundBytes(sampleRay) / 4, 0xffffffffull});
+
+  uint32_t r = grid.resolution();
+  MarchPush p{{box.min[0], box.min[1], box.min[2], dt},
+              {float(r) / (box.max[0] - box.min[0]), float(r) / (box.max[1] - box.min[1]),
+               float(r) / (box.max[2] - box.min[2]), 0},
+              numRays, r, maxSamplesPerRay, seed, jitter ? 1u : 0u, uint32_t(capacity)};
+  rec.dispatchFlat(count_, {rays, grid.bits(), counts_}, p, numRays, kMarchLocal, "march_count");
+  scan_.record(rec, counts_, numRays, offsets, numRays + 1, uint32_t(capacity));
+  if (capacity > 0)
+    rec.dispatchFlat(write_, {rays, grid.bits(), offsets, samples, sampleRay}, p, numRays, kMarchLocal, "march_write");
+  recordTotals(rec, offsets, numRays, kIndirectLocal, totals);
+}
+
+void RayMarcher::recordTotals(gpu::Recorder& rec, const gpu::BufferRange& offsets, uint32_t numRays,
+                              uint32_t localSize, const gpu::BufferRange& totals) {
+  totals_.record(rec, offsets, numRays, localSize, totals);
+}
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,59 @@
+#pragma once
+// Ray marching with empty-space skipping into a packed sample layout (shaders/sampling/march_*.comp).
+//
+// Samples of ray r are the lattice points t_k = t_near + (u + k) dt, k = 0, 1, ..., with t_k < t_far
+// whose occupancy cell is occupied, in order, at most maxSamplesPerRay; u = rng01(seed, r, 0)
+// (jitter, training) or 0 (rendering). Each sample is vec2(t_k, min(dt, t_far - t_k)): it stands
+// for [t_k, t_k + dt], cut at t_far. Empty cells are skipped in one jump, giving exactly the
+// samples of the one-step-at-a-time march (src/reference/occupancy.h, ref::marchRay).
+// Output layouts:
+//   offsets     uint[numRays + 1]: ray r owns samples [off[r], off[r+1]); off[numRays] = total
+//               (the packed layout of nerf::Compositor with samplesPerRay = 0)
+//   samples     vec2 (t, delta) per sample
+//   sampleRay   uint per sample: the ray it belongs to
+//   totals      uint[4] as PackedTotals writes them, for kIndirectLocal
+// The sample capacity is what the samples and sampleRay buffers hold; a batch over it keeps the
+// samples of its first rays and the offsets are clamped, so off[numRays] <= capacity always.
+#include <cstdint>
+
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+#include "gpu/prefix_sum.h"
+#include "gpu/recorder.h"
+#include "nerf/occupancy/occupancy_grid.h"
+#include "nerf/sampling/packed_totals.h"
+#include "vknerf/camera.h"
+
+namespace vknerf::nerf {
+
+class RayMarcher {
+ public:
+  static constexpr uint32_t kIndirectLocal = PackedTotals::kIndirectLocal;
+  static constexpr VkDeviceSize kTotalsBytes = PackedTotals::kBytes;
+
+  RayMarcher(Context& ctx, uint32_t maxRays);
+
+  // instant-ngp's step for a bounded scene: the box diagonal over 1024.
+  static float defaultStep(const Aabb& box);
+
+  // rays: 2 x vec4 per ray (o, t_near), (d, t_far), misses (-1, -1). Throws vknerf::Error for
+  // numRays > maxRays, dt not finite and > 0, maxSamplesPerRay == 0, numRays * maxSamplesPerRay
+  // over 32 bits, an empty box, or buffers too small for numRays (offsets, totals).
+  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays, const OccupancyGrid& grid,
+              const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
+              const gpu::BufferRange& offsets, const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
+              const gpu::BufferRange& totals);
+
+  // totals as record() writes them, from offsets[numRays], with dispatch arguments for `localSize`.
+  void recordTotals(gpu::Recorder& rec, const gpu::BufferRange& offsets, uint32_t numRays, uint32_t localSize,
+                    const gpu::BufferRange& totals);
+
+ private:
+  uint32_t maxRays_;
+  gpu::Buffer counts_;
+  gpu::PrefixSum scan_;
+  gpu::Kernel count_, write_;
+  PackedTotals totals_;
+};
+
+}  // namespace vknerf::nerf

@@ -21,12 +21,17 @@ Compositor::Compositor(Context& ctx)
       forward_(ctx, desc(gpu::shaders::composite_forward, sizeof(Push))),
       backward_(ctx, desc(gpu::shaders::composite_backward, sizeof(Push))) {}
 
-Compositor::Push Compositor::push(uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
-                                  const std::array<float, 3>& background,
-                                  const gpu::BufferRange* perRayBackground) const {
+void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays,
+                          uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
+                          const gpu::BufferRange& field, const std::array<float, 3>& background,
+                          const gpu::BufferRange* perRayBackground, const gpu::BufferRange& out0,
+                          const gpu::BufferRange& out1, const gpu::BufferRange& out2) {
   if (samplesPerRay == 0 && numRays > 0 && !rayOffsets.buffer)
     throw Error("Compositor: samplesPerRay == 0 (packed layout) needs a rayOffsets buffer");
-  return {{background[0], background[1], background[2], 0}, numRays, samplesPerRay, perRayBackground ? 1u : 0u, 0};
+  Push p{{background[0], background[1], background[2], 0}, numRays, samplesPerRay, perRayBackground ? 1u : 0u, 0};
+  gpu::BufferRange offsets = rayOffsets.buffer ? rayOffsets : gpu::BufferRange(dummy_);
+  gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
+  rec.dispatch(kernel, {offsets, samples, field, bg, out0, out1, out2}, p, gpu::groupsFor(numRays, kLocal), 1, 1, label);
 }
 
 void Compositor::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay,
@@ -34,11 +39,8 @@ void Compositor::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t sa
                                const gpu::BufferRange& field, const std::array<float, 3>& background,
                                const gpu::BufferRange* perRayBackground, const gpu::BufferRange& outColor,
                                const gpu::BufferRange& outDepth, const gpu::BufferRange& outWeights) {
-  Push p = push(numRays, samplesPerRay, rayOffsets, background, perRayBackground);
-  gpu::BufferRange offsets = rayOffsets.buffer ? rayOffsets : gpu::BufferRange(dummy_);
-  gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
-  rec.dispatch(forward_, {offsets, samples, field, bg, outColor, outDepth, outWeights}, p,
-               gpu::groupsFor(numRays, kLocal), 1, 1, "composite_forward");
+  dispatch(rec, forward_, "composite_forward", numRays, samplesPerRay, rayOffsets, samples, field, background,
+           perRayBackground, outColor, outDepth, outWeights);
 }
 
 void Compositor::recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay,
@@ -46,11 +48,8 @@ void Compositor::recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t s
                                 const gpu::BufferRange& field, const std::array<float, 3>& background,
                                 const gpu::BufferRange* perRayBackground, const gpu::BufferRange& dColor,
                                 const gpu::BufferRange& dDepth, const gpu::BufferRange& dField) {
-  Push p = push(numRays, samplesPerRay, rayOffsets, background, perRayBackground);
-  gpu::BufferRange offsets = rayOffsets.buffer ? rayOffsets : gpu::BufferRange(dummy_);
-  gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
-  rec.dispatch(backward_, {offsets, samples, field, bg, dColor, dDepth, dField}, p, gpu::groupsFor(numRays, kLocal),
-               1, 1, "composite_backward");
+  dispatch(rec, backward_, "composite_backward", numRays, samplesPerRay, rayOffsets, samples, field, background,
+           perRayBackground, dColor, dDepth, dField);
 }
 
 }  // namespace vknerf::nerf

@@ -22,7 +22,6 @@
 
 namespace vknerf::nerf {
 
-
 constexpr VkDeviceSize kFieldBytes = 16;
 
 class Compositor {
@@ -50,8 +49,12 @@ class Compositor {
     float background[4];
     uint32_t numRays, samplesPerRay, useBackgroundBuffer, pad;
   };
-  Push push(uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
-            const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground) const;
+  // Both passes bind the same inputs and three outputs (forward: colour, depth, weights;
+  // backward: dColor, dDepth, dField).
+  void dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays, uint32_t samplesPerRay,
+                const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples, const gpu::BufferRange& field,
+                const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
+                const gpu::BufferRange& out0, const gpu::BufferRange& out1, const gpu::BufferRange& out2);
 
   gpu::Buffer dummy_;  // bound where the layout or the background source leaves a binding unused
   gpu::Kernel forward_, backward_;

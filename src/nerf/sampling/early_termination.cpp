@@ -27,13 +27,11 @@ using gpu::requireBytes;
 
 EarlyTermination::EarlyTermination(Context& ctx, uint32_t maxRays)
     : maxRays_(maxRays),
-      kept_(ctx, VkDeviceSize(std::max(maxRays, 1u)) * 4),
-      scan_(ctx, maxRays + 1),
+      layout_(ctx, maxRays),
       truncate_(ctx, {gpu::shaders::march_truncate,
                       {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                       sizeof(TruncatePush), {}}),
-      compact_(ctx, {gpu::shaders::march_compact, std::vector<gpu::Binding>(8, gpu::Binding::Storage), sizeof(CompactPush), {}}),
-      totals_(ctx) {}
+      compact_(ctx, {gpu::shaders::march_compact, std::vector<gpu::Binding>(8, gpu::Binding::Storage), sizeof(CompactPush), {}}) {}
 
 float EarlyTermination::maxOpticalDepth(float minTransmittance) { return float(-std::log(double(minTransmittance))); }
 
@@ -48,19 +46,18 @@ void EarlyTermination::record(gpu::Recorder& rec, uint32_t numRays, const gpu::B
   if (!(minTransmittance > 0.0f && minTransmittance <= 1.0f))
     throw Error("EarlyTermination: minTransmittance " + std::to_string(minTransmittance) + " is outside (0, 1]");
   requireBytes("EarlyTermination", "offsets", offsets, (uint64_t(numRays) + 1) * 4);
-  requireBytes("EarlyTermination", "out offsets", outOffsets, (uint64_t(numRays) + 1) * 4);
+  PackedLayout::requireOutputs("EarlyTermination out", numRays, outOffsets, outTotals);
   // The survivors never outnumber the input, so outputs as large as the inputs always suffice;
   // smaller ones clamp like the marcher's (the last rays lose samples).
   uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(outSamples) / kSampleBytes, gpu::boundBytes(outSampleRay) / 4,
                                           gpu::boundBytes(outField) / 16, 0xffffffffull});
   TruncatePush tp{numRays, maxOpticalDepth(minTransmittance)};
-  rec.dispatchFlat(truncate_, {offsets, samples, field, kept_}, tp, numRays, kRayLocal, "march_truncate");
-  scan_.record(rec, kept_, numRays, outOffsets, numRays + 1, uint32_t(capacity));
+  rec.dispatchFlat(truncate_, {offsets, samples, field, layout_.counts()}, tp, numRays, kRayLocal, "march_truncate");
+  layout_.recordOffsetsAndTotals(rec, numRays, uint32_t(capacity), outOffsets, outTotals);
   CompactPush cp{numRays};
   if (capacity > 0)
     rec.dispatchFlat(compact_, {offsets, samples, sampleRay, field, outOffsets, outSamples, outSampleRay, outField}, cp,
                      numRays, kRayLocal, "march_compact");
-  totals_.record(rec, outOffsets, numRays, PackedTotals::kIndirectLocal, outTotals);
 }
 
 }  // namespace vknerf::nerf

@@ -11,9 +11,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
-#include "gpu/prefix_sum.h"
 #include "gpu/recorder.h"
-#include "nerf/sampling/packed_totals.h"
+#include "nerf/sampling/packed_layout.h"
 
 namespace vknerf::nerf {
 
@@ -29,10 +28,8 @@ class EarlyTermination {
 
  private:
   uint32_t maxRays_;
-  gpu::Buffer kept_;
-  gpu::PrefixSum scan_;
+  PackedLayout layout_;  // counts: the samples each ray keeps
   gpu::Kernel truncate_, compact_;
-  PackedTotals totals_;
 };
 
 }  // namespace vknerf::nerf

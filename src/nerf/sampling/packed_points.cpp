@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "nerf/sampling/packed_totals.h"
+#include "nerf/sampling/packed_layout.h"
 #include "nerf/sampling/sample_layout.h"
 #include "vknerf/error.h"
 
@@ -33,7 +33,7 @@ void PackedSamplePoints::record(gpu::Recorder& rec, const gpu::BufferRange& rays
     if (!(box.max[k] > box.min[k])) throw Error("PackedSamplePoints: scene box is empty along axis " + std::to_string(k));
   requireBytes("PackedSamplePoints", "samples", samples, uint64_t(capacity) * kSampleBytes);
   requireBytes("PackedSamplePoints", "sampleRay", sampleRay, uint64_t(capacity) * 4);
-  requireBytes("PackedSamplePoints", "totals", totals, PackedTotals::kBytes);
+  requireBytes("PackedSamplePoints", "totals", totals, PackedLayout::kTotalsBytes);
   requireBytes("PackedSamplePoints", "positions", positions, uint64_t(capacity) * 16);
   requireBytes("PackedSamplePoints", "directions", directions, uint64_t(capacity) * 16);
   PointsPush p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}};

@@ -1,7 +1,7 @@
 #pragma once
 // Field inputs of a packed batch (shaders/sampling/march_points.comp): positions (normalised box
 // [-1, 1]^3) and directions, vec4 with w = 0, one per sample. The count comes from the batch's
-// totals (PackedTotals) on the device; `capacity` (the samples the output buffers hold) bounds
+// totals (PackedLayout) on the device; `capacity` (the samples the output buffers hold) bounds
 // the dispatch.
 #include <cstdint>
 

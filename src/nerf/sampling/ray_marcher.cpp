@@ -25,15 +25,13 @@ using gpu::requireBytes;
 
 RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays)
     : maxRays_(maxRays),
-      counts_(ctx, VkDeviceSize(std::max(maxRays, 1u)) * 4),
-      scan_(ctx, maxRays + 1),
+      layout_(ctx, maxRays),
       count_(ctx, {gpu::shaders::march_count, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                    sizeof(MarchPush), {}}),
       write_(ctx, {gpu::shaders::march_write,
                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
                     gpu::Binding::Storage},
-                   sizeof(MarchPush), {}}),
-      totals_(ctx) {}
+                   sizeof(MarchPush), {}}) {}
 
 float RayMarcher::defaultStep(const Aabb& box) {
   double s = 0;
@@ -55,8 +53,7 @@ void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32
   for (int k = 0; k < 3; ++k)
     if (!(box.max[k] > box.min[k])) throw Error("RayMarcher: scene box is empty along axis " + std::to_string(k));
   requireBytes("RayMarcher", "rays", rays, uint64_t(numRays) * kRayBytes);
-  requireBytes("RayMarcher", "offsets", offsets, (uint64_t(numRays) + 1) * 4);
-  requireBytes("RayMarcher", "totals", totals, kTotalsBytes);
+  PackedLayout::requireOutputs("RayMarcher", numRays, offsets, totals);
   uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(samples) / kSampleBytes, gpu::boundBytes(sampleRay) / 4, 0xffffffffull});
 
   uint32_t r = grid.resolution();
@@ -64,16 +61,10 @@ void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32
               {float(r) / (box.max[0] - box.min[0]), float(r) / (box.max[1] - box.min[1]),
                float(r) / (box.max[2] - box.min[2]), 0},
               numRays, r, maxSamplesPerRay, seed, jitter ? 1u : 0u, uint32_t(capacity)};
-  rec.dispatchFlat(count_, {rays, grid.bits(), counts_}, p, numRays, kMarchLocal, "march_count");
-  scan_.record(rec, counts_, numRays, offsets, numRays + 1, uint32_t(capacity));
+  rec.dispatchFlat(count_, {rays, grid.bits(), layout_.counts()}, p, numRays, kMarchLocal, "march_count");
+  layout_.recordOffsetsAndTotals(rec, numRays, uint32_t(capacity), offsets, totals);
   if (capacity > 0)
     rec.dispatchFlat(write_, {rays, grid.bits(), offsets, samples, sampleRay}, p, numRays, kMarchLocal, "march_write");
-  recordTotals(rec, offsets, numRays, kIndirectLocal, totals);
-}
-
-void RayMarcher::recordTotals(gpu::Recorder& rec, const gpu::BufferRange& offsets, uint32_t numRays,
-                              uint32_t localSize, const gpu::BufferRange& totals) {
-  totals_.record(rec, offsets, numRays, localSize, totals);
 }
 
 }  // namespace vknerf::nerf

@@ -11,25 +11,24 @@
 //               (the packed layout of nerf::Compositor with samplesPerRay = 0)
 //   samples     vec2 (t, delta) per sample
 //   sampleRay   uint per sample: the ray it belongs to
-//   totals      uint[4] as PackedTotals writes them, for kIndirectLocal
+//   totals      uint[4] as PackedLayout writes them, for kIndirectLocal
 // The sample capacity is what the samples and sampleRay buffers hold; a batch over it keeps the
 // samples of its first rays and the offsets are clamped, so off[numRays] <= capacity always.
 #include <cstdint>
 
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
-#include "gpu/prefix_sum.h"
 #include "gpu/recorder.h"
 #include "nerf/occupancy/occupancy_grid.h"
-#include "nerf/sampling/packed_totals.h"
+#include "nerf/sampling/packed_layout.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
 
 class RayMarcher {
  public:
-  static constexpr uint32_t kIndirectLocal = PackedTotals::kIndirectLocal;
-  static constexpr VkDeviceSize kTotalsBytes = PackedTotals::kBytes;
+  static constexpr uint32_t kIndirectLocal = PackedLayout::kIndirectLocal;
+  static constexpr VkDeviceSize kTotalsBytes = PackedLayout::kTotalsBytes;
 
   RayMarcher(Context& ctx, uint32_t maxRays);
 
@@ -44,16 +43,10 @@ class RayMarcher {
               const gpu::BufferRange& offsets, const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
               const gpu::BufferRange& totals);
 
-  // totals as record() writes them, from offsets[numRays], with dispatch arguments for `localSize`.
-  void recordTotals(gpu::Recorder& rec, const gpu::BufferRange& offsets, uint32_t numRays, uint32_t localSize,
-                    const gpu::BufferRange& totals);
-
  private:
   uint32_t maxRays_;
-  gpu::Buffer counts_;
-  gpu::PrefixSum scan_;
+  PackedLayout layout_;  // counts: the samples each ray marches
   gpu::Kernel count_, write_;
-  PackedTotals totals_;
 };
 
 }  // namespace vknerf::nerf

@@ -1,0 +1,32 @@
+#include "nerf/sampling/packed_layout.h"
+
+#include <algorithm>
+
+namespace vknerf::nerf {
+namespace {
+struct TotalsPush {
+  uint32_t numRays, localSize, maxGroupsX;
+};
+}  // namespace
+
+PackedLayout::PackedLayout(Context& ctx, uint32_t maxRays)
+    : ctx_(ctx),
+      counts_(ctx, VkDeviceSize(std::max(maxRays, 1u)) * 4),
+      scan_(ctx, maxRays + 1),
+      totals_(ctx, {gpu::shaders::march_totals, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(TotalsPush), {}}) {}
+
+void PackedLayout::requireOutputs(const char* stage, uint32_t numRays, const gpu::BufferRange& offsets,
+                                  const gpu::BufferRange& totals) {
+  gpu::requireBytes(stage, "offsets", offsets, (uint64_t(numRays) + 1) * 4);
+  gpu::requireBytes(stage, "totals", totals, kTotalsBytes);
+}
+
+void PackedLayout::recordOffsetsAndTotals(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity,
+                                          const gpu::BufferRange& offsets, const gpu::BufferRange& totals) {
+  requireOutputs("PackedLayout", numRays, offsets, totals);
+  scan_.record(rec, counts_, numRays, offsets, numRays + 1, capacity);
+  TotalsPush p{numRays, kIndirectLocal, ctx_.properties().limits.maxComputeWorkGroupCount[0]};
+  rec.dispatch(totals_, {offsets, totals}, p, 1, 1, 1, "march_totals");
+}
+
+}  // namespace vknerf::nerf

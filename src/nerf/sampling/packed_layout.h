@@ -1,0 +1,42 @@
+#pragma once
+// The layout every stage that packs samples writes (RayMarcher, EarlyTermination): a first pass
+// counts each ray's samples into counts(), then recordOffsetsAndTotals turns the counts into
+//   offsets uint[numRays + 1]: ray r owns samples [off[r], off[r+1]); an exclusive prefix sum of the
+//           counts, clamped at the sample capacity so that off[numRays] <= capacity always
+//   totals  uint[4]: [0] = offsets[numRays], the total samples; [1..3] = a VkDispatchIndirectCommand
+//           covering the total with workgroups of kIndirectLocal (x capped at the device limit, the
+//           rest in y: per-sample kernels index flatly, as sampling.glsl's flatInvocation() does)
+// (shaders/gpu/scan_*.comp, shaders/sampling/march_totals.comp); a second pass then writes the
+// samples at their offsets.
+#include <cstdint>
+
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+#include "gpu/prefix_sum.h"
+#include "gpu/recorder.h"
+
+namespace vknerf::nerf {
+
+class PackedLayout {
+ public:
+  static constexpr uint32_t kIndirectLocal = 64;  // the local size of the batches' per-sample kernels
+  static constexpr VkDeviceSize kTotalsBytes = 16;
+
+  PackedLayout(Context& ctx, uint32_t maxRays);
+  // uint per ray: what the counting pass writes.
+  const gpu::Buffer& counts() const { return counts_; }
+  // Throws vknerf::Error for buffers too small for numRays; a stage checks them with
+  // requireOutputs before it records anything, so that a bad call leaves nothing half recorded.
+  static void requireOutputs(const char* stage, uint32_t numRays, const gpu::BufferRange& offsets,
+                             const gpu::BufferRange& totals);
+  void recordOffsetsAndTotals(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity,
+                              const gpu::BufferRange& offsets, const gpu::BufferRange& totals);
+
+ private:
+  Context& ctx_;
+  gpu::Buffer counts_;
+  gpu::PrefixSum scan_;
+  gpu::Kernel totals_;
+};
+
+}  // namespace vknerf::nerf

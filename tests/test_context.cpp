@@ -92,7 +92,7 @@ TEST_F(ContextTest, AdoptedDeviceRunsKernelsAndIsNotDestroyed) {
     gpu::Buffer rays(*adopted, 16 * nerf::kRayBytes), ids(*adopted, 16 * nerf::kPixelIdBytes);
     gpu::Recorder rec(*adopted);
     rec.begin();
-    gen.recordImage(rec, camBuf, 0, 0, 16, Aabb{}, 0, rays, ids);
+    gen.recordImage(rec, 16, camBuf, 0, 0, Aabb{}, 0, rays, ids);
     rec.end();
     rec.submitAndWait();
     auto r = rays.download<float>(16 * 8);
@@ -134,9 +134,9 @@ TEST_F(ContextTest, BindingOverStorageRangeIsRejected) {
   gpu::Buffer big(ctx(), limit + 256), cams(ctx(), 80), ids(ctx(), 64);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(gen.recordImage(rec, cams, 0, 0, 1, Aabb{}, 0, big, ids), Error);
+  EXPECT_THROW(gen.recordImage(rec, 1, cams, 0, 0, Aabb{}, 0, big, ids), Error);
   // The same buffer bound at an offset, within the limit, is accepted.
-  EXPECT_NO_THROW(gen.recordImage(rec, cams, 0, 0, 1, Aabb{}, 0, gpu::BufferRange(big, 256, limit), ids));
+  EXPECT_NO_THROW(gen.recordImage(rec, 1, cams, 0, 0, Aabb{}, 0, gpu::BufferRange(big, 256, limit), ids));
   rec.end();
 }
 

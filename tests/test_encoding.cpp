@@ -229,8 +229,8 @@ TEST_F(Encoding, SamplePointsMatchReference) {
   nerf::SamplePoints sp(ctx());
   gpu::Recorder rec(ctx());
   rec.begin();
-  sp.record(rec, rb, sb, numRays, n, box, pos, dir);
-  sp.record(rec, rb, sb, 0, n, box, pos, dir);  // empty batch: records nothing
+  sp.record(rec, numRays, rb, sb, n, box, pos, dir);
+  sp.record(rec, 0, rb, sb, n, box, pos, dir);  // empty batch: records nothing
   rec.end();
   rec.submitAndWait();
   auto p = pos.download<float>(), d = dir.download<float>();

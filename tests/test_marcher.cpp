@@ -81,7 +81,7 @@ MarchOut runMarch(Context& ctx, const std::vector<TestRay>& rays, nerf::Occupanc
   nerf::RayMarcher marcher(ctx, std::max(n, 1u));
   gpu::Recorder rec(ctx);
   rec.begin();
-  marcher.record(rec, rayBuf, n, grid, box, dt, maxSamples, seed, jitter, offsets, samples, sampleRay, totals);
+  marcher.record(rec, n, rayBuf, grid, box, dt, maxSamples, seed, jitter, offsets, samples, sampleRay, totals);
   rec.end();
   rec.submitAndWait();
   MarchOut out{offsets.download<uint32_t>(n + 1), {}, totals.download<uint32_t>(4), {}};
@@ -413,14 +413,17 @@ TEST_F(Marcher, RejectsBadArguments) {
   gpu::Buffer rays(ctx(), 11 * 32), offsets(ctx(), 12 * 4), samples(ctx(), 64), sampleRay(ctx(), 64), totals(ctx(), 16);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(marcher.record(rec, rays, 11, grid, box, 0.01f, 8, 0, false, offsets, samples, sampleRay, totals), Error);
-  EXPECT_THROW(marcher.record(rec, rays, 10, grid, box, 0.0f, 8, 0, false, offsets, samples, sampleRay, totals), Error);
-  EXPECT_THROW(marcher.record(rec, rays, 10, grid, box, NAN, 8, 0, false, offsets, samples, sampleRay, totals), Error);
-  EXPECT_THROW(marcher.record(rec, rays, 10, grid, box, 0.01f, 0, 0, false, offsets, samples, sampleRay, totals), Error);
+  EXPECT_THROW(marcher.record(rec, 11, rays, grid, box, 0.01f, 8, 0, false, offsets, samples, sampleRay, totals),
+               Error);
+  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, 0.0f, 8, 0, false, offsets, samples, sampleRay, totals), Error);
+  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, NAN, 8, 0, false, offsets, samples, sampleRay, totals), Error);
+  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, 0.01f, 0, 0, false, offsets, samples, sampleRay, totals),
+               Error);
   Aabb flat{{0, 0, 0}, {1, 0, 1}};
-  EXPECT_THROW(marcher.record(rec, rays, 10, grid, flat, 0.01f, 8, 0, false, offsets, samples, sampleRay, totals), Error);
+  EXPECT_THROW(marcher.record(rec, 10, rays, grid, flat, 0.01f, 8, 0, false, offsets, samples, sampleRay, totals),
+               Error);
   gpu::Buffer shortOffsets(ctx(), 40);
-  EXPECT_THROW(marcher.record(rec, rays, 10, grid, box, 0.01f, 8, 0, false, shortOffsets, samples, sampleRay, totals),
+  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, 0.01f, 8, 0, false, shortOffsets, samples, sampleRay, totals),
                Error);
   rec.end();
 }
@@ -441,8 +444,8 @@ TEST_F(Marcher, PackedPointsFollowSampleRays) {
   nerf::PackedSamplePoints points(ctx());
   gpu::Recorder rec(ctx());
   rec.begin();
-  marcher.record(rec, rayBuf, n, grid, box, 0.02f, 256, 8, true, offsets, samples, sampleRay, totals);
-  points.record(rec, rayBuf, samples, sampleRay, totals, capacity, box, positions, directions);
+  marcher.record(rec, n, rayBuf, grid, box, 0.02f, 256, 8, true, offsets, samples, sampleRay, totals);
+  points.record(rec, capacity, rayBuf, samples, sampleRay, totals, box, positions, directions);
   rec.end();
   rec.submitAndWait();
   uint32_t total = totals.download<uint32_t>(1)[0];

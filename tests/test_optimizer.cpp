@@ -33,7 +33,7 @@ struct Problem {
     gb.upload(g);
     gpu::Recorder rec(ctx);
     rec.begin();
-    adam.record(rec, pb, gb, mb, vb, uint32_t(p.size()), t, lr);
+    adam.record(rec, uint32_t(p.size()), pb, gb, mb, vb, t, lr);
     rec.end();
     rec.submitAndWait();
     std::vector<double> rg(g.begin(), g.end());
@@ -222,10 +222,10 @@ TEST_F(Adam, EmptyStepAndBadArguments) {
   auto b = gpu::Buffer::of(ctx(), std::vector<float>(8, 1.0f));
   gpu::Recorder rec(ctx());
   rec.begin();
-  adam.record(rec, b, b, b, b, 0, 1, 0.1f);  // count 0: records nothing
-  EXPECT_THROW(adam.record(rec, b, b, b, b, 8, 0, 0.1f), Error);  // steps are 1-based
-  EXPECT_THROW(adam.record(rec, gpu::BufferRange(b, 4, 16), b, b, b, 4, 1, 0.1f), Error);  // misaligned
-  EXPECT_THROW(adam.record(rec, b, b, b, b, 9, 1, 0.1f), Error);  // more parameters than the buffers hold
+  adam.record(rec, 0, b, b, b, b, 1, 0.1f);                                                // count 0: records nothing
+  EXPECT_THROW(adam.record(rec, 8, b, b, b, b, 0, 0.1f), Error);                           // steps are 1-based
+  EXPECT_THROW(adam.record(rec, 4, gpu::BufferRange(b, 4, 16), b, b, b, 1, 0.1f), Error);  // misaligned
+  EXPECT_THROW(adam.record(rec, 9, b, b, b, b, 1, 0.1f), Error);  // more parameters than the buffers hold
   rec.end();
   rec.submitAndWait();
   for (float x : b.download<float>()) EXPECT_EQ(x, 1.0f);
@@ -251,7 +251,7 @@ TEST_F(Adam, SubRangesAndTinyCounts) {
     auto sub = [&](const gpu::Buffer& b) { return gpu::BufferRange(b, 4 * offset, 4 * count); };
     gpu::Recorder rec(ctx());
     rec.begin();
-    adam.record(rec, sub(pb), sub(gb), sub(mb), sub(vb), count, 2, 0.01f);
+    adam.record(rec, count, sub(pb), sub(gb), sub(mb), sub(vb), 2, 0.01f);
     rec.end();
     rec.submitAndWait();
     std::vector<double> rp(p.begin() + offset, p.begin() + offset + count), rg(g.begin() + offset, g.begin() + offset + count),

@@ -38,7 +38,7 @@ std::vector<float> runStratified(Context& ctx, const std::vector<std::pair<float
   nerf::StratifiedSampler sampler(ctx);
   gpu::Recorder rec(ctx);
   rec.begin();
-  sampler.record(rec, rays, numRays, n, seed, jitter, samples);
+  sampler.record(rec, numRays, rays, n, seed, jitter, samples);
   rec.end();
   rec.submitAndWait();
   return samples.download<float>(size_t(numRays) * n * 2);
@@ -71,7 +71,7 @@ std::vector<float> runPdf(Context& ctx, const PdfCase& c) {
   nerf::PdfSampler sampler(ctx);
   gpu::Recorder rec(ctx);
   rec.begin();
-  sampler.record(rec, rays, numRays, coarseBuf, weightBuf, c.nCoarse, c.nFine, c.seed, c.jitter, c.padding, merged);
+  sampler.record(rec, numRays, rays, coarseBuf, weightBuf, c.nCoarse, c.nFine, c.seed, c.jitter, c.padding, merged);
   rec.end();
   rec.submitAndWait();
   return merged.download<float>(size_t(numRays) * nOut * 2);
@@ -218,8 +218,8 @@ TEST_F(SamplesStratified, EmptyBatchAndUndersizedBuffers) {
   nerf::StratifiedSampler sampler(ctx());
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(sampler.record(rec, rays, 2, 64, 0, true, small), Error);
-  EXPECT_THROW(sampler.record(rec, rays, 3, 1, 0, true, small), Error);  // 3 rays, buffer of 2
+  EXPECT_THROW(sampler.record(rec, 2, rays, 64, 0, true, small), Error);
+  EXPECT_THROW(sampler.record(rec, 3, rays, 1, 0, true, small), Error);  // 3 rays, buffer of 2
   rec.end();
 }
 
@@ -512,9 +512,9 @@ TEST_F(SamplesPdf, RejectsUndersizedBuffersAndBadPadding) {
   nerf::PdfSampler sampler(ctx());
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(sampler.record(rec, rays, 2, coarse, weights, 64, 129, 0, true, 0, merged), Error);
-  EXPECT_THROW(sampler.record(rec, rays, 2, coarse, weights, 65, 127, 0, true, 0, merged), Error);
-  EXPECT_THROW(sampler.record(rec, rays, 2, coarse, weights, 64, 128, 0, true, -1e-5f, merged), Error);
-  EXPECT_THROW(sampler.record(rec, rays, 2, coarse, weights, 64, 128, 0, true, std::nanf(""), merged), Error);
+  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 64, 129, 0, true, 0, merged), Error);
+  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 65, 127, 0, true, 0, merged), Error);
+  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 64, 128, 0, true, -1e-5f, merged), Error);
+  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 64, 128, 0, true, std::nanf(""), merged), Error);
   rec.end();
 }

@@ -68,7 +68,7 @@ FitImageResult fitImage(Context& ctx, const std::vector<uint32_t>& rgba8, uint32
     mlp.recordForward(rec, n, params, features, out, &ws);
     loss.record(rec, n, out, pixelIds, images, cameras, background, dOut, partials);
     mlp.recordBackward(rec, n, params, features, out, dOut, grads, ws);
-    adam.record(rec, params, grads, m, v, uint32_t(mlp.parameterCount()), step, adam.config().learningRate(step - 1));
+    adam.record(rec, uint32_t(mlp.parameterCount()), params, grads, m, v, step, adam.config().learningRate(step - 1));
     rec.end();
     rec.submitAndWait();
     if (progress && progressEvery && (step % progressEvery == 0 || step == config.steps))

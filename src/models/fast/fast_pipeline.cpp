@@ -125,10 +125,10 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
 
 void FastPipeline::recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, uint32_t maxSamples,
                                uint32_t seed, bool jitter) {
-  marcher_.record(rec,
-                  gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VkDeviceSize(numRays) * kRayBytes),
-                  numRays, grid_, box_, dt_, maxSamples, seed, jitter, marched_.offsets, marched_.samples,
-                  marched_.sampleRay, marched_.totals);
+  marcher_.record(
+      rec, numRays,
+      gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VkDeviceSize(numRays) * kRayBytes), grid_,
+      box_, dt_, maxSamples, seed, jitter, marched_.offsets, marched_.samples, marched_.sampleRay, marched_.totals);
 }
 
 std::pair<uint32_t, uint32_t> FastPipeline::wholeRays(uint32_t numRays) {
@@ -145,8 +145,9 @@ std::pair<uint32_t, uint32_t> FastPipeline::wholeRays(uint32_t numRays) {
 void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count, bool keep,
                                bool limitToTotal) {
   FieldBatch& f = field_;
-  points_.record(rec, gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE),
-                 batch.samples, batch.sampleRay, batch.totals, sampleCapacity_, box_, f.positions, f.directions);
+  points_.record(rec, sampleCapacity_,
+                 gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE), batch.samples,
+                 batch.sampleRay, batch.totals, box_, f.positions, f.directions);
   // The sample total is the first uint of the totals (RayMarcher::kTotalsBytes).
   const gpu::BufferRange total(batch.totals, 0, 4);
   const gpu::BufferRange* limit = limitToTotal ? &total : nullptr;

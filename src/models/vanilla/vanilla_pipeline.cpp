@@ -65,7 +65,7 @@ VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const 
 void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, uint32_t numRays, bool keep) {
   const uint32_t n = numRays * l.samplesPerRay;
   FieldBatch& f = l.field;
-  points_.record(rec, rays_.rays(), l.samples, numRays, l.samplesPerRay, box_, f.positions, f.directions);
+  points_.record(rec, numRays, rays_.rays(), l.samples, l.samplesPerRay, box_, f.positions, f.directions);
   posEncoding_.recordForward(rec, n, f.positions, f.posFeatures, net.mlp.posStride(), 0);
   dirEncoding_.recordForward(rec, n, f.directions, f.dirFeatures, net.mlp.dirStride(), 0);
   net.mlp.recordForward(rec, n, net.parameters.params(), f.posFeatures, f.dirFeatures, f.field,
@@ -79,9 +79,9 @@ void VanillaPipeline::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32
   if (numRays > capacity_) throw Error("VanillaPipeline: batch of " + std::to_string(numRays) + " rays over capacity");
   Level& c = levels_[0];
   Level& f = levels_[1];
-  stratified_.record(rec, rays_.rays(), numRays, c.samplesPerRay, seed, jitter, c.samples);
+  stratified_.record(rec, numRays, rays_.rays(), c.samplesPerRay, seed, jitter, c.samples);
   recordLevel(rec, c, coarse_, numRays, training_);
-  pdf_.record(rec, rays_.rays(), numRays, c.samples, c.weights, c.samplesPerRay, f.samplesPerRay - c.samplesPerRay,
+  pdf_.record(rec, numRays, rays_.rays(), c.samples, c.weights, c.samplesPerRay, f.samplesPerRay - c.samplesPerRay,
               seed ^ 0x9e3779b9u, jitter, 1e-5f, f.samples);
   recordLevel(rec, f, fine(), numRays, training_);
 }

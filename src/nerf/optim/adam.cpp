@@ -41,8 +41,8 @@ Adam::Adam(Context& ctx, AdamConfig config)
                     {}}),
       dummy_(ctx, 16) {}
 
-void Adam::record(gpu::Recorder& rec, const gpu::BufferRange& params, const gpu::BufferRange& grads,
-                  const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t count, uint32_t step, float lr) {
+void Adam::record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& grads,
+                  const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t step, float lr) {
   if (step == 0) throw Error("Adam: the step number is 1-based, got 0");
   if (count == 0) return;
   const auto& limits = ctx_.properties().limits;

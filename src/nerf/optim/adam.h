@@ -29,8 +29,8 @@ class Adam {
   Adam(Context& ctx, AdamConfig config);
   const AdamConfig& config() const { return config_; }
   // One step; `step` is 1-based (bias correction 1 / (1 - beta^step)); lr is this step's rate.
-  void record(gpu::Recorder& rec, const gpu::BufferRange& params, const gpu::BufferRange& grads,
-              const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t count, uint32_t step, float lr);
+  void record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& grads,
+              const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t step, float lr);
 
  private:
   Context& ctx_;

@@ -25,23 +25,23 @@ std::vector<CameraGpu> packCameras(std::span<const Camera> cameras) {
 RayGeneration::RayGeneration(Context& ctx)
     : kernel_(ctx, {gpu::shaders::rays, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push), {}}) {}
 
-void RayGeneration::record(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t mode, uint32_t camera,
-                           uint32_t first, uint32_t count, const Aabb& box, float nearPlane,
+void RayGeneration::record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t mode,
+                           uint32_t camera, uint32_t first, const Aabb& box, float nearPlane,
                            const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
   Push p{{box.min[0], box.min[1], box.min[2], nearPlane}, {box.max[0], box.max[1], box.max[2], 0}, mode, camera, first, count};
   rec.dispatch(kernel_, {cameras, rays, pixelIds}, p, gpu::groupsFor(count, kLocal), 1, 1, "rays");
 }
 
-void RayGeneration::recordImage(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera,
-                                uint32_t firstPixel, uint32_t count, const Aabb& box, float nearPlane,
-                                const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
-  record(rec, cameras, 0, camera, firstPixel, count, box, nearPlane, rays, pixelIds);
+void RayGeneration::recordImage(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t camera,
+                                uint32_t firstPixel, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
+                                const gpu::BufferRange& pixelIds) {
+  record(rec, count, cameras, 0, camera, firstPixel, box, nearPlane, rays, pixelIds);
 }
 
-void RayGeneration::recordRandom(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t numCameras,
-                                 uint32_t seed, uint32_t count, const Aabb& box, float nearPlane,
+void RayGeneration::recordRandom(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras,
+                                 uint32_t numCameras, uint32_t seed, const Aabb& box, float nearPlane,
                                  const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
-  record(rec, cameras, 1, numCameras, seed, count, box, nearPlane, rays, pixelIds);
+  record(rec, count, cameras, 1, numCameras, seed, box, nearPlane, rays, pixelIds);
 }
 
 }  // namespace vknerf::nerf

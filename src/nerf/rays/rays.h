@@ -27,17 +27,17 @@ class RayGeneration {
  public:
   explicit RayGeneration(Context& ctx);
   // Rays through pixels [firstPixel, firstPixel + count) of one camera, row-major.
-  void recordImage(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t firstPixel,
-                   uint32_t count, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
+  void recordImage(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t camera,
+                   uint32_t firstPixel, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
                    const gpu::BufferRange& pixelIds);
   // `count` rays through random pixels of random cameras (uniform over cameras, then pixels).
-  void recordRandom(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t numCameras, uint32_t seed,
-                    uint32_t count, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
+  void recordRandom(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t numCameras,
+                    uint32_t seed, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
                     const gpu::BufferRange& pixelIds);
 
  private:
-  void record(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t mode, uint32_t camera, uint32_t first,
-              uint32_t count, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
+  void record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t mode, uint32_t camera,
+              uint32_t first, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
               const gpu::BufferRange& pixelIds);
   gpu::Kernel kernel_;
 };

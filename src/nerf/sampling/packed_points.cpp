@@ -25,9 +25,9 @@ PackedSamplePoints::PackedSamplePoints(Context& ctx)
                      gpu::Binding::Storage, gpu::Binding::Storage},
                     sizeof(PointsPush), {}}) {}
 
-void PackedSamplePoints::record(gpu::Recorder& rec, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
-                                const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, uint32_t capacity,
-                                const Aabb& box, const gpu::BufferRange& positions,
+void PackedSamplePoints::record(gpu::Recorder& rec, uint32_t capacity, const gpu::BufferRange& rays,
+                                const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
+                                const gpu::BufferRange& totals, const Aabb& box, const gpu::BufferRange& positions,
                                 const gpu::BufferRange& directions) {
   for (int k = 0; k < 3; ++k)
     if (!(box.max[k] > box.min[k])) throw Error("PackedSamplePoints: scene box is empty along axis " + std::to_string(k));

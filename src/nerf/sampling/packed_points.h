@@ -15,8 +15,8 @@ namespace vknerf::nerf {
 class PackedSamplePoints {
  public:
   explicit PackedSamplePoints(Context& ctx);
-  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
-              const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, uint32_t capacity, const Aabb& box,
+  void record(gpu::Recorder& rec, uint32_t capacity, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
+              const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, const Aabb& box,
               const gpu::BufferRange& positions, const gpu::BufferRange& directions);
 
  private:

@@ -20,8 +20,8 @@ SamplePoints::SamplePoints(Context& ctx)
                     sizeof(Push),
                     {}}) {}
 
-void SamplePoints::record(gpu::Recorder& rec, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
-                          uint32_t numRays, uint32_t samplesPerRay, const Aabb& box,
+void SamplePoints::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays,
+                          const gpu::BufferRange& samples, uint32_t samplesPerRay, const Aabb& box,
                           const gpu::BufferRange& positions, const gpu::BufferRange& directions) {
   uint64_t count = uint64_t(numRays) * samplesPerRay;
   if (count > UINT32_MAX) throw Error("SamplePoints: " + std::to_string(count) + " samples exceed 2^32");

@@ -16,7 +16,7 @@ class SamplePoints {
  public:
   explicit SamplePoints(Context& ctx);
   // rays: 2 x vec4 per ray; samples: numRays * samplesPerRay vec2; positions, directions: vec4 each.
-  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, const gpu::BufferRange& samples, uint32_t numRays,
+  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
               uint32_t samplesPerRay, const Aabb& box, const gpu::BufferRange& positions,
               const gpu::BufferRange& directions);
 

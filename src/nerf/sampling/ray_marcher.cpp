@@ -39,7 +39,7 @@ float RayMarcher::defaultStep(const Aabb& box) {
   return float(std::sqrt(s) / 1024.0);
 }
 
-void RayMarcher::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays, const OccupancyGrid& grid,
+void RayMarcher::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const OccupancyGrid& grid,
                         const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
                         const gpu::BufferRange& offsets, const gpu::BufferRange& samples,
                         const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals) {

@@ -38,7 +38,7 @@ class RayMarcher {
   // rays: 2 x vec4 per ray (o, t_near), (d, t_far), misses (-1, -1). Throws vknerf::Error for
   // numRays > maxRays, dt not finite and > 0, maxSamplesPerRay == 0, numRays * maxSamplesPerRay
   // over 32 bits, an empty box, or buffers too small for numRays (offsets, totals).
-  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays, const OccupancyGrid& grid,
+  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const OccupancyGrid& grid,
               const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
               const gpu::BufferRange& offsets, const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
               const gpu::BufferRange& totals);

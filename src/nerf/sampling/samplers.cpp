@@ -35,7 +35,7 @@ StratifiedSampler::StratifiedSampler(Context& ctx)
     : kernel_(ctx, {gpu::shaders::sample_stratified, {gpu::Binding::Storage, gpu::Binding::Storage},
                     sizeof(StratifiedPush), {kStratifiedLocal}}) {}
 
-void StratifiedSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays,
+void StratifiedSampler::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays,
                                uint32_t samplesPerRay, uint32_t seed, bool jitter, const gpu::BufferRange& samples) {
   uint64_t count = uint64_t(numRays) * samplesPerRay;
   requireIndexable("sample_stratified", count);
@@ -51,9 +51,9 @@ PdfSampler::PdfSampler(Context& ctx)
                     sizeof(PdfPush),
                     {kPdfLocal}}) {}
 
-void PdfSampler::record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays,
-                        const gpu::BufferRange& coarseSamples, const gpu::BufferRange& coarseWeights,
-                        uint32_t nCoarse, uint32_t nFine, uint32_t seed, bool jitter, float padding,
+void PdfSampler::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays,
+                        const gpu::BufferRange& coarseSamples, const gpu::BufferRange& coarseWeights, uint32_t nCoarse,
+                        uint32_t nFine, uint32_t seed, bool jitter, float padding,
                         const gpu::BufferRange& mergedSamples) {
   if (!(std::isfinite(padding) && padding >= 0.0f))
     throw Error("sample_pdf: padding " + std::to_string(padding) + " must be finite and >= 0");

@@ -23,8 +23,8 @@ class StratifiedSampler {
   // samplesPerRay equal bins in [t_near, t_far] of each ray, one sample per bin: at
   // t_near + (i + u) / N * (t_far - t_near) with u = rng01(seed, ray, i) (jitter) or 0.5.
   // `samples` holds numRays * samplesPerRay samples.
-  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays, uint32_t samplesPerRay,
-              uint32_t seed, bool jitter, const gpu::BufferRange& samples);
+  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, uint32_t samplesPerRay, uint32_t seed,
+              bool jitter, const gpu::BufferRange& samples);
 
  private:
   gpu::Kernel kernel_;
@@ -41,9 +41,9 @@ class PdfSampler {
   // interpolation in its bin. The fine t's are merged in order with the coarse ones: `mergedSamples`
   // holds numRays * (nCoarse + nFine) samples, deltas recomputed. Throws vknerf::Error for a
   // negative or non-finite padding or a buffer too small for the counts.
-  void record(gpu::Recorder& rec, const gpu::BufferRange& rays, uint32_t numRays,
-              const gpu::BufferRange& coarseSamples, const gpu::BufferRange& coarseWeights, uint32_t nCoarse,
-              uint32_t nFine, uint32_t seed, bool jitter, float padding, const gpu::BufferRange& mergedSamples);
+  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const gpu::BufferRange& coarseSamples,
+              const gpu::BufferRange& coarseWeights, uint32_t nCoarse, uint32_t nFine, uint32_t seed, bool jitter,
+              float padding, const gpu::BufferRange& mergedSamples);
 
  private:
   gpu::Kernel kernel_;

@@ -12,7 +12,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/render/composite.h"
 #include "reference/render/composite.h"
 

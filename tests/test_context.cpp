@@ -5,7 +5,7 @@
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "reference/rays/rays.h"
-#include "test_dataset_util.h"
+#include "support/dataset_files.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

@@ -1,6 +1,6 @@
 // Bad transforms*.json input: every case is one vknerf::Error naming the file and the field (or
 // frame, or image path), never a crash.
-#include "test_dataset_util.h"
+#include "support/dataset_files.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

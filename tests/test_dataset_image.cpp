@@ -3,7 +3,7 @@
 
 #include <cstdlib>
 
-#include "test_dataset_util.h"
+#include "support/dataset_files.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

@@ -14,7 +14,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
 

@@ -7,7 +7,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/encoding/frequency_encoding.h"
 #include "nerf/sampling/points.h"
 #include "reference/encoding/frequency_encoding.h"

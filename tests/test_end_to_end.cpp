@@ -3,8 +3,8 @@
 // constant colour can reach.
 #include <cmath>
 
-#include "gpu_test.h"
-#include "held_out.h"
+#include "support/gpu_test.h"
+#include "support/held_out.h"
 #include "vknerf/trainer.h"
 
 using namespace vknerf;

@@ -7,9 +7,9 @@
 #include <map>
 
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "models/fast/fast_pipeline.h"
-#include "held_out.h"
+#include "support/held_out.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"

@@ -8,7 +8,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "reference/encoding/hash_encoding.h"
 #include "vknerf/error.h"

@@ -5,7 +5,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/rays/rays.h"
 #include "reference/loss/photometric_loss.h"

@@ -10,7 +10,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/sampling/marcher.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "reference/encoding/frequency_encoding.h"

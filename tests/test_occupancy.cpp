@@ -8,7 +8,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "reference/occupancy/occupancy_grid.h"
 #include "vknerf/error.h"

@@ -5,7 +5,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/optim/adam.h"
 #include "reference/optim/adam.h"
 #include "vknerf/error.h"

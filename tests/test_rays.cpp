@@ -4,7 +4,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/rays.h"
 #include "reference/rng.h"

@@ -15,7 +15,7 @@
 #include "gpu/buffer.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
 #include "nerf/encoding/sh_encoding.h"

@@ -10,7 +10,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/samplers.h"
 #include "reference/rng.h"

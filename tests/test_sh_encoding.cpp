@@ -7,7 +7,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "nerf/encoding/sh_encoding.h"
 #include "reference/encoding/sh_encoding.h"
 #include "vknerf/error.h"

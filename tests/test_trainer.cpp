@@ -3,7 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "io/checkpoint.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"

@@ -1,4 +1,4 @@
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 
 namespace vknerf::test {
 

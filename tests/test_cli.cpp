@@ -10,6 +10,8 @@
 #include <fstream>
 #include <string>
 
+#include "support/temp_dir.h"
+
 namespace {
 
 struct Result {
@@ -33,12 +35,6 @@ Result runCli(const std::string& args) {
 
 std::string scene() { return std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop"; }
 
-std::string temp(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("vknerf_cli_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
-
 }  // namespace
 
 TEST(Cli, HelpAndUsageErrors) {
@@ -53,13 +49,15 @@ TEST(Cli, HelpAndUsageErrors) {
 }
 
 TEST(Cli, MissingSceneNamesThePath) {
-  auto r = runCli("train /no/such/scene -o " + temp("y.vknerf") + " --steps 1");
+  const vknerf::test::TempDir tmp("cli");
+  auto r = runCli("train /no/such/scene -o " + tmp.file("y.vknerf") + " --steps 1");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("/no/such/scene"), std::string::npos) << r.output;
 }
 
 TEST(Cli, CorruptCheckpointIsAClearError) {
-  auto path = temp("corrupt.vknerf");
+  const vknerf::test::TempDir tmp("cli");
+  auto path = tmp.file("corrupt.vknerf");
   std::ofstream(path) << "definitely not a checkpoint";
   auto r = runCli("eval " + path + " " + scene());
   EXPECT_EQ(r.code, 1);
@@ -75,7 +73,8 @@ TEST(Cli, UnknownDeviceIsARuntimeError) {
 
 TEST(Cli, InterruptSavesALoadableCheckpoint) {
   // SIGINT after a few seconds: training stops at a step boundary, saves, exits 0.
-  auto model = temp("interrupted.vknerf"), out = temp("interrupted_render");
+  const vknerf::test::TempDir tmp("cli");
+  auto model = tmp.file("interrupted.vknerf"), out = tmp.file("interrupted_render");
   auto r = runCli("train " + scene() + " -o " + model +
                   " --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128 --steps 1000000 --save-every 0 2>&1"
                   " & pid=$!; sleep 6; kill -INT $pid; wait $pid");

@@ -5,6 +5,8 @@
 
 #include "reference/rays/rays.h"
 #include "support/dataset_files.h"
+#include "support/error_message.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

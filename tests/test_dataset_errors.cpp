@@ -1,6 +1,8 @@
 // Bad transforms*.json input: every case is one vknerf::Error naming the file and the field (or
 // frame, or image path), never a crash.
 #include "support/dataset_files.h"
+#include "support/error_message.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

@@ -4,6 +4,8 @@
 #include <cstdlib>
 
 #include "support/dataset_files.h"
+#include "support/error_message.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

@@ -5,6 +5,7 @@
 
 #include "reference/rays/rays.h"
 #include "support/dataset_files.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

@@ -32,8 +32,7 @@ TEST_F(EndToEnd, TrainsSampleSceneAboveConstantBaseline) {
   m.skipLayer = 2;
   m.coarseSamples = 16;
   m.fineSamples = 32;
-  auto ctx = std::shared_ptr<Context>(&test::context(), [](Context*) {});
-  Trainer trainer(ctx, train, cfg);
+  Trainer trainer(test::sharedContext(), train, cfg);
   for (int i = 0; i < 80; ++i) trainer.step();
 
   // The best constant colour for these views (their mean) is the baseline a model that learned

@@ -5,6 +5,7 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/rays.h"
 #include "reference/rng.h"
@@ -47,14 +48,12 @@ GpuRays runRays(Context& ctx, const std::vector<Camera>& cams, bool random, uint
   auto camBuf = gpu::Buffer::of(ctx, packed);
   gpu::Buffer rays(ctx, count * nerf::kRayBytes), ids(ctx, count * nerf::kPixelIdBytes);
   nerf::RayGeneration gen(ctx);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  if (random)
-    gen.recordRandom(rec, camBuf, uint32_t(cams.size()), seed, count, box, nearPlane, rays, ids);
-  else
-    gen.recordImage(rec, camBuf, cam, first, count, box, nearPlane, rays, ids);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    if (random)
+      gen.recordRandom(rec, camBuf, uint32_t(cams.size()), seed, count, box, nearPlane, rays, ids);
+    else
+      gen.recordImage(rec, camBuf, cam, first, count, box, nearPlane, rays, ids);
+  });
   return {rays.download<float>(count * 8), ids.download<uint32_t>(count * 2)};
 }
 
@@ -168,7 +167,8 @@ TEST_F(Rays, CameraLookingAwayMissesBox) {
 }
 
 TEST_F(Rays, RandomPixelsMatchCounterRng) {
-  std::vector<Camera> cams = {lookAt({4, 0, 1}, 10, 7, 9), lookAt({0, 4, 1}, 5, 12, 9), lookAt({-3, -3, 2}, 9, 9, 9)};
+  std::vector<Camera> cams = {lookAt({4, 0, 1}, 10, 7, 9), lookAt({0, 4, 1}, 5, 12, 9),
+                              lookAt({-3, -3, 2}, 9, 9, 9)};
   const uint32_t n = 1000, seed = 1234;
   auto out = runRays(ctx(), cams, true, 0, seed, n, Aabb{}, 0, seed);
   std::vector<int> perCamera(cams.size());

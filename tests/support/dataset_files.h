@@ -1,8 +1,7 @@
 #pragma once
-// Helpers for the dataset tests: a per-test temporary folder, tiny generated images and transforms
-// files, camera poses, and capturing the message of a vknerf::Error.
+// Files for the dataset tests: tiny generated images, transforms and COLMAP text, camera poses as
+// the files carry them.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -12,33 +11,13 @@
 #include <string>
 
 #include "io/image_io.h"
+#include "support/temp_dir.h"
 #include "vknerf/dataset.h"
-#include "vknerf/error.h"
 
 namespace vknerf::test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// A fresh folder per test (tests run in parallel processes under ctest), removed afterwards.
-class TempDirTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("vknerf_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  const fs::path& dir() const { return dir_; }
-
- private:
-  fs::path dir_;
-};
 
 inline void writeText(const fs::path& p, const std::string& text) {
   fs::create_directories(p.parent_path());
@@ -88,24 +67,5 @@ inline json matrixJson(const std::array<double, 16>& m) {
   for (int r = 0; r < 4; ++r) rows.push_back({m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3]});
   return rows;
 }
-
-// The message of the vknerf::Error that `f` throws; a test failure when it throws nothing or
-// something else.
-template <class F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "threw a non-vknerf exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "did not throw";
-  return {};
-}
-
-#define EXPECT_MESSAGE_HAS(message, part) \
-  EXPECT_NE(std::string(message).find(part), std::string::npos) << "message: " << (message) << "\nexpected: " << (part)
 
 }  // namespace vknerf::test

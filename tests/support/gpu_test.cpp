@@ -1,5 +1,7 @@
 #include "support/gpu_test.h"
 
+#include <cstdio>
+
 namespace vknerf::test {
 
 Context& context() {
@@ -11,5 +13,7 @@ Context& context() {
   }();
   return *ctx;
 }
+
+std::shared_ptr<Context> sharedContext() { return std::shared_ptr<Context>(&context(), [](Context*) {}); }
 
 }  // namespace vknerf::test

@@ -43,20 +43,7 @@ TrainConfig tinyConfig(const Context& ctx) {
 
 // Camera at `eye` looking at the origin, +Y up.
 Camera lookAtOrigin(float ex, float ey, float ez, uint32_t w, uint32_t h) {
-  const float len = std::sqrt(ex * ex + ey * ey + ez * ez);
-  const float z[3] = {ex / len, ey / len, ez / len};  // backwards
-  float x[3] = {z[2], 0, -z[0]};                      // cross((0, 1, 0), z)
-  const float xl = std::sqrt(x[0] * x[0] + x[2] * x[2]);
-  x[0] /= xl, x[2] /= xl;
-  const float y[3] = {z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]};
-  Camera c;
-  c.width = w;
-  c.height = h;
-  c.fx = c.fy = 1.2f * float(w);
-  c.cx = 0.5f * float(w);
-  c.cy = 0.5f * float(h);
-  c.c2w = {x[0], y[0], z[0], ex, x[1], y[1], z[1], ey, x[2], y[2], z[2], ez, 0, 0, 0, 1};
-  return c;
+  return pinholeFromFocal(w, h, 1.2f * float(w), lookAt({ex, ey, ez}, {0, 0, 0}, {0, 1, 0}));
 }
 
 // Four 16x16 views of a coloured pattern around the unit box: enough for a few training steps to

@@ -12,6 +12,7 @@
 
 #include "io/image_io.h"
 #include "support/temp_dir.h"
+#include "vknerf/camera.h"
 #include "vknerf/dataset.h"
 
 namespace vknerf::test {
@@ -45,21 +46,17 @@ inline void writePng(const fs::path& p, const ImageRGBA8& img) {
   nerf::savePng(p.string(), img);
 }
 
-// Camera-to-world (OpenGL convention, row-major 4x4) of a camera at `eye` looking at `target`.
-inline std::array<double, 16> lookAt(std::array<double, 3> eye, std::array<double, 3> target) {
-  auto norm = [](std::array<double, 3> v) {
-    double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    return std::array<double, 3>{v[0] / n, v[1] / n, v[2] / n};
-  };
-  auto cross = [](std::array<double, 3> a, std::array<double, 3> b) {
-    return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  auto back = norm({eye[0] - target[0], eye[1] - target[1], eye[2] - target[2]});
-  std::array<double, 3> up = std::fabs(back[2]) > 0.99 ? std::array<double, 3>{0, 1, 0} : std::array<double, 3>{0, 0, 1};
-  auto right = norm(cross(up, back));
-  auto camUp = cross(back, right);
-  return {right[0], camUp[0], back[0], eye[0], right[1], camUp[1], back[1], eye[1],
-          right[2], camUp[2], back[2], eye[2], 0, 0, 0, 1};
+// Camera-to-world (vknerf::lookAt) of a camera at `eye` looking at `target`, +Z up, or +Y when it
+// looks (nearly) straight up or down; in doubles, as the dataset files carry poses.
+inline std::array<double, 16> poseLookingAt(std::array<double, 3> eye, std::array<double, 3> target) {
+  const double back[3] = {eye[0] - target[0], eye[1] - target[1], eye[2] - target[2]};
+  const double vertical = std::fabs(back[2]) / std::sqrt(back[0] * back[0] + back[1] * back[1] + back[2] * back[2]);
+  const std::array<float, 3> up = vertical > 0.99 ? std::array<float, 3>{0, 1, 0} : std::array<float, 3>{0, 0, 1};
+  const auto m = lookAt({float(eye[0]), float(eye[1]), float(eye[2])},
+                        {float(target[0]), float(target[1]), float(target[2])}, up);
+  std::array<double, 16> out;
+  for (int k = 0; k < 16; ++k) out[k] = m[k];
+  return out;
 }
 
 inline json matrixJson(const std::array<double, 16>& m) {

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_run.h"
+#include "support/cli_run.h"
 #include "io/checkpoint.h"
 
 namespace fs = std::filesystem;

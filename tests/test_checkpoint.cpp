@@ -7,18 +7,13 @@
 
 #include "io/checkpoint.h"
 #include "lib/metrics.h"
+#include "support/temp_dir.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path tempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("vknerf_ck_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
 
 nerf::Checkpoint sample() {
   nerf::Checkpoint ck;
@@ -41,7 +36,8 @@ std::string errorOf(const std::string& path) {
 }  // namespace
 
 TEST(Checkpoint, RoundTrip) {
-  auto path = tempPath("a.vknerf").string();
+  const test::TempDir tmp("checkpoint");
+  const auto path = tmp.file("a.vknerf");
   sample().save(path);
   auto ck = nerf::Checkpoint::load(path);
   EXPECT_EQ(ck.config, sample().config);
@@ -52,7 +48,8 @@ TEST(Checkpoint, RoundTrip) {
 }
 
 TEST(Checkpoint, SaveReplacesAtomically) {
-  auto path = tempPath("b.vknerf").string();
+  const test::TempDir tmp("checkpoint");
+  const auto path = tmp.file("b.vknerf");
   sample().save(path);
   auto ck = sample();
   ck.config = R"({"step":9})";
@@ -66,7 +63,8 @@ TEST(Checkpoint, MissingFileNamesThePath) {
 }
 
 TEST(Checkpoint, TruncatedFileIsRejected) {
-  auto path = tempPath("c.vknerf").string();
+  const test::TempDir tmp("checkpoint");
+  const auto path = tmp.file("c.vknerf");
   sample().save(path);
   auto size = fs::file_size(path);
   for (auto cut : {size - 1, size / 2, uintmax_t(10), uintmax_t(3)}) {
@@ -80,7 +78,8 @@ TEST(Checkpoint, TruncatedFileIsRejected) {
 }
 
 TEST(Checkpoint, CorruptByteFailsChecksum) {
-  auto path = tempPath("d.vknerf").string();
+  const test::TempDir tmp("checkpoint");
+  const auto path = tmp.file("d.vknerf");
   sample().save(path);
   std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
   f.seekp(40);
@@ -90,7 +89,8 @@ TEST(Checkpoint, CorruptByteFailsChecksum) {
 }
 
 TEST(Checkpoint, WrongVersionAndMagicAreNamed) {
-  auto path = tempPath("e.vknerf").string();
+  const test::TempDir tmp("checkpoint");
+  const auto path = tmp.file("e.vknerf");
   sample().save(path);
   {
     std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
@@ -104,7 +104,8 @@ TEST(Checkpoint, WrongVersionAndMagicAreNamed) {
 }
 
 TEST(Checkpoint, MissingOrMissizedSectionIsNamed) {
-  auto path = tempPath("f.vknerf").string();
+  const test::TempDir tmp("checkpoint");
+  const auto path = tmp.file("f.vknerf");
   sample().save(path);
   auto ck = nerf::Checkpoint::load(path);
   EXPECT_THROW(ck.get<float>("nope"), Error);

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "cli_run.h"
+#include "support/cli_run.h"
 
 using vknerf::test::runCli;
 using vknerf::test::scene;
@@ -24,13 +24,15 @@ TEST(Cli, HelpAndUsageErrors) {
 }
 
 TEST(Cli, MissingSceneNamesThePath) {
-  auto r = runCli("train /no/such/scene -o " + temp("y.vknerf") + " --steps 1");
+  const vknerf::test::TempDir tmp("cli");
+  auto r = runCli("train /no/such/scene -o " + tmp.file("y.vknerf") + " --steps 1");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("/no/such/scene"), std::string::npos) << r.output;
 }
 
 TEST(Cli, CorruptCheckpointIsAClearError) {
-  auto path = temp("corrupt.vknerf");
+  const vknerf::test::TempDir tmp("cli");
+  auto path = tmp.file("corrupt.vknerf");
   std::ofstream(path) << "definitely not a checkpoint";
   auto r = runCli("eval " + path + " " + scene());
   EXPECT_EQ(r.code, 1);

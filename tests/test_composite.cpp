@@ -12,7 +12,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/render/composite.h"
 #include "reference/render/composite.h"
 
@@ -85,12 +86,10 @@ GpuResult runGpu(Context& ctx, const Batch& b) {
   const gpu::BufferRange bgRange(bgBuf);
   const gpu::BufferRange* perRay = b.perRayBg.empty() ? nullptr : &bgRange;
   gpu::BufferRange off = b.samplesPerRay ? gpu::BufferRange() : gpu::BufferRange(offsets);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  comp.recordForward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, color, depth, weights);
-  comp.recordBackward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, dColor, dDepth, dField);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    comp.recordForward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, color, depth, weights);
+    comp.recordBackward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, dColor, dDepth, dField);
+  });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(samples),
           dField.download<float>(4 * samples)};
 }

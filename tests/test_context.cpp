@@ -5,7 +5,8 @@
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 
@@ -90,11 +91,9 @@ TEST_F(ContextTest, AdoptedDeviceRunsKernelsAndIsNotDestroyed) {
     auto cams = nerf::packCameras(std::span<const Camera>(&cam, 1));
     auto camBuf = gpu::Buffer::of(*adopted, cams);
     gpu::Buffer rays(*adopted, 16 * nerf::kRayBytes), ids(*adopted, 16 * nerf::kPixelIdBytes);
-    gpu::Recorder rec(*adopted);
-    rec.begin();
-    gen.recordImage(rec, 16, camBuf, 0, 0, Aabb{}, 0, rays, ids);
-    rec.end();
-    rec.submitAndWait();
+    test::submitOnce(*adopted, [&](gpu::Recorder& rec) {
+      gen.recordImage(rec, 16, camBuf, 0, 0, Aabb{}, 0, rays, ids);
+    });
     auto r = rays.download<float>(16 * 8);
     EXPECT_GT(r[3], 1.9f);  // enters the unit box near z = 1
   }
@@ -169,12 +168,10 @@ TEST_F(ContextTest, IndirectDispatchReadsGroupCountsFromTheDevice) {
   auto out = gpu::Buffer::of(ctx(), std::vector<float>(1000 * 8, 7.0f));
   gpu::Buffer ids(ctx(), 1000 * nerf::kPixelIdBytes);
   auto args = gpu::Buffer::of(ctx(), std::vector<uint32_t>{0, 2, 1, 1});
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  EXPECT_THROW(rec.dispatchIndirect(rays, {camBuf, out, ids}, &push, sizeof push, args, 8, "rays"), Error);
-  rec.dispatchIndirect(rays, {camBuf, out, ids}, &push, sizeof push, args, 4, "rays");
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    EXPECT_THROW(rec.dispatchIndirect(rays, {camBuf, out, ids}, &push, sizeof push, args, 8, "rays"), Error);
+    rec.dispatchIndirect(rays, {camBuf, out, ids}, &push, sizeof push, args, 4, "rays");
+  });
   auto r = out.download<float>(1000 * 8);
   for (int i = 0; i < 1000; ++i) {
     if (i < 128)

@@ -4,7 +4,9 @@
 #include <cstdio>
 
 #include "reference/rays/rays.h"
-#include "test_dataset_util.h"
+#include "support/dataset_files.h"
+#include "support/error_message.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;
@@ -90,7 +92,7 @@ TEST_F(DatasetColmap, PoseRoundTripAndPointsNormalisation) {
   std::vector<std::string> names;
   std::vector<std::array<double, 16>> poses;
   for (size_t i = 0; i < eyes.size(); ++i) {
-    poses.push_back(lookAt(eyes[i], target));
+    poses.push_back(poseLookingAt(eyes[i], target));
     names.push_back("img" + std::to_string(i) + ".png");
     images += imageLine(int(i) + 1, fromOpenGl(poses.back()), 1, names.back()) + "\n";
   }
@@ -178,11 +180,11 @@ TEST_F(DatasetColmap, PinholeModelsAndZeroDistortion) {
       "3 SIMPLE_RADIAL 16 12 23 8.25 6 0\n"
       "4 RADIAL 16 12 24 8 5.75 0 0\n"
       "5 OPENCV 16 12 25 26 8 6 0 0 0 0\n",
-      imageLine(1, fromOpenGl(lookAt({4, 0, 0}, {0, 0, 0})), 1, "a.png") + "\n" +
-          imageLine(2, fromOpenGl(lookAt({0, 4, 0}, {0, 0, 0})), 2, "b.png") + "\n" +
-          imageLine(3, fromOpenGl(lookAt({-4, 0, 1}, {0, 0, 0})), 3, "c.png") + "\n" +
-          imageLine(4, fromOpenGl(lookAt({0, -4, 1}, {0, 0, 0})), 4, "d.png") + "\n" +
-          imageLine(5, fromOpenGl(lookAt({0, 0, 4}, {0, 0, 0})), 5, "e.png") + "\n",
+      imageLine(1, fromOpenGl(poseLookingAt({4, 0, 0}, {0, 0, 0})), 1, "a.png") + "\n" +
+          imageLine(2, fromOpenGl(poseLookingAt({0, 4, 0}, {0, 0, 0})), 2, "b.png") + "\n" +
+          imageLine(3, fromOpenGl(poseLookingAt({-4, 0, 1}, {0, 0, 0})), 3, "c.png") + "\n" +
+          imageLine(4, fromOpenGl(poseLookingAt({0, -4, 1}, {0, 0, 0})), 4, "d.png") + "\n" +
+          imageLine(5, fromOpenGl(poseLookingAt({0, 0, 4}, {0, 0, 0})), 5, "e.png") + "\n",
       {"a.png", "b.png", "c.png", "d.png", "e.png"});
   Dataset d = Dataset::load(dir().string(), {.split = "all"});
   ASSERT_EQ(d.cameras.size(), 5u);
@@ -204,8 +206,8 @@ TEST_F(DatasetColmap, PinholeModelsAndZeroDistortion) {
 }
 
 TEST_F(DatasetColmap, FolderLayouts) {
-  const std::string images = imageLine(1, fromOpenGl(lookAt({4, 0, 0}, {0, 0, 0})), 1, "a.png") + "\n" +
-                             imageLine(2, fromOpenGl(lookAt({0, 4, 0}, {0, 0, 0})), 1, "b.png") + "\n";
+  const std::string images = imageLine(1, fromOpenGl(poseLookingAt({4, 0, 0}, {0, 0, 0})), 1, "a.png") + "\n" +
+                             imageLine(2, fromOpenGl(poseLookingAt({0, 4, 0}, {0, 0, 0})), 1, "b.png") + "\n";
   struct Layout {
     fs::path model, load;
   };
@@ -226,7 +228,7 @@ TEST_F(DatasetColmap, ImagesSortedByNameThenHeldOut) {
   std::string images;
   int id = 1;
   for (const char* n : {"c.png", "a.png", "b.png"})
-    images += imageLine(id++, fromOpenGl(lookAt({4.0 * id, 0, 1}, {0, 0, 0})), 1, n) + "\n";
+    images += imageLine(id++, fromOpenGl(poseLookingAt({4.0 * id, 0, 1}, {0, 0, 0})), 1, n) + "\n";
   writeModel(kPinhole, images, {"a.png", "b.png", "c.png"});
   auto names = [&](DatasetOptions o) {
     std::string out;
@@ -240,7 +242,7 @@ TEST_F(DatasetColmap, ImagesSortedByNameThenHeldOut) {
 }
 
 TEST_F(DatasetColmap, DistortionAndNonPinholeModelsAreRejected) {
-  const std::string image = imageLine(1, fromOpenGl(lookAt({4, 0, 0}, {0, 0, 0})), 2, "a.png") + "\n";
+  const std::string image = imageLine(1, fromOpenGl(poseLookingAt({4, 0, 0}, {0, 0, 0})), 2, "a.png") + "\n";
   writeModel(kPinhole + "2 OPENCV 16 12 20 20 8 6 0.01 0 0 0\n", image, {"a.png"});
   std::string e = loadError();
   EXPECT_MESSAGE_HAS(e, "cameras.txt:3");
@@ -252,7 +254,7 @@ TEST_F(DatasetColmap, DistortionAndNonPinholeModelsAreRejected) {
 }
 
 TEST_F(DatasetColmap, MalformedInputNamesFileAndLine) {
-  const std::string good = imageLine(1, fromOpenGl(lookAt({4, 0, 0}, {0, 0, 0})), 1, "a.png");
+  const std::string good = imageLine(1, fromOpenGl(poseLookingAt({4, 0, 0}, {0, 0, 0})), 1, "a.png");
   struct Case {
     std::string cameras, images, points, expected;
   };
@@ -280,7 +282,7 @@ TEST_F(DatasetColmap, MalformedInputNamesFileAndLine) {
 }
 
 TEST_F(DatasetColmap, ImagesMustExistAndMatchTheirCamera) {
-  const std::string image = imageLine(1, fromOpenGl(lookAt({4, 0, 0}, {0, 0, 0})), 1, "a.png") + "\n";
+  const std::string image = imageLine(1, fromOpenGl(poseLookingAt({4, 0, 0}, {0, 0, 0})), 1, "a.png") + "\n";
   writeModel(kPinhole, image, {});
   std::string e = loadError();
   EXPECT_MESSAGE_HAS(e, "image not found");

@@ -1,6 +1,8 @@
 // Bad transforms*.json input: every case is one vknerf::Error naming the file and the field (or
 // frame, or image path), never a crash.
-#include "test_dataset_util.h"
+#include "support/dataset_files.h"
+#include "support/error_message.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;
@@ -15,8 +17,8 @@ class DatasetErrors : public TempDirTest {
     writePng(dir() / "b.png", patternImage(8, 6, 1));
     return {{"camera_angle_x", 0.7},
             {"frames",
-             {{{"file_path", "a"}, {"transform_matrix", matrixJson(lookAt({4, 0, 1}, {0, 0, 0}))}},
-              {{"file_path", "b"}, {"transform_matrix", matrixJson(lookAt({0, 4, 1}, {0, 0, 0}))}}}}};
+             {{{"file_path", "a"}, {"transform_matrix", matrixJson(poseLookingAt({4, 0, 1}, {0, 0, 0}))}},
+              {{"file_path", "b"}, {"transform_matrix", matrixJson(poseLookingAt({0, 4, 1}, {0, 0, 0}))}}}}};
   }
   std::string file() const { return (dir() / "transforms.json").string(); }
   std::string loadError(const json& j, DatasetOptions o = {.split = "all"}) {
@@ -107,7 +109,7 @@ TEST_F(DatasetErrors, ImagesOfDifferentSizes) {
 
 TEST_F(DatasetErrors, NonRigidOrNonFinitePoses) {
   json j = scene();
-  auto m = lookAt({0, 4, 1}, {0, 0, 0});
+  auto m = poseLookingAt({0, 4, 1}, {0, 0, 0});
   auto scaled = m;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) scaled[4 * r + c] *= 2;

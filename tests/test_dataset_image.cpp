@@ -3,7 +3,9 @@
 
 #include <cstdlib>
 
-#include "test_dataset_util.h"
+#include "support/dataset_files.h"
+#include "support/error_message.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;

@@ -4,7 +4,8 @@
 #include <cmath>
 
 #include "reference/rays/rays.h"
-#include "test_dataset_util.h"
+#include "support/dataset_files.h"
+#include "support/temp_dir.h"
 
 using namespace vknerf;
 using namespace vknerf::test;
@@ -23,7 +24,7 @@ class DatasetTransforms : public TempDirTest {
                                 target[2] + radius * 0.6};
       std::string name = prefix + std::to_string(i);
       writePng(dir() / (name + ".png"), patternImage(w, h, uint32_t(i), transparent));
-      out.push_back({{"file_path", "./" + name}, {"transform_matrix", matrixJson(lookAt(eye, target))}});
+      out.push_back({{"file_path", "./" + name}, {"transform_matrix", matrixJson(poseLookingAt(eye, target))}});
     }
     return out;
   }
@@ -114,7 +115,7 @@ TEST_F(DatasetTransforms, InstantNgpIntrinsicsAndPerFrameOverrides) {
 }
 
 TEST_F(DatasetTransforms, FilePathsWithAndWithoutExtensions) {
-  auto m = matrixJson(lookAt({0, -4, 1}, {0, 0, 0}));
+  auto m = matrixJson(poseLookingAt({0, -4, 1}, {0, 0, 0}));
   writePng(dir() / "a.png", patternImage(8, 6, 1));
   std::vector<uint8_t> rgb(8 * 6 * 3, 128);
   ASSERT_TRUE(stbi_write_jpg((dir() / "b.jpg").c_str(), 8, 6, 3, rgb.data(), 95));
@@ -248,7 +249,7 @@ TEST_F(DatasetTransforms, BoundsFromOneOrParallelCamerasAreFiniteAndInFront) {
   for (int count : {1, 2}) {
     json fr = json::array();
     for (int i = 0; i < count; ++i) {
-      auto m = lookAt({double(i), -5, 0}, {double(i), 0, 0});
+      auto m = poseLookingAt({double(i), -5, 0}, {double(i), 0, 0});
       writePng(dir() / ("p" + std::to_string(i) + ".png"), patternImage(8, 6, 0));
       fr.push_back({{"file_path", "p" + std::to_string(i)}, {"transform_matrix", matrixJson(m)}});
     }
@@ -276,7 +277,7 @@ TEST_F(DatasetTransforms, AlphaMasksCarveTheBoxToTheObject) {
     cam.width = cam.height = size;
     cam.fx = cam.fy = float(0.5 * size / std::tan(0.5 * angle));
     cam.cx = cam.cy = 0.5f * size;
-    auto m = lookAt(eye, c0);
+    auto m = poseLookingAt(eye, c0);
     for (int k = 0; k < 16; ++k) cam.c2w[k] = float(m[k]);
     ImageRGBA8 img{size, size, std::vector<uint8_t>(size * size * 4, 255)};
     for (uint32_t y = 0; y < size; ++y)

@@ -7,7 +7,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/encoding/frequency_encoding.h"
 #include "nerf/sampling/points.h"
 #include "reference/encoding/frequency_encoding.h"
@@ -34,11 +35,9 @@ std::vector<float> encode(Context& ctx, nerf::FrequencyEncoding& enc, const std:
   auto in = gpu::Buffer::of(ctx, inputs.empty() ? std::vector<float>(4) : inputs);
   std::vector<float> init(std::max<size_t>(1, size_t(count) * stride), kSentinel);
   auto out = gpu::Buffer::of(ctx, init);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  enc.recordForward(rec, count, in, out, stride, offset);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    enc.recordForward(rec, count, in, out, stride, offset);
+  });
   return out.download<float>(init.size());
 }
 
@@ -168,12 +167,10 @@ TEST_F(Encoding, PositionAndDirectionShareOneMatrix) {
   auto x = hardInputs(count, 1), d = hardInputs(count, 2);
   auto xb = gpu::Buffer::of(ctx(), x), db = gpu::Buffer::of(ctx(), d);
   auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(count) * stride, kSentinel));
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  dir.recordForward(rec, count, db, out, stride, pos.paddedDims());  // order does not matter: blocks are disjoint
-  pos.recordForward(rec, count, xb, out, stride, 0);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    dir.recordForward(rec, count, db, out, stride, pos.paddedDims());  // order does not matter: blocks are disjoint
+    pos.recordForward(rec, count, xb, out, stride, 0);
+  });
   auto m = out.download<float>();
   for (uint32_t r = 0; r < count; ++r) {
     double e = 0;
@@ -227,12 +224,10 @@ TEST_F(Encoding, SamplePointsMatchReference) {
   auto rb = gpu::Buffer::of(ctx(), rays), sb = gpu::Buffer::of(ctx(), samples);
   gpu::Buffer pos(ctx(), numRays * n * nerf::kPointBytes), dir(ctx(), numRays * n * nerf::kPointBytes);
   nerf::SamplePoints sp(ctx());
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  sp.record(rec, numRays, rb, sb, n, box, pos, dir);
-  sp.record(rec, 0, rb, sb, n, box, pos, dir);  // empty batch: records nothing
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    sp.record(rec, numRays, rb, sb, n, box, pos, dir);
+    sp.record(rec, 0, rb, sb, n, box, pos, dir);  // empty batch: records nothing
+  });
   auto p = pos.download<float>(), d = dir.download<float>();
   // |o| <= 3 and t <= 4.5 give |x| < 8: o + t d rounds to ~1 ulp of 8 (1e-6); the map onto [-1, 1]
   // multiplies by 2 / extent (<= 2/3) and adds a few ulp of 1, so 2e-6 absolute.

@@ -3,8 +3,8 @@
 // constant colour can reach.
 #include <cmath>
 
-#include "gpu_test.h"
-#include "held_out.h"
+#include "support/gpu_test.h"
+#include "support/held_out.h"
 #include "vknerf/trainer.h"
 
 using namespace vknerf;
@@ -32,8 +32,7 @@ TEST_F(EndToEnd, TrainsSampleSceneAboveConstantBaseline) {
   m.skipLayer = 2;
   m.coarseSamples = 16;
   m.fineSamples = 32;
-  auto ctx = std::shared_ptr<Context>(&test::context(), [](Context*) {});
-  Trainer trainer(ctx, train, cfg);
+  Trainer trainer(test::sharedContext(), train, cfg);
   for (int i = 0; i < 80; ++i) trainer.step();
 
   // The best constant colour for these views (their mean) is the baseline a model that learned

@@ -3,13 +3,14 @@
 // same image whichever way its work is sized (host-sized sub-batches, recorded at full capacity,
 // reloaded from a checkpoint).
 #include <cmath>
-#include <filesystem>
 #include <map>
 
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
+#include "support/temp_dir.h"
 #include "models/fast/fast_pipeline.h"
-#include "held_out.h"
+#include "support/held_out.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
@@ -18,9 +19,7 @@ using namespace vknerf;
 
 namespace {
 
-std::shared_ptr<Context> sharedContext() {
-  return std::shared_ptr<Context>(&test::context(), [](Context*) {});
-}
+using test::sharedContext;
 
 const Dataset& scene(const std::string& split) {
   static std::map<std::string, Dataset> cache;
@@ -52,22 +51,14 @@ TrainConfig smallFast() {
   return c;
 }
 
-std::string tempFile(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("vknerf_fast_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
-
 // colour vec4 per ray of camera 0's first `count` pixels, rendered by `pipe`.
 std::vector<float> renderBlock(nerf::FieldPipeline& pipe, const Camera& cam, uint32_t count, bool mayWait) {
   Context& ctx = test::context();
   auto packed = nerf::packCameras(std::span<const Camera>(&cam, 1));
   auto camBuf = gpu::Buffer::of(ctx, packed);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  pipe.recordRender(rec, camBuf, 0, 0, count, {1, 1, 1}, mayWait);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    pipe.recordRender(rec, camBuf, 0, 0, count, {1, 1, 1}, mayWait);
+  });
   return pipe.color().download<float>(size_t(count) * 4);
 }
 
@@ -115,7 +106,8 @@ TEST_F(FastPipelineTest, LearnsTheSampleSceneAndSkipsEmptySpace) {
   EXPECT_LT(perStep, 2.0 * cfg.fastModel().samplesPerBatch);
 
   // A checkpoint carries the occupancy grid: the reloaded model renders exactly what the trainer's does.
-  const std::string path = tempFile("fast.vknerf");
+  const test::TempDir tmp("fast");
+  const std::string path = tmp.file("fast.vknerf");
   trainer.save(path);
   Model loaded = Model::load(sharedContext(), path);
   EXPECT_TRUE(loaded.config().isFast());

@@ -8,7 +8,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "reference/encoding/hash_encoding.h"
 #include "vknerf/error.h"
@@ -88,11 +89,9 @@ std::vector<float> forward(Context& ctx, nerf::HashEncoding& enc, const std::vec
   auto pb = gpu::Buffer::of(ctx, pos.empty() ? std::vector<float>(4) : pos);
   auto tb = gpu::Buffer::of(ctx, table);
   auto out = gpu::Buffer::of(ctx, std::vector<float>(std::max<size_t>(1, size_t(count) * stride), kSentinel));
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  enc.recordForward(rec, count, pb, tb, out, stride, offset);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    enc.recordForward(rec, count, pb, tb, out, stride, offset);
+  });
   return out.download<float>();
 }
 
@@ -143,11 +142,9 @@ std::vector<float> backwardFromZero(Context& ctx, nerf::HashEncoding& enc, const
   auto pb = gpu::Buffer::of(ctx, pos), db = gpu::Buffer::of(ctx, dF);
   gpu::Buffer gb(ctx, enc.parameterCount() * 4);
   gb.zero();
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  enc.recordBackward(rec, n, pb, db, stride, 0, gb);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    enc.recordBackward(rec, n, pb, db, stride, 0, gb);
+  });
   return gb.download<float>();
 }
 
@@ -166,14 +163,12 @@ std::vector<float> expectBackwardMatches(Context& ctx, nerf::HashEncoding& enc, 
   for (auto& x : dF) x = u(gen);  // padding and outside columns hold noise that must be ignored
   auto start = randomTable(c, 77);
   auto pb = gpu::Buffer::of(ctx, pos), db = gpu::Buffer::of(ctx, dF), gb = gpu::Buffer::of(ctx, start);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  enc.recordBackward(rec, n1, pb, db, stride, offset, gb);
-  if (n2)
-    enc.recordBackward(rec, n2, gpu::BufferRange(pb, 16 * n1, 16 * n2),
-                       gpu::BufferRange(db, 4ull * stride * n1, 4ull * stride * n2), stride, offset, gb);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    enc.recordBackward(rec, n1, pb, db, stride, offset, gb);
+    if (n2)
+      enc.recordBackward(rec, n2, gpu::BufferRange(pb, 16 * n1, 16 * n2),
+                         gpu::BufferRange(db, 4ull * stride * n1, 4ull * stride * n2), stride, offset, gb);
+  });
   auto g = gb.download<float>();
   // Reference sum, the sum of |terms| and the number of terms per entry.
   std::vector<double> want(start.begin(), start.end()), mag(start.size(), 0.0), terms(start.size(), 0.0);
@@ -458,17 +453,15 @@ TEST_F(HashEncoding, EmptyBatchesAndBadLayouts) {
   auto pos = gpu::Buffer::of(ctx(), std::vector<float>(16, 0.0f));
   auto tb = gpu::Buffer::of(ctx(), table), gb = gpu::Buffer::of(ctx(), table);
   gpu::Buffer out(ctx(), 4 * 64 * 4), small(ctx(), 4 * 10);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  enc.recordBackward(rec, 0, pos, out, 4, 0, gb);             // count 0: no dispatch
-  EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 8, 2), Error);   // offset not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 6, 0), Error);   // stride not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 4, 4), Error);   // block overruns the row
-  EXPECT_THROW(enc.recordForward(rec, 5, pos, tb, out, 4, 0), Error);   // more rows than positions
-  EXPECT_THROW(enc.recordForward(rec, 4, pos, small, out, 4, 0), Error);  // table too small
-  EXPECT_THROW(enc.recordBackward(rec, 4, pos, out, 4, 0, small), Error); // gradient too small
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    enc.recordBackward(rec, 0, pos, out, 4, 0, gb);             // count 0: no dispatch
+    EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 8, 2), Error);   // offset not a multiple of 4
+    EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 6, 0), Error);   // stride not a multiple of 4
+    EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 4, 4), Error);   // block overruns the row
+    EXPECT_THROW(enc.recordForward(rec, 5, pos, tb, out, 4, 0), Error);   // more rows than positions
+    EXPECT_THROW(enc.recordForward(rec, 4, pos, small, out, 4, 0), Error);  // table too small
+    EXPECT_THROW(enc.recordBackward(rec, 4, pos, out, 4, 0, small), Error); // gradient too small
+  });
   EXPECT_EQ(gb.download<float>(), table);  // the empty backward added nothing
   EXPECT_THROW(nerf::HashEncoding(ctx(), HashGridConfig{0, 2, 12, 4, 2.0}), Error);
   EXPECT_THROW(nerf::HashEncoding(ctx(), HashGridConfig{4, 3, 12, 4, 2.0}), Error);
@@ -517,12 +510,10 @@ TEST_F(HashEncoding, TableInsideALargerBuffer) {
   auto bb = gpu::Buffer::of(ctx(), big), pb = gpu::Buffer::of(ctx(), pos);
   gpu::Buffer feat(ctx(), 150 * stride * 4);
   gpu::BufferRange inner(bb, lead * 4, VK_WHOLE_SIZE);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  enc.recordForward(rec, 150, pb, inner, feat, stride, 0);
-  enc.recordBackward(rec, 150, pb, feat, stride, 0, inner);  // dFeatures = features, into the table itself
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    enc.recordForward(rec, 150, pb, inner, feat, stride, 0);
+    enc.recordBackward(rec, 150, pb, feat, stride, 0, inner);  // dFeatures = features, into the table itself
+  });
   EXPECT_EQ(feat.download<float>(), forward(ctx(), enc, pos, table, stride, 0));
   auto after = bb.download<float>();
   for (size_t i = 0; i < lead; ++i) ASSERT_EQ(after[i], kSentinel) << i;

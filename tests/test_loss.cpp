@@ -5,7 +5,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/rays/rays.h"
@@ -65,12 +66,10 @@ LossRun runLoss(Context& ctx, const Scene& s, const std::vector<float>& pred, ui
   auto predB = gpu::Buffer::of(ctx, pred), idB = gpu::Buffer::of(ctx, s.ids), pixB = gpu::Buffer::of(ctx, s.pixels),
        camB = gpu::Buffer::of(ctx, s.cameras);
   gpu::Buffer bgB(ctx, 16 * numRays), dB(ctx, 16 * numRays), partB(ctx, 4 * loss.partialCount(numRays));
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  bg.recordRandom(rec, bgB, numRays, bgSeed);
-  loss.record(rec, numRays, predB, idB, pixB, camB, bgB, dB, partB, gradScale);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    bg.recordRandom(rec, bgB, numRays, bgSeed);
+    loss.record(rec, numRays, predB, idB, pixB, camB, bgB, dB, partB, gradScale);
+  });
   return {bgB.download<float>(), dB.download<float>(), partB.download<float>(), loss.read(partB, numRays)};
 }
 
@@ -124,12 +123,10 @@ TEST_F(Loss, RandomBackgroundsMatchCounterRng) {
   const uint32_t n = 100, seed = 77;  // not a multiple of the 64-wide workgroup
   gpu::Buffer out = gpu::Buffer::of(ctx(), std::vector<float>(4 * (n + 4), -7.0f));
   nerf::BackgroundColors bg(ctx());
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  bg.recordRandom(rec, out, n, seed);
-  bg.recordRandom(rec, out, 0, seed);  // empty: records nothing
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    bg.recordRandom(rec, out, n, seed);
+    bg.recordRandom(rec, out, 0, seed);  // empty: records nothing
+  });
   auto v = out.download<float>();
   double mean = 0;
   for (uint32_t i = 0; i < n; ++i) {
@@ -142,10 +139,7 @@ TEST_F(Loss, RandomBackgroundsMatchCounterRng) {
   EXPECT_NEAR(mean / (3 * n), 0.5, 0.06);  // 300 uniforms: standard error 0.017
   for (uint32_t i = 4 * n; i < v.size(); ++i) EXPECT_EQ(v[i], -7.0f);  // nothing past the batch
 
-  rec.begin();
-  bg.recordConstant(rec, out, n, {0.1f, 0.2f, 0.3f});
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) { bg.recordConstant(rec, out, n, {0.1f, 0.2f, 0.3f}); });
   v = out.download<float>();
   for (uint32_t i = 0; i < n; ++i) {
     EXPECT_EQ(v[4 * i], 0.1f);
@@ -250,11 +244,9 @@ TEST_F(Loss, SummaryAndEmptyBatch) {
        pix = gpu::Buffer::of(ctx(), s.pixels), cams = gpu::Buffer::of(ctx(), s.cameras),
        bg = gpu::Buffer::of(ctx(), std::vector<float>(4, 0.0f)), d = gpu::Buffer::of(ctx(), std::vector<float>(4, 9.0f)),
        part = gpu::Buffer::of(ctx(), std::vector<float>(1, 9.0f));
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  loss.record(rec, 0, pred, ids, pix, cams, bg, d, part);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    loss.record(rec, 0, pred, ids, pix, cams, bg, d, part);
+  });
   EXPECT_EQ(d.download<float>()[0], 9.0f);
   EXPECT_EQ(part.download<float>()[0], 9.0f);
 }

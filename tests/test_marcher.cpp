@@ -11,7 +11,8 @@
 #include "gpu/buffer.h"
 #include "gpu/prefix_sum.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/sampling/early_termination.h"
 #include "nerf/sampling/packed_points.h"
@@ -79,11 +80,9 @@ MarchOut runMarch(Context& ctx, const std::vector<TestRay>& rays, nerf::Occupanc
   auto rayBuf = gpu::Buffer::of(ctx, packRays(rays));
   gpu::Buffer offsets(ctx, (n + 1) * 4), samples(ctx, capacity * 8), sampleRay(ctx, capacity * 4), totals(ctx, 16);
   nerf::RayMarcher marcher(ctx, std::max(n, 1u));
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  marcher.record(rec, n, rayBuf, grid, box, dt, maxSamples, seed, jitter, offsets, samples, sampleRay, totals);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    marcher.record(rec, n, rayBuf, grid, box, dt, maxSamples, seed, jitter, offsets, samples, sampleRay, totals);
+  });
   MarchOut out{offsets.download<uint32_t>(n + 1), {}, totals.download<uint32_t>(4), {}};
   uint32_t total = out.offsets[n];
   out.samples = samples.download<float>(size_t(total) * 2);
@@ -167,11 +166,9 @@ TEST_F(Scan, ExclusiveSumAtAwkwardSizes) {
     for (auto& v : in) v = rng() % 300;
     auto inBuf = gpu::Buffer::of(ctx(), in);
     gpu::Buffer out(ctx(), VkDeviceSize(n + 1) * 4);
-    gpu::Recorder rec(ctx());
-    rec.begin();
-    scan.record(rec, inBuf, n, out, n + 1);
-    rec.end();
-    rec.submitAndWait();
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      scan.record(rec, inBuf, n, out, n + 1);
+    });
     auto got = out.download<uint32_t>(n + 1);
     std::vector<uint32_t> expected(n + 1, 0);
     std::partial_sum(in.begin(), in.end(), expected.begin() + 1);
@@ -184,13 +181,12 @@ TEST_F(Scan, ClampsOnlyTheFinalSums) {
   std::vector<uint32_t> in(4999, 3);
   auto inBuf = gpu::Buffer::of(ctx(), in);
   gpu::Buffer out(ctx(), 5000 * 4);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  scan.record(rec, inBuf, 4999, out, 5000, 7000);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    scan.record(rec, inBuf, 4999, out, 5000, 7000);
+  });
   auto got = out.download<uint32_t>(5000);
   for (uint32_t i = 0; i < 5000; ++i) ASSERT_EQ(got[i], std::min(3 * i, 7000u)) << i;
+  gpu::Recorder rec(ctx());  // the size check throws before anything is recorded
   EXPECT_THROW(scan.record(rec, inBuf, 4999, out, 5001), Error);
 }
 
@@ -442,12 +438,10 @@ TEST_F(Marcher, PackedPointsFollowSampleRays) {
   positions.upload(std::vector<float>(capacity * 4, 7.0f));  // sentinel past the batch
   nerf::RayMarcher marcher(ctx(), n);
   nerf::PackedSamplePoints points(ctx());
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  marcher.record(rec, n, rayBuf, grid, box, 0.02f, 256, 8, true, offsets, samples, sampleRay, totals);
-  points.record(rec, capacity, rayBuf, samples, sampleRay, totals, box, positions, directions);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    marcher.record(rec, n, rayBuf, grid, box, 0.02f, 256, 8, true, offsets, samples, sampleRay, totals);
+    points.record(rec, capacity, rayBuf, samples, sampleRay, totals, box, positions, directions);
+  });
   uint32_t total = totals.download<uint32_t>(1)[0];
   ASSERT_GT(total, 1000u);
   ASSERT_LT(total, capacity);
@@ -530,11 +524,10 @@ TEST_F(Marcher, EarlyTerminationKeepsSamplesUntilOpaque) {
   gpu::Buffer outOffsets(ctx(), (n + 1) * 4), outSamples(ctx(), total * 8), outSampleRay(ctx(), total * 4),
       outField(ctx(), total * 16), outTotals(ctx(), 16);
   nerf::EarlyTermination et(ctx(), n);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  et.record(rec, n, offsets, samples, sampleRay, field, minT, outOffsets, outSamples, outSampleRay, outField, outTotals);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    et.record(rec, n, offsets, samples, sampleRay, field, minT, outOffsets, outSamples, outSampleRay, outField,
+              outTotals);
+  });
   auto off = outOffsets.download<uint32_t>(n + 1);
   uint32_t kept = off[n];
   auto s = outSamples.download<float>(size_t(kept) * 2);

@@ -5,7 +5,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/network/mlp.h"
 #include "reference/network/mlp.h"
 #include "reference/rng.h"
@@ -70,13 +71,11 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
   out.upload(sentinel);
   grads.zero();
   nerf::NerfMlp::Workspace ws(ctx, mlp, c.count);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  mlp.recordForward(rec, c.count, params, pos, dir, out, &ws);
-  gpu::BufferRange dPosRange(dPos);
-  if (c.backward) mlp.recordBackward(rec, c.count, params, pos, dir, out, dOut, grads, ws, &dPosRange);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    mlp.recordForward(rec, c.count, params, pos, dir, out, &ws);
+    gpu::BufferRange dPosRange(dPos);
+    if (c.backward) mlp.recordBackward(rec, c.count, params, pos, dir, out, dOut, grads, ws, &dPosRange);
+  });
   return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size())};
 }
 
@@ -263,11 +262,9 @@ TEST_F(MlpNerf, InferenceWithoutWorkspaceMatchesTraining) {
   auto params = gpu::Buffer::of(ctx(), data.params);
   auto pos = gpu::Buffer::of(ctx(), data.pos), dir = gpu::Buffer::of(ctx(), data.dir);
   gpu::Buffer out(ctx(), c.count * 16);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  mlp.recordForward(rec, c.count, params, pos, dir, out, nullptr);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    mlp.recordForward(rec, c.count, params, pos, dir, out, nullptr);
+  });
   auto ref = referenceNerf(mlp, {cfg, c.count, 1.0f, 1.0f, 0, false}, data);
   expectNear(out.download<float>(c.count * 4), ref.out, kFwdRel, kFwdAbs, "out");
 }
@@ -284,13 +281,11 @@ TEST_F(MlpDense, ForwardAndBackwardMatchReference) {
   gpu::Buffer out(ctx(), count * 16), grads(ctx(), params.size() * 4), dIn(ctx(), in.size() * 4);
   grads.zero();
   nerf::DenseMlp::Workspace ws(ctx(), mlp, count);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  mlp.recordForward(rec, count, pBuf, inBuf, out, &ws);
-  gpu::BufferRange dInRange(dIn);
-  mlp.recordBackward(rec, count, pBuf, inBuf, out, dOutBuf, grads, ws, &dInRange);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    mlp.recordForward(rec, count, pBuf, inBuf, out, &ws);
+    gpu::BufferRange dInRange(dIn);
+    mlp.recordBackward(rec, count, pBuf, inBuf, out, dOutBuf, grads, ws, &dInRange);
+  });
   auto gOut = out.download<float>(count * 4), gGrads = grads.download<float>(params.size()), gIn = dIn.download<float>(in.size());
 
   const auto& s = mlp.shape();

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "lib/fit_image.h"
 
 using namespace vknerf;

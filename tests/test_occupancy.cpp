@@ -8,7 +8,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "reference/occupancy/occupancy_grid.h"
 #include "vknerf/error.h"
@@ -26,14 +27,12 @@ struct Points {
 
 Points runPoints(Context& ctx, nerf::OccupancyGrid& grid, uint32_t seed, bool random, uint32_t count) {
   gpu::Buffer pos(ctx, VkDeviceSize(count) * 16), cells(ctx, VkDeviceSize(count) * 4);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  if (random)
-    grid.recordRandomCellPoints(rec, seed, count, pos, cells);
-  else
-    grid.recordAllCellPoints(rec, seed, pos, cells);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    if (random)
+      grid.recordRandomCellPoints(rec, seed, count, pos, cells);
+    else
+      grid.recordAllCellPoints(rec, seed, pos, cells);
+  });
   return {pos.download<float>(size_t(count) * 4), cells.download<uint32_t>(count)};
 }
 
@@ -41,11 +40,9 @@ void runUpdate(Context& ctx, nerf::OccupancyGrid& grid, const std::vector<uint32
                const std::vector<float>& density, float decay, float threshold) {
   auto cellBuf = gpu::Buffer::of(ctx, cells.empty() ? std::vector<uint32_t>{0} : cells);
   auto denBuf = gpu::Buffer::of(ctx, density.empty() ? std::vector<float>{0} : density);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  grid.recordUpdate(rec, cellBuf, denBuf, uint32_t(cells.size()), decay, threshold);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    grid.recordUpdate(rec, cellBuf, denBuf, uint32_t(cells.size()), decay, threshold);
+  });
 }
 
 }  // namespace
@@ -161,11 +158,9 @@ TEST_F(Occupancy, OccupiedFractionCountsOnlyRealCells) {
   const uint32_t r = 7;  // 343 cells: 11 words, 9 stray bits in the last one
   nerf::OccupancyGrid grid(ctx(), r);
   EXPECT_EQ(grid.occupiedFraction(), 0.0f);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  grid.recordMarkAllOccupied(rec);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    grid.recordMarkAllOccupied(rec);
+  });
   EXPECT_EQ(grid.occupiedFraction(), 1.0f);
   // A random pattern uploaded directly, counted against the reference.
   std::mt19937 rng(11);
@@ -219,14 +214,13 @@ TEST_F(Occupancy, StridedDensityReadsTheChosenComponent) {
   runUpdate(ctx(), one, cells, packed, 0.5f, 1.2f);
   auto cellBuf = gpu::Buffer::of(ctx(), cells);
   auto fieldBuf = gpu::Buffer::of(ctx(), field);
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  four.recordUpdate(rec, cellBuf, fieldBuf, uint32_t(cells.size()), 0.5f, 1.2f, 4, 3);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    four.recordUpdate(rec, cellBuf, fieldBuf, uint32_t(cells.size()), 0.5f, 1.2f, 4, 3);
+  });
   EXPECT_EQ(one.density().download<float>(one.numCells()), four.density().download<float>(four.numCells()));
   EXPECT_EQ(one.bits().download<uint32_t>(one.numWords()), four.bits().download<uint32_t>(four.numWords()));
   EXPECT_GT(one.occupiedFraction(), 0.0f);
   EXPECT_LT(one.occupiedFraction(), 1.0f);
+  gpu::Recorder rec(ctx());  // the component check throws before anything is recorded
   EXPECT_THROW(four.recordUpdate(rec, cellBuf, fieldBuf, 4, 0.5f, 1.2f, 4, 4), Error);
 }

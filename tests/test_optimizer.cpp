@@ -5,7 +5,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/optim/adam.h"
 #include "reference/optim/adam.h"
 #include "vknerf/error.h"
@@ -31,11 +32,9 @@ struct Problem {
   // One step on both; returns the device gradient buffer after the step.
   std::vector<float> step(Context& ctx, nerf::Adam& adam, const std::vector<float>& g, uint32_t t, float lr) {
     gb.upload(g);
-    gpu::Recorder rec(ctx);
-    rec.begin();
-    adam.record(rec, uint32_t(p.size()), pb, gb, mb, vb, t, lr);
-    rec.end();
-    rec.submitAndWait();
+    test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+      adam.record(rec, uint32_t(p.size()), pb, gb, mb, vb, t, lr);
+    });
     std::vector<double> rg(g.begin(), g.end());
     ref::adamStep<double>(rp, rg, rm, rv, t, double(lr), refParams(adam.config()));
     p = pb.download<float>();
@@ -220,14 +219,12 @@ TEST_F(Adam, ExtremeGradientsStayFinite) {
 TEST_F(Adam, EmptyStepAndBadArguments) {
   nerf::Adam adam(ctx(), {});
   auto b = gpu::Buffer::of(ctx(), std::vector<float>(8, 1.0f));
-  gpu::Recorder rec(ctx());
-  rec.begin();
-  adam.record(rec, 0, b, b, b, b, 1, 0.1f);                                                // count 0: records nothing
-  EXPECT_THROW(adam.record(rec, 8, b, b, b, b, 0, 0.1f), Error);                           // steps are 1-based
-  EXPECT_THROW(adam.record(rec, 4, gpu::BufferRange(b, 4, 16), b, b, b, 1, 0.1f), Error);  // misaligned
-  EXPECT_THROW(adam.record(rec, 9, b, b, b, b, 1, 0.1f), Error);  // more parameters than the buffers hold
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    adam.record(rec, 0, b, b, b, b, 1, 0.1f);                                                // count 0: records nothing
+    EXPECT_THROW(adam.record(rec, 8, b, b, b, b, 0, 0.1f), Error);                           // steps are 1-based
+    EXPECT_THROW(adam.record(rec, 4, gpu::BufferRange(b, 4, 16), b, b, b, 1, 0.1f), Error);  // misaligned
+    EXPECT_THROW(adam.record(rec, 9, b, b, b, b, 1, 0.1f), Error);  // more parameters than the buffers hold
+  });
   for (float x : b.download<float>()) EXPECT_EQ(x, 1.0f);
   nerf::AdamConfig bad;
   bad.epsilon = 0;
@@ -249,11 +246,9 @@ TEST_F(Adam, SubRangesAndTinyCounts) {
     auto pb = gpu::Buffer::of(ctx(), p), gb = gpu::Buffer::of(ctx(), g), mb = gpu::Buffer::of(ctx(), mv),
          vb = gpu::Buffer::of(ctx(), mv);
     auto sub = [&](const gpu::Buffer& b) { return gpu::BufferRange(b, 4 * offset, 4 * count); };
-    gpu::Recorder rec(ctx());
-    rec.begin();
-    adam.record(rec, count, sub(pb), sub(gb), sub(mb), sub(vb), 2, 0.01f);
-    rec.end();
-    rec.submitAndWait();
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      adam.record(rec, count, sub(pb), sub(gb), sub(mb), sub(vb), 2, 0.01f);
+    });
     std::vector<double> rp(p.begin() + offset, p.begin() + offset + count), rg(g.begin() + offset, g.begin() + offset + count),
         rm(count, 0.5), rv(count, 0.5);
     ref::adamStep<double>(rp, rg, rm, rv, 2, 0.01, refParams(cfg));

@@ -4,7 +4,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/rays.h"
 #include "reference/rng.h"
@@ -13,27 +14,9 @@ using namespace vknerf;
 
 namespace {
 
-// A camera at `eye` looking at the origin (OpenGL convention), as nerf_synthetic poses are.
-Camera lookAt(std::array<float, 3> eye, uint32_t w, uint32_t h, float focal) {
-  auto norm = [](std::array<float, 3> v) {
-    float n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    return std::array<float, 3>{v[0] / n, v[1] / n, v[2] / n};
-  };
-  auto cross = [](std::array<float, 3> a, std::array<float, 3> b) {
-    return std::array<float, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  auto back = norm(eye);  // camera +Z points away from the target
-  auto right = norm(cross({0, 0, 1}, back));
-  auto up = cross(back, right);
-  Camera c;
-  c.fx = c.fy = focal;
-  c.cx = w * 0.5f;
-  c.cy = h * 0.5f;
-  c.width = w;
-  c.height = h;
-  c.c2w = {right[0], up[0], back[0], eye[0], right[1], up[1], back[1], eye[1],
-           right[2], up[2], back[2], eye[2], 0, 0, 0, 1};
-  return c;
+// A camera at `eye` looking at the origin, +Z up, as nerf_synthetic poses are.
+Camera originCamera(std::array<float, 3> eye, uint32_t w, uint32_t h, float focal) {
+  return pinholeFromFocal(w, h, focal, lookAt(eye, {0, 0, 0}, {0, 0, 1}));
 }
 
 struct GpuRays {
@@ -47,14 +30,12 @@ GpuRays runRays(Context& ctx, const std::vector<Camera>& cams, bool random, uint
   auto camBuf = gpu::Buffer::of(ctx, packed);
   gpu::Buffer rays(ctx, count * nerf::kRayBytes), ids(ctx, count * nerf::kPixelIdBytes);
   nerf::RayGeneration gen(ctx);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  if (random)
-    gen.recordRandom(rec, count, camBuf, uint32_t(cams.size()), seed, box, nearPlane, rays, ids);
-  else
-    gen.recordImage(rec, count, camBuf, cam, first, box, nearPlane, rays, ids);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    if (random)
+      gen.recordRandom(rec, count, camBuf, uint32_t(cams.size()), seed, box, nearPlane, rays, ids);
+    else
+      gen.recordImage(rec, count, camBuf, cam, first, box, nearPlane, rays, ids);
+  });
   return {rays.download<float>(count * 8), ids.download<uint32_t>(count * 2)};
 }
 
@@ -84,7 +65,7 @@ class Rays : public test::GpuTest {};
 
 TEST_F(Rays, WholeImageMatchesReference) {
   Aabb box{{-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f}};
-  std::vector<Camera> cams = {lookAt({4, 0.5f, 1}, 37, 23, 40), lookAt({-1, 3, 2.5f}, 16, 16, 20)};
+  std::vector<Camera> cams = {originCamera({4, 0.5f, 1}, 37, 23, 40), originCamera({-1, 3, 2.5f}, 16, 16, 20)};
   for (uint32_t ci = 0; ci < cams.size(); ++ci) {
     const Camera& c = cams[ci];
     uint32_t n = c.width * c.height;
@@ -144,7 +125,7 @@ TEST_F(Rays, DirectionComponentExactlyZero) {
 }
 
 TEST_F(Rays, OriginInsideBoxStartsAtNearPlane) {
-  Camera c = lookAt({0.2f, 0.1f, 0.3f}, 8, 8, 6);
+  Camera c = originCamera({0.2f, 0.1f, 0.3f}, 8, 8, 6);
   Aabb box;
   auto out = runRays(ctx(), {c}, false, 0, 0, 64, box, 0.01f);
   for (uint32_t p = 0; p < 64; ++p) {
@@ -157,7 +138,7 @@ TEST_F(Rays, OriginInsideBoxStartsAtNearPlane) {
 }
 
 TEST_F(Rays, CameraLookingAwayMissesBox) {
-  Camera c = lookAt({5, 0, 0}, 4, 4, 4);
+  Camera c = originCamera({5, 0, 0}, 4, 4, 4);
   for (int k = 0; k < 3; ++k) c.c2w[4 * k + 2] = -c.c2w[4 * k + 2];  // flip the viewing axis
   for (int k = 0; k < 3; ++k) c.c2w[4 * k] = -c.c2w[4 * k];          // keep the frame right-handed
   auto out = runRays(ctx(), {c}, false, 0, 0, 16, Aabb{}, 0);
@@ -168,7 +149,8 @@ TEST_F(Rays, CameraLookingAwayMissesBox) {
 }
 
 TEST_F(Rays, RandomPixelsMatchCounterRng) {
-  std::vector<Camera> cams = {lookAt({4, 0, 1}, 10, 7, 9), lookAt({0, 4, 1}, 5, 12, 9), lookAt({-3, -3, 2}, 9, 9, 9)};
+  std::vector<Camera> cams = {originCamera({4, 0, 1}, 10, 7, 9), originCamera({0, 4, 1}, 5, 12, 9),
+                              originCamera({-3, -3, 2}, 9, 9, 9)};
   const uint32_t n = 1000, seed = 1234;
   auto out = runRays(ctx(), cams, true, 0, seed, n, Aabb{}, 0, seed);
   std::vector<int> perCamera(cams.size());
@@ -186,6 +168,6 @@ TEST_F(Rays, RandomPixelsMatchCounterRng) {
 }
 
 TEST_F(Rays, EmptyBatchDispatchesNothing) {
-  auto out = runRays(ctx(), {lookAt({3, 0, 0}, 4, 4, 4)}, false, 0, 0, 0, Aabb{}, 0);
+  auto out = runRays(ctx(), {originCamera({3, 0, 0}, 4, 4, 4)}, false, 0, 0, 0, Aabb{}, 0);
   EXPECT_TRUE(out.rays.empty());
 }

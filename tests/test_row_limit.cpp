@@ -15,7 +15,8 @@
 #include "gpu/buffer.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
 #include "nerf/encoding/sh_encoding.h"
@@ -45,11 +46,9 @@ std::vector<float> run(Context& ctx, uint32_t rowFloats, const Record& record, c
   auto out = gpu::Buffer::of(ctx, std::vector<float>(size_t(kRows) * rowFloats, kSentinel));
   auto limitBuffer = gpu::Buffer::of(ctx, std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
   gpu::BufferRange limitWord(limitBuffer, 0, 4);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  record(rec, out, limit ? &limitWord : nullptr);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    record(rec, out, limit ? &limitWord : nullptr);
+  });
   return out.download<float>();
 }
 
@@ -144,11 +143,9 @@ TEST_F(RowLimit, DispatchArgumentsFollowTheLimit) {
   gpu::LimitedDispatch limited(ctx());
   for (uint32_t limit : {0u, 1u, 300u, 512u, 999u, 5000u}) {
     auto word = gpu::Buffer::of(ctx(), std::vector<uint32_t>{limit, 0, 0, 0});
-    gpu::Recorder rec(ctx());
-    rec.begin();
-    limited.recordArgs(rec, gpu::BufferRange(word, 0, 4), 1000, 256, {64, 256});
-    rec.end();
-    rec.submitAndWait();
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      limited.recordArgs(rec, gpu::BufferRange(word, 0, 4), 1000, 256, {64, 256});
+    });
     const uint32_t rows = std::min(limit, 1000u);
     for (uint32_t c = 0; c < 4; ++c)
       for (uint32_t k = 0; k < 2; ++k) {

@@ -10,7 +10,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/samplers.h"
 #include "reference/rng.h"
@@ -36,11 +37,9 @@ std::vector<float> runStratified(Context& ctx, const std::vector<std::pair<float
   auto rays = gpu::Buffer::of(ctx, packRays(bounds.empty() ? decltype(bounds){{0, 0}} : bounds));
   gpu::Buffer samples(ctx, std::max<VkDeviceSize>(numRays * n * nerf::kSampleBytes, 16));
   nerf::StratifiedSampler sampler(ctx);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  sampler.record(rec, numRays, rays, n, seed, jitter, samples);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    sampler.record(rec, numRays, rays, n, seed, jitter, samples);
+  });
   return samples.download<float>(size_t(numRays) * n * 2);
 }
 
@@ -69,11 +68,9 @@ std::vector<float> runPdf(Context& ctx, const PdfCase& c) {
   auto weightBuf = gpu::Buffer::of(ctx, weights);
   gpu::Buffer merged(ctx, std::max<VkDeviceSize>(numRays * nOut * nerf::kSampleBytes, 16));
   nerf::PdfSampler sampler(ctx);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  sampler.record(rec, numRays, rays, coarseBuf, weightBuf, c.nCoarse, c.nFine, c.seed, c.jitter, c.padding, merged);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    sampler.record(rec, numRays, rays, coarseBuf, weightBuf, c.nCoarse, c.nFine, c.seed, c.jitter, c.padding, merged);
+  });
   return merged.download<float>(size_t(numRays) * nOut * 2);
 }
 

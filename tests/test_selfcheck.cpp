@@ -1,5 +1,5 @@
 // The rendering kernels chained on an analytic field, against the double CPU reference.
-#include "gpu_test.h"
+#include "support/gpu_test.h"
 #include "lib/selfcheck.h"
 
 using namespace vknerf;

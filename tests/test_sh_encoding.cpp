@@ -7,7 +7,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
 #include "nerf/encoding/sh_encoding.h"
 #include "reference/encoding/sh_encoding.h"
 #include "vknerf/error.h"
@@ -67,11 +68,9 @@ std::vector<float> encode(Context& ctx, nerf::ShEncoding& enc, const std::vector
   auto in = gpu::Buffer::of(ctx, dirs.empty() ? std::vector<float>(4) : dirs);
   std::vector<float> init(std::max<size_t>(1, size_t(count) * stride), kSentinel);
   auto out = gpu::Buffer::of(ctx, init);
-  gpu::Recorder rec(ctx);
-  rec.begin();
-  enc.recordForward(rec, count, in, out, stride, offset);
-  rec.end();
-  rec.submitAndWait();
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    enc.recordForward(rec, count, in, out, stride, offset);
+  });
   return out.download<float>(init.size());
 }
 

@@ -1,9 +1,9 @@
 // The vanilla trainer on the shipped sample scene: steps run, checkpoints resume exactly, a loaded
 // model renders what the trainer's model renders.
 #include <cmath>
-#include <filesystem>
 
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+#include "support/temp_dir.h"
 #include "io/checkpoint.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
@@ -39,16 +39,7 @@ const Dataset& scene() {
   return d;
 }
 
-std::shared_ptr<Context> sharedContext() {
-  // Trainer takes shared ownership; the test harness's context lives for the whole process.
-  return std::shared_ptr<Context>(&test::context(), [](Context*) {});
-}
-
-std::string tempFile(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("vknerf_trainer_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
+using test::sharedContext;
 
 class TrainerTest : public test::GpuTest {};
 
@@ -68,7 +59,8 @@ TEST_F(TrainerTest, LossDecreasesOverSteps) {
 }
 
 TEST_F(TrainerTest, ResumeContinuesExactly) {
-  auto path = tempFile("resume.vknerf");
+  const test::TempDir tmp("trainer");
+  const auto path = tmp.file("resume.vknerf");
   Trainer a(sharedContext(), scene(), tinyConfig());
   for (int i = 0; i < 5; ++i) a.step();
   a.save(path);
@@ -85,7 +77,8 @@ TEST_F(TrainerTest, ResumeContinuesExactly) {
 }
 
 TEST_F(TrainerTest, LoadedModelRendersLikeTrainer) {
-  auto path = tempFile("render.vknerf");
+  const test::TempDir tmp("trainer");
+  const auto path = tmp.file("render.vknerf");
   Trainer t(sharedContext(), scene(), tinyConfig());
   for (int i = 0; i < 10; ++i) t.step();
   t.save(path);
@@ -103,7 +96,8 @@ TEST_F(TrainerTest, LoadedModelRendersLikeTrainer) {
 }
 
 TEST_F(TrainerTest, ResumeRejectsADifferentModel) {
-  auto path = tempFile("other.vknerf");
+  const test::TempDir tmp("trainer");
+  const auto path = tmp.file("other.vknerf");
   Trainer a(sharedContext(), scene(), tinyConfig());
   a.save(path);
   TrainConfig wider = tinyConfig();

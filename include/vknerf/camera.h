@@ -6,15 +6,39 @@
 
 namespace vknerf {
 
+inline constexpr std::array<float, 16> kIdentityPose{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
 struct Camera {
   float fx = 0, fy = 0, cx = 0, cy = 0;  // focal lengths and principal point, pixels
   uint32_t width = 0, height = 0;
-  std::array<float, 16> c2w{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // row-major 4x4
+  std::array<float, 16> c2w = kIdentityPose;  // row-major 4x4
 };
 
 struct Aabb {
   std::array<float, 3> min{-1, -1, -1};
   std::array<float, 3> max{1, 1, 1};
 };
+
+// ---- Building cameras (src/api/camera.cpp) ----
+
+// Camera-to-world (row-major, the convention above) of a camera at `eye` looking at `target`: its
+// -Z axis points from eye to target and its +Y is the part of `up` perpendicular to that. `up` is
+// the world's up direction, of any length; it must not be parallel to target - eye.
+std::array<float, 16> lookAt(const std::array<float, 3>& eye, const std::array<float, 3>& target,
+                             const std::array<float, 3>& up);
+
+// Camera `index` of `count` spaced evenly on a circle around `centre` in a +Z-up world
+// (nerf_synthetic's), looking at the centre with the image's right horizontal: `radius` from it,
+// `elevationDegrees` above its XY plane (strictly between -90 and 90), at azimuth
+// 360 * index / count degrees from +X towards +Y.
+std::array<float, 16> orbitPose(const std::array<float, 3>& centre, float radius, float elevationDegrees,
+                                uint32_t index, uint32_t count);
+
+// A pinhole camera of width x height pixels with square pixels and its principal point at the image
+// centre, its focal length given by the horizontal field of view or in pixels.
+Camera pinholeFromFov(uint32_t width, uint32_t height, float fovXDegrees,
+                      const std::array<float, 16>& c2w = kIdentityPose);
+Camera pinholeFromFocal(uint32_t width, uint32_t height, float focalPixels,
+                        const std::array<float, 16>& c2w = kIdentityPose);
 
 }  // namespace vknerf

@@ -2,6 +2,7 @@
 // Vulkan devices, creates a context, trains a tiny NeRF on a scene generated in memory (a coloured
 // sphere seen from a ring of cameras) and renders one view. Exits non-zero when anything is off,
 // including any validation-layer message when VKNERF_VALIDATION=1.
+#include <vknerf/camera.h>
 #include <vknerf/context.h>
 #include <vknerf/dataset.h>
 #include <vknerf/error.h>
@@ -22,28 +23,6 @@ using Vec3 = std::array<float, 3>;
 Vec3 normalized(Vec3 v) {
   float n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   return {v[0] / n, v[1] / n, v[2] / n};
-}
-
-Vec3 cross(Vec3 a, Vec3 b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-// A camera at `eye` looking at the origin (OpenGL convention: it looks down its -Z, +Y up).
-vknerf::Camera lookAtOrigin(Vec3 eye, uint32_t size, float fovDegrees) {
-  vknerf::Camera cam;
-  cam.width = cam.height = size;
-  cam.cx = cam.cy = 0.5f * float(size);
-  cam.fx = cam.fy = 0.5f * float(size) / std::tan(0.5f * fovDegrees * 3.14159265f / 180.0f);
-  const Vec3 z = normalized(eye);
-  const Vec3 x = normalized(cross({0, 1, 0}, z));
-  const Vec3 y = cross(z, x);
-  for (int k = 0; k < 3; ++k) {
-    cam.c2w[4 * k + 0] = x[k];
-    cam.c2w[4 * k + 1] = y[k];
-    cam.c2w[4 * k + 2] = z[k];
-    cam.c2w[4 * k + 3] = eye[k];
-  }
-  return cam;
 }
 
 // The sphere |p| = radius, coloured by its normal; transparent where a pixel's centre ray misses it.
@@ -77,7 +56,7 @@ vknerf::Dataset sphereScene() {
     const float r = 3.0f;
     const Vec3 eye{r * std::cos(elevation) * std::sin(azimuth), r * std::sin(elevation),
                    r * std::cos(elevation) * std::cos(azimuth)};
-    data.cameras.push_back(lookAtOrigin(eye, 24, 40.0f));
+    data.cameras.push_back(vknerf::pinholeFromFov(24, 24, 40.0f, vknerf::lookAt(eye, {0, 0, 0}, {0, 1, 0})));
     data.images.push_back(renderSphere(data.cameras.back(), 0.6f));
     data.names.push_back("sphere_" + std::to_string(i));
   }

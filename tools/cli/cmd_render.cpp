@@ -8,6 +8,7 @@
 #include "checks.h"
 #include "command.h"
 #include "lib/render_output.h"
+#include "vknerf/camera.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -24,19 +25,12 @@ struct Options {
 
 // n cameras on a circle around the box centre, looking at it, +Z up (nerf_synthetic's world).
 std::vector<Camera> orbitCameras(uint32_t n, const Aabb& box, float radius, float elevationDeg, const Camera& like) {
-  float c[3];
-  for (int k = 0; k < 3; ++k) c[k] = 0.5f * (box.min[k] + box.max[k]);
-  const float el = elevationDeg * 3.14159265f / 180.0f;
+  const std::array<float, 3> centre{0.5f * (box.min[0] + box.max[0]), 0.5f * (box.min[1] + box.max[1]),
+                                    0.5f * (box.min[2] + box.max[2])};
   std::vector<Camera> cams;
   for (uint32_t i = 0; i < n; ++i) {
-    float az = 2.0f * 3.14159265f * float(i) / float(n);
-    float back[3] = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
-    float right[3] = {-std::sin(az), std::cos(az), 0};
-    float up[3] = {back[1] * right[2] - back[2] * right[1], back[2] * right[0] - back[0] * right[2],
-                   back[0] * right[1] - back[1] * right[0]};
     Camera cam = like;
-    cam.c2w = {right[0], up[0], back[0], c[0] + radius * back[0], right[1], up[1], back[1], c[1] + radius * back[1],
-               right[2], up[2], back[2], c[2] + radius * back[2], 0, 0, 0, 1};
+    cam.c2w = orbitPose(centre, radius, elevationDeg, i, n);
     cams.push_back(cam);
   }
   return cams;
@@ -56,10 +50,7 @@ int run(const Options& o, const Globals& g) {
   auto ctx = g.context();
   Model model = Model::load(ctx, o.model);
   std::vector<Camera> cams;
-  Camera like;
-  like.width = like.height = o.size;
-  like.fx = like.fy = 1.2f * float(o.size);  // ~45 degree field of view
-  like.cx = like.cy = 0.5f * float(o.size);
+  Camera like = pinholeFromFocal(o.size, o.size, 1.2f * float(o.size));  // ~45 degree field of view
   float radius = o.radius;
   if (!o.scene.empty()) {
     DatasetOptions dopt;

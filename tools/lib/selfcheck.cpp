@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "gpu/recorder.h"
+#include "vknerf/camera.h"
 #include "nerf/render/composite.h"
 #include "nerf/sampling/points.h"
 #include "nerf/rays/rays.h"
@@ -22,20 +23,7 @@ const std::array<float, 3> kBackground{1, 1, 1};
 
 Camera selfCheckCamera(uint32_t size) {
   // On the +x/+z diagonal, slightly above, looking at the origin.
-  const float e[3] = {2.4f, 0.9f, 2.1f};
-  float n = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-  float back[3] = {e[0] / n, e[1] / n, e[2] / n};
-  float right[3] = {back[2], 0, -back[0]};  // cross((0,1,0), back)
-  float rn = std::sqrt(right[0] * right[0] + right[2] * right[2]);
-  right[0] /= rn, right[2] /= rn;
-  float up[3] = {back[1] * right[2] - back[2] * right[1], back[2] * right[0] - back[0] * right[2],
-                 back[0] * right[1] - back[1] * right[0]};
-  Camera c;
-  c.width = c.height = size;
-  c.fx = c.fy = 1.2f * float(size);
-  c.cx = c.cy = 0.5f * float(size);
-  c.c2w = {right[0], up[0], back[0], e[0], right[1], up[1], back[1], e[1], right[2], up[2], back[2], e[2], 0, 0, 0, 1};
-  return c;
+  return pinholeFromFocal(size, size, 1.2f * float(size), lookAt({2.4f, 0.9f, 2.1f}, {0, 0, 0}, {0, 1, 0}));
 }
 
 struct RefPixel {

@@ -81,16 +81,8 @@ vknerf::Camera lookAtBox(const vknerf::Aabb& box, uint32_t size) {
   const glm::vec3 lo(box.min[0], box.min[1], box.min[2]), hi(box.max[0], box.max[1], box.max[2]);
   const glm::vec3 centre = 0.5f * (lo + hi);
   const float radius = 1.5f * glm::length(hi - lo);  // half-diagonal / distance ~ tan(18 deg) < tan(22.6 deg)
-  const float elevation = glm::radians(30.0f);
-  const glm::vec3 back(std::cos(elevation), 0, std::sin(elevation)), right(0, 1, 0);
-  const glm::vec3 up = glm::cross(back, right);
-  const glm::vec3 pos = centre + radius * back;
-  vknerf::Camera cam;
-  cam.width = cam.height = size;
-  cam.fx = cam.fy = 1.2f * float(size);
-  cam.cx = cam.cy = 0.5f * float(size);
-  cam.c2w = {right.x, up.x, back.x, pos.x, right.y, up.y, back.y, pos.y, right.z, up.z, back.z, pos.z, 0, 0, 0, 1};
-  return cam;
+  return vknerf::pinholeFromFocal(size, size, 1.2f * float(size),
+                                  vknerf::orbitPose({centre.x, centre.y, centre.z}, radius, 30, 0, 1));
 }
 
 }  // namespace viewer

@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <string>
 
+#include "support/temp_dir.h"
+
 namespace vknerf::test {
 
 struct CliResult {
@@ -34,11 +36,10 @@ inline CliResult runCli(const std::string& args) {
 
 inline std::string scene() { return std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop"; }
 
-// A path in this test process's own temporary folder.
+// A path in a temporary folder of this test process, removed when it exits.
 inline std::string temp(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("vknerf_cli_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  static const TempDir dir("cli");
+  return dir.file(name);
 }
 
 }  // namespace vknerf::test

@@ -1,4 +1,6 @@
-#include "gpu_test.h"
+#include "support/gpu_test.h"
+
+#include <cstdio>
 
 namespace vknerf::test {
 
@@ -11,5 +13,7 @@ Context& context() {
   }();
   return *ctx;
 }
+
+std::shared_ptr<Context> sharedContext() { return std::shared_ptr<Context>(&context(), [](Context*) {}); }
 
 }  // namespace vknerf::test

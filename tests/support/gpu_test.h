@@ -13,6 +13,9 @@
 namespace vknerf::test {
 
 Context& context();
+// The same context as a shared_ptr, for the APIs that take one (Trainer, Model::load). It does not
+// own the context: the harness keeps it for the whole process.
+std::shared_ptr<Context> sharedContext();
 
 class GpuTest : public ::testing::Test {
  protected:

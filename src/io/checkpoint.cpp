@@ -71,7 +71,12 @@ Checkpoint Checkpoint::load(const std::string& file) {
   if (std::filesystem::is_directory(file, ec)) throw Error(file + ": is a folder, not a checkpoint");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file + ": cannot open checkpoint: " + std::strerror(errno));
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse(bytes.data(), bytes.size(), file);
+}
+
+Checkpoint Checkpoint::parse(const uint8_t* data, size_t size, const std::string& file) {
+  const std::vector<uint8_t> bytes(data, data + size);
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0)
     throw Error(file + ": not a vknerf checkpoint (bad magic)");
   if (bytes.size() < 8 + 4 + 8) throw Error(file + ": truncated checkpoint");

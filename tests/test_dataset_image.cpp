@@ -1,6 +1,7 @@
 // Image files (src/nerf/image_io.*): PNG/JPEG in, PNG out, premultiplied box-filter downscale.
 #include <stb/stb_image_write.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "test_dataset_util.h"
@@ -151,4 +152,18 @@ TEST_F(DatasetImage, JpegHuffmanTableOfTooManyCodesIsRefused) {
   EXPECT_MESSAGE_HAS(errorOf([&] { nerf::loadImage(path); }), path);
   uint32_t w, h;
   EXPECT_FALSE(nerf::readImageSize(path, w, h));
+}
+
+// An empty IDAT chunk ahead of the image data is valid PNG; stb_image 2.27 copies it with
+// memcpy(NULL, p, 0) (found by fuzz/image_fuzzer.cpp, see src/io/stb_implementation.cpp).
+TEST_F(DatasetImage, PngWithAnEmptyDataChunkLoads) {
+  ImageRGBA8 img = patternImage(5, 3, 1);
+  auto png = nerf::encodePng(img.width, img.height, 4, img.rgba.data());
+  const uint8_t idat[4] = {'I', 'D', 'A', 'T'};
+  auto at = std::search(png.begin(), png.end(), idat, idat + 4);
+  ASSERT_NE(at, png.end());
+  const uint8_t empty[12] = {0, 0, 0, 0, 'I', 'D', 'A', 'T', 0x35, 0xAF, 0x06, 0x1E};  // length 0, type, CRC
+  png.insert(at - 4, empty, empty + 12);
+  ImageRGBA8 back = nerf::decodeImage(png.data(), png.size(), "empty chunk");
+  EXPECT_EQ(back.rgba, img.rgba);
 }

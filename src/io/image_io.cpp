@@ -9,11 +9,7 @@
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 
-// The one translation unit that holds the stb implementations.
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_FAILURE_USERMSG
-#include <stb/stb_image.h>
-#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image.h>  // implemented in stb_implementation.cpp
 #include <stb/stb_image_write.h>
 
 namespace vknerf::nerf {

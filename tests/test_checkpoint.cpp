@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "io/checkpoint.h"
 #include "lib/metrics.h"
@@ -135,4 +136,21 @@ TEST(Metrics, SsimIdentityAndDegradation) {
   EXPECT_LT(sn, 0.999);
   EXPECT_LT(sf, sn);  // a constant image keeps none of the structure
   EXPECT_THROW(nerf::ssim(img, flat, w + 1, h), Error);
+}
+
+TEST(Checkpoint, ParseFromMemoryMatchesLoad) {
+  auto path = tempPath("memory.vknerf").string();
+  sample().save(path);
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto ck = nerf::Checkpoint::parse(bytes.data(), bytes.size(), "in memory");
+  EXPECT_EQ(ck.config, sample().config);
+  EXPECT_EQ(ck.sections, sample().sections);
+  EXPECT_EQ(ck.path, "in memory");
+  try {
+    nerf::Checkpoint::parse(bytes.data(), bytes.size() - 1, "in memory");
+    ADD_FAILURE() << "a truncated checkpoint parsed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("in memory"), std::string::npos) << e.what();
+  }
 }

@@ -1,6 +1,7 @@
 // Image files (src/nerf/image_io.*): PNG/JPEG in, PNG out, premultiplied box-filter downscale.
 #include <stb/stb_image_write.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "support/dataset_files.h"
@@ -117,4 +118,54 @@ TEST_F(DatasetImage, UnreadableFilesNameThePath) {
   EXPECT_FALSE(nerf::readImageSize(junk, w, h));
   EXPECT_MESSAGE_HAS(errorOf([&] { nerf::savePng((dir() / "no" / "such" / "dir.png").string(), patternImage(2, 2, 0)); }),
                      "dir.png");
+}
+
+TEST_F(DatasetImage, DecodeFromMemoryMatchesTheFile) {
+  ImageRGBA8 img = patternImage(6, 4, 2, true);
+  const auto png = nerf::encodePng(img.width, img.height, 4, img.rgba.data());
+  ImageRGBA8 back = nerf::decodeImage(png.data(), png.size(), "in memory");
+  EXPECT_EQ(back.width, 6u);
+  EXPECT_EQ(back.height, 4u);
+  EXPECT_EQ(back.rgba, img.rgba);
+  const std::string junk = "this is not a PNG file at all";
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::decodeImage(reinterpret_cast<const uint8_t*>(junk.data()), junk.size(), "junk"); }),
+                     "'junk'");
+}
+
+// stb_image 2.27 writes past its Huffman arrays for a table of more than 256 codes (found by
+// fuzz/image_fuzzer.cpp); src/io/jpeg_check.h refuses the file first.
+TEST_F(DatasetImage, JpegHuffmanTableOfTooManyCodesIsRefused) {
+  std::vector<uint8_t> rgb(16 * 16 * 3, 128);
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(stbi_write_jpg_to_func(
+      [](void* out, void* data, int size) {
+        auto* v = static_cast<std::vector<uint8_t>*>(out);
+        v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+      },
+      &jpeg, 16, 16, 3, rgb.data(), 90));
+  size_t dht = 0;
+  for (size_t i = 2; i + 1 < jpeg.size() && !dht; ++i)
+    if (jpeg[i] == 0xFF && jpeg[i + 1] == 0xC4) dht = i;
+  ASSERT_NE(dht, 0u);
+  for (size_t i = 0; i < 16; ++i) jpeg[dht + 5 + i] = 17;  // 16 * 17 = 272 codes
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::decodeImage(jpeg.data(), jpeg.size(), "bad.jpg"); }), "Huffman table");
+  writeText(dir() / "bad.jpg", std::string(jpeg.begin(), jpeg.end()));
+  const std::string path = (dir() / "bad.jpg").string();
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::loadImage(path); }), path);
+  uint32_t w, h;
+  EXPECT_FALSE(nerf::readImageSize(path, w, h));
+}
+
+// An empty IDAT chunk ahead of the image data is valid PNG; stb_image 2.27 copies it with
+// memcpy(NULL, p, 0) (found by fuzz/image_fuzzer.cpp, see src/io/stb_implementation.cpp).
+TEST_F(DatasetImage, PngWithAnEmptyDataChunkLoads) {
+  ImageRGBA8 img = patternImage(5, 3, 1);
+  auto png = nerf::encodePng(img.width, img.height, 4, img.rgba.data());
+  const uint8_t idat[4] = {'I', 'D', 'A', 'T'};
+  auto at = std::search(png.begin(), png.end(), idat, idat + 4);
+  ASSERT_NE(at, png.end());
+  const uint8_t empty[12] = {0, 0, 0, 0, 'I', 'D', 'A', 'T', 0x35, 0xAF, 0x06, 0x1E};  // length 0, type, CRC
+  png.insert(at - 4, empty, empty + 12);
+  ImageRGBA8 back = nerf::decodeImage(png.data(), png.size(), "empty chunk");
+  EXPECT_EQ(back.rgba, img.rgba);
 }

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs vknerf's build and test dependencies from Debian 12 packages (root or sudo).
+# clang and libclang-rt-dev (libFuzzer, the sanitizer runtimes): tools/sanitize.sh.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
@@ -10,4 +11,5 @@ $SUDO apt-get install -y --no-install-recommends \
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools \
   libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev \
   libgtest-dev googletest libbenchmark-dev libopenblas-dev \
-  libglfw3-dev xvfb xauth python3-matplotlib python3-numpy
+  libglfw3-dev xvfb xauth python3-matplotlib python3-numpy \
+  clang libclang-rt-dev

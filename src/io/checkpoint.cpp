@@ -20,23 +20,25 @@ template <class T> void append(std::vector<uint8_t>& out, T v) {
   out.insert(out.end(), p, p + sizeof(T));
 }
 
+// Reads the bytes [0, size) of `data` in order; never past `size`.
 struct Reader {
-  const std::vector<uint8_t>& bytes;
+  const uint8_t* data;
+  size_t size;
   const std::string& path;
   size_t pos = 0;
   void need(size_t n, const char* what) {
-    if (bytes.size() - pos < n) throw Error(path + ": truncated checkpoint (reading " + what + ")");
+    if (size - pos < n) throw Error(path + ": truncated checkpoint (reading " + what + ")");
   }
   template <class T> T read(const char* what) {
     need(sizeof(T), what);
     T v;
-    std::memcpy(&v, bytes.data() + pos, sizeof(T));
+    std::memcpy(&v, data + pos, sizeof(T));
     pos += sizeof(T);
     return v;
   }
   std::string readString(size_t n, const char* what) {
     need(n, what);
-    std::string s(reinterpret_cast<const char*>(bytes.data() + pos), n);
+    std::string s(reinterpret_cast<const char*>(data + pos), n);
     pos += n;
     return s;
   }
@@ -71,21 +73,23 @@ Checkpoint Checkpoint::load(const std::string& file) {
   if (std::filesystem::is_directory(file, ec)) throw Error(file + ": is a folder, not a checkpoint");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file + ": cannot open checkpoint: " + std::strerror(errno));
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0)
-    throw Error(file + ": not a vknerf checkpoint (bad magic)");
-  if (bytes.size() < 8 + 4 + 8) throw Error(file + ": truncated checkpoint");
-  Reader r{bytes, file, 8};
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse(bytes.data(), bytes.size(), file);
+}
+
+Checkpoint Checkpoint::parse(const uint8_t* data, size_t size, const std::string& file) {
+  if (size < 8 || std::memcmp(data, kMagic, 8) != 0) throw Error(file + ": not a vknerf checkpoint (bad magic)");
+  if (size < 8 + 4 + 8) throw Error(file + ": truncated checkpoint");
+  Reader r{data, size, file, 8};
   uint32_t version = r.read<uint32_t>("version");
   if (version != kVersion)
     throw Error(file + ": checkpoint version " + std::to_string(version) + " is not supported (expected " +
                 std::to_string(kVersion) + ")");
   uint64_t stored;
-  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  if (fnv1a(bytes.data(), bytes.size() - 8) != stored) throw Error(file + ": checkpoint is corrupt (checksum mismatch)");
-  const size_t end = bytes.size() - 8;
-  std::vector<uint8_t> body(bytes.begin(), bytes.begin() + end);
-  Reader b{body, file, r.pos};
+  std::memcpy(&stored, data + size - 8, 8);
+  if (fnv1a(data, size - 8) != stored) throw Error(file + ": checkpoint is corrupt (checksum mismatch)");
+  const size_t end = size - 8;
+  Reader b{data, end, file, r.pos};  // the body: everything before the checksum
   Checkpoint ck;
   ck.path = file;
   ck.config = b.readString(b.read<uint32_t>("config size"), "config");
@@ -94,7 +98,7 @@ Checkpoint Checkpoint::load(const std::string& file) {
     std::string name = b.readString(b.read<uint32_t>("section name size"), "section name");
     uint64_t n = b.read<uint64_t>("section size");
     b.need(n, "section data");
-    ck.sections[name].assign(body.begin() + b.pos, body.begin() + b.pos + n);
+    ck.sections[name].assign(data + b.pos, data + b.pos + n);
     b.pos += n;
   }
   if (b.pos != end) throw Error(file + ": checkpoint has trailing bytes");

@@ -7,6 +7,7 @@
 //   u32 sectionCount  { u32 nameBytes  name  u64 dataBytes  data }*
 //   u64 FNV-1a hash of all preceding bytes
 #include <cstdint>
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -32,6 +33,8 @@ struct Checkpoint {
 
   void save(const std::string& path) const;
   static Checkpoint load(const std::string& path);
+  // The file's bytes already in memory; `path` names it in messages.
+  static Checkpoint parse(const uint8_t* data, size_t size, const std::string& path);
 
   std::string path;  // set by load(), for error messages
 

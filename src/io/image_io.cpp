@@ -1,25 +1,59 @@
 #include "io/image_io.h"
 
+#include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 
+#include "io/jpeg_check.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 
-// The one translation unit that holds the stb implementations.
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_FAILURE_USERMSG
-#include <stb/stb_image.h>
-#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image.h>  // implemented in stb_implementation.cpp
 #include <stb/stb_image_write.h>
 
 namespace vknerf::nerf {
 
+namespace {
+
+// The whole file: stb is handed bytes, never a path, so that jpegHuffmanTablesFit sees them first.
+bool readFile(const std::string& path, std::vector<uint8_t>& bytes, std::string& why) {
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    why = errno ? std::strerror(errno) : "cannot open the file";
+    return false;
+  }
+  bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) {
+    why = "read error";
+    return false;
+  }
+  if (bytes.size() > size_t(INT32_MAX)) {  // stb takes an int length
+    why = "larger than 2 GiB";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 ImageRGBA8 loadImage(const std::string& path) {
+  std::vector<uint8_t> bytes;
+  std::string why;
+  if (!readFile(path, bytes, why)) throw Error("cannot read image '" + path + "': " + why);
+  return decodeImage(bytes.data(), bytes.size(), path);
+}
+
+ImageRGBA8 decodeImage(const uint8_t* data, size_t size, const std::string& name) {
+  if (size > size_t(INT32_MAX)) throw Error("cannot read image '" + name + "': larger than 2 GiB");
+  if (!jpegHuffmanTablesFit(data, size))
+    throw Error("cannot read image '" + name + "': corrupt JPEG (a Huffman table of more than 256 codes)");
   int w = 0, h = 0, channels = 0;
-  stbi_uc* pixels = stbi_load(path.c_str(), &w, &h, &channels, 4);
+  stbi_uc* pixels = stbi_load_from_memory(data, int(size), &w, &h, &channels, 4);
   if (!pixels) {
     const char* why = stbi_failure_reason();
-    throw Error("cannot read image '" + path + "': " + (why ? why : "unknown error"));
+    throw Error("cannot read image '" + name + "': " + (why ? why : "unknown error"));
   }
   ImageRGBA8 img;
   img.width = uint32_t(w);
@@ -30,8 +64,11 @@ ImageRGBA8 loadImage(const std::string& path) {
 }
 
 bool readImageSize(const std::string& path, uint32_t& width, uint32_t& height) {
+  std::vector<uint8_t> bytes;
+  std::string why;
+  if (!readFile(path, bytes, why) || !jpegHuffmanTablesFit(bytes.data(), bytes.size())) return false;
   int w = 0, h = 0, channels = 0;
-  if (!stbi_info(path.c_str(), &w, &h, &channels) || w <= 0 || h <= 0) return false;
+  if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &channels) || w <= 0 || h <= 0) return false;
   width = uint32_t(w);
   height = uint32_t(h);
   return true;

@@ -1,5 +1,6 @@
 #pragma once
 // Image files in and out (stb_image / stb_image_write), and the box-filter downscale used by datasets.
+#include <cstddef>
 #include <cstdint>
 #include <array>
 #include <string>
@@ -12,6 +13,8 @@ namespace vknerf::nerf {
 // PNG, JPEG (and whatever else stb_image reads) as straight-alpha RGBA8; grey and RGB files get
 // alpha 255, 16-bit files are reduced to 8 bits. Throws vknerf::Error naming `path`.
 ImageRGBA8 loadImage(const std::string& path);
+// The same from a file's bytes already in memory; `name` names them in messages.
+ImageRGBA8 decodeImage(const uint8_t* data, size_t size, const std::string& name);
 
 // Width and height from the file header alone; false when the file cannot be read as an image.
 bool readImageSize(const std::string& path, uint32_t& width, uint32_t& height);

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# The test suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in its own
+# build folder (build-asan/, clang), then each libFuzzer target of fuzz/ for FUZZ_SECONDS seconds
+# (default 20) from a seed corpus made from the sample scene. Any sanitizer report or fuzzer crash
+# fails the run. docs/robustness.md says how to fuzz for longer.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$PWD
+BUILD=${BUILD:-build-asan}
+FUZZ_SECONDS=${FUZZ_SECONDS:-20}
+FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -gline-tables-only"
+
+cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DVKNERF_FUZZ=ON
+cmake --build "$BUILD" -j2
+
+# halt_on_error: the first report fails the test. Libraries stay loaded until exit
+# (tools/keep_libraries_loaded.c says why), so a leak report always names its allocation stack; the
+# leak suppressions cover third-party code only (tools/lsan.supp says why for each entry).
+cc -shared -fPIC -O2 tools/keep_libraries_loaded.c -o "$BUILD/keep_libraries_loaded.so"
+export ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:strict_string_checks=1
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+export LSAN_OPTIONS=suppressions=$ROOT/tools/lsan.supp:print_suppressions=0
+export LD_PRELOAD=$ROOT/$BUILD/keep_libraries_loaded.so
+# The install.consumer test configures a project of its own against the sanitized libvknerf.a:
+# CMake takes its initial flags from these.
+export CXXFLAGS="$FLAGS" LDFLAGS="-fsanitize=address,undefined"
+ctest --test-dir "$BUILD" -j2 --output-on-failure
+
+# Fuzzing: seeds from the sample scene, new inputs kept in $BUILD/fuzz/corpus, crashes in $BUILD/fuzz/crashes.
+FUZZ=$BUILD/fuzz
+rm -rf "$FUZZ/seeds"
+mkdir -p "$FUZZ/crashes"
+"$BUILD/fuzz/fuzz_make_seeds" assets/tabletop "$FUZZ/seeds"
+for target in transforms_json:transforms colmap_text:colmap checkpoint:checkpoint image:image; do
+  name=${target%%:*}
+  seeds=$FUZZ/seeds/${target##*:}
+  mkdir -p "$FUZZ/corpus/$name"
+  log=$FUZZ/$name.log
+  if ! "$BUILD/fuzz/fuzz_$name" -max_total_time="$FUZZ_SECONDS" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+      -artifact_prefix="$FUZZ/crashes/$name-" "$FUZZ/corpus/$name" "$seeds" >"$log" 2>&1; then
+    tail -n 60 "$log"
+    echo "fuzz_$name: FAILED (input saved under $FUZZ/crashes/)"
+    exit 1
+  fi
+  runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+  echo "fuzz_$name: $runs executions in $FUZZ_SECONDS s, no crash"
+done

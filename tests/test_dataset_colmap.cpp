@@ -227,8 +227,10 @@ TEST_F(DatasetColmap, FolderLayouts) {
 TEST_F(DatasetColmap, ImagesSortedByNameThenHeldOut) {
   std::string images;
   int id = 1;
-  for (const char* n : {"c.png", "a.png", "b.png"})
-    images += imageLine(id++, fromOpenGl(poseLookingAt({4.0 * id, 0, 1}, {0, 0, 0})), 1, n) + "\n";
+  for (const char* n : {"c.png", "a.png", "b.png"}) {
+    images += imageLine(id, fromOpenGl(poseLookingAt({4.0 * id, 0, 1}, {0, 0, 0})), 1, n) + "\n";
+    ++id;  // not in the call: reading id there too would be unsequenced
+  }
   writeModel(kPinhole, images, {"a.png", "b.png", "c.png"});
   auto names = [&](DatasetOptions o) {
     std::string out;

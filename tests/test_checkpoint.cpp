@@ -139,7 +139,8 @@ TEST(Metrics, SsimIdentityAndDegradation) {
 }
 
 TEST(Checkpoint, ParseFromMemoryMatchesLoad) {
-  auto path = tempPath("memory.vknerf").string();
+  const test::TempDir tmp("checkpoint");
+  auto path = tmp.file("memory.vknerf");
   sample().save(path);
   std::ifstream in(path, std::ios::binary);
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

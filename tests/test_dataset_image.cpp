@@ -169,3 +169,11 @@ TEST_F(DatasetImage, PngWithAnEmptyDataChunkLoads) {
   ImageRGBA8 back = nerf::decodeImage(png.data(), png.size(), "empty chunk");
   EXPECT_EQ(back.rgba, img.rgba);
 }
+
+// Bytes with no PNG or JPEG signature that stb_image 2.27 takes for a TGA whose header claims a huge
+// image, then decodes for seconds (a fuzzer timeout): only PNG and JPEG reach stb.
+TEST_F(DatasetImage, BytesThatAreNeitherPngNorJpegAreRefused) {
+  const uint8_t tgaLike[] = {0xff, 0x00, 0x0b, 0x8b, 0xf8, 0xe5, 0x9c, 0x62, 0x57, 0xff, 0xff, 0xff, 0x00, 0x08,
+                             0xff, 0xff, 0x0f, 0x08, 0x00, 0x00, 0x00, 0x2d, 0x00, 0x00, 0x00, 0xff, 0xff};
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::decodeImage(tgaLike, sizeof tgaLike, "tga-like"); }), "not a PNG or JPEG");
+}

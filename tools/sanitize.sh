@@ -8,6 +8,8 @@ cd "$(dirname "$0")/.."
 ROOT=$PWD
 BUILD=${BUILD:-build-asan}
 FUZZ_SECONDS=${FUZZ_SECONDS:-20}
+# A fixed seed by default: a CI run replays the same mutations (FUZZ_SEED=0: a random one each run).
+FUZZ_SEED=${FUZZ_SEED:-1}
 FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -gline-tables-only"
 
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ \
@@ -37,7 +39,7 @@ for target in transforms_json:transforms colmap_text:colmap checkpoint:checkpoin
   seeds=$FUZZ/seeds/${target##*:}
   mkdir -p "$FUZZ/corpus/$name"
   log=$FUZZ/$name.log
-  if ! "$BUILD/fuzz/fuzz_$name" -max_total_time="$FUZZ_SECONDS" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  if ! "$BUILD/fuzz/fuzz_$name" -max_total_time="$FUZZ_SECONDS" -seed="$FUZZ_SEED" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
       -artifact_prefix="$FUZZ/crashes/$name-" "$FUZZ/corpus/$name" "$seeds" >"$log" 2>&1; then
     tail -n 60 "$log"
     echo "fuzz_$name: FAILED (input saved under $FUZZ/crashes/)"

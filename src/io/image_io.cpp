@@ -1,5 +1,6 @@
 #include "io/image_io.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -36,6 +37,21 @@ bool readFile(const std::string& path, std::vector<uint8_t>& bytes, std::string&
   return true;
 }
 
+// Datasets hold PNG and JPEG photos. stb guesses formats, and TGA has no signature: without this
+// check any bytes may decode as a TGA, whose header can claim a huge image that stb then loops
+// over for seconds (found by fuzzing).
+const char* unsupportedFormat(const uint8_t* data, size_t size) {
+  static const uint8_t kPng[] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
+  static const uint8_t kJpeg[] = {0xff, 0xd8, 0xff};
+  if (size >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, data)) return nullptr;
+  if (size >= sizeof kJpeg && std::equal(kJpeg, kJpeg + sizeof kJpeg, data)) return nullptr;
+  return "not a PNG or JPEG file";
+}
+
+// The most pixels an image may claim: 1 GiB as RGBA8 (a 16384 x 16384 photo), so that a corrupt
+// header cannot ask for an allocation the machine does not have.
+constexpr uint64_t kMaxPixels = 1ull << 28;
+
 }  // namespace
 
 ImageRGBA8 loadImage(const std::string& path) {
@@ -49,7 +65,11 @@ ImageRGBA8 decodeImage(const uint8_t* data, size_t size, const std::string& name
   if (size > size_t(INT32_MAX)) throw Error("cannot read image '" + name + "': larger than 2 GiB");
   if (!jpegHuffmanTablesFit(data, size))
     throw Error("cannot read image '" + name + "': corrupt JPEG (a Huffman table of more than 256 codes)");
+  if (const char* why = unsupportedFormat(data, size)) throw Error("cannot read image '" + name + "': " + why);
   int w = 0, h = 0, channels = 0;
+  if (stbi_info_from_memory(data, int(size), &w, &h, &channels) && uint64_t(w) * uint64_t(h) > kMaxPixels)
+    throw Error("cannot read image '" + name + "': " + std::to_string(w) + "x" + std::to_string(h) +
+                " pixels is more than vknerf loads (" + std::to_string(kMaxPixels) + ")");
   stbi_uc* pixels = stbi_load_from_memory(data, int(size), &w, &h, &channels, 4);
   if (!pixels) {
     const char* why = stbi_failure_reason();
@@ -66,7 +86,9 @@ ImageRGBA8 decodeImage(const uint8_t* data, size_t size, const std::string& name
 bool readImageSize(const std::string& path, uint32_t& width, uint32_t& height) {
   std::vector<uint8_t> bytes;
   std::string why;
-  if (!readFile(path, bytes, why) || !jpegHuffmanTablesFit(bytes.data(), bytes.size())) return false;
+  if (!readFile(path, bytes, why) || !jpegHuffmanTablesFit(bytes.data(), bytes.size()) ||
+      unsupportedFormat(bytes.data(), bytes.size()))
+    return false;
   int w = 0, h = 0, channels = 0;
   if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &channels) || w <= 0 || h <= 0) return false;
   width = uint32_t(w);

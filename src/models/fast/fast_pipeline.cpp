@@ -63,7 +63,7 @@ FastPipeline::Packed::Packed(Context& ctx, uint32_t rays, uint32_t samples)
     : offsets(gpu::Buffer::zeros(ctx, (VkDeviceSize(rays) + 1) * 4)),
       samples(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * kSampleBytes)),
       sampleRay(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * 4)),
-      totals(gpu::Buffer::zeros(ctx, RayMarcher::kTotalsBytes)) {}
+      totals(gpu::Buffer::zeros(ctx, PackedLayout::kTotalsBytes)) {}
 
 FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
                            bool training, const RenderSettings& overrides)
@@ -148,7 +148,7 @@ void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t
   points_.record(rec, sampleCapacity_,
                  gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE), batch.samples,
                  batch.sampleRay, batch.totals, box_, f.positions, f.directions);
-  // The sample total is the first uint of the totals (RayMarcher::kTotalsBytes).
+  // The sample total is the first uint of the totals (PackedLayout::kTotalsBytes).
   const gpu::BufferRange total(batch.totals, 0, 4);
   const gpu::BufferRange* limit = limitToTotal ? &total : nullptr;
   hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0, limit);

@@ -11,7 +11,7 @@
 //               (the packed layout of nerf::Compositor with samplesPerRay = 0)
 //   samples     vec2 (t, delta) per sample
 //   sampleRay   uint per sample: the ray it belongs to
-//   totals      uint[4] as PackedLayout writes them, for kIndirectLocal
+//   totals      uint[4] as PackedLayout writes them, for PackedLayout::kIndirectLocal
 // The sample capacity is what the samples and sampleRay buffers hold; a batch over it keeps the
 // samples of its first rays and the offsets are clamped, so off[numRays] <= capacity always.
 #include <cstdint>
@@ -27,9 +27,6 @@ namespace vknerf::nerf {
 
 class RayMarcher {
  public:
-  static constexpr uint32_t kIndirectLocal = PackedLayout::kIndirectLocal;
-  static constexpr VkDeviceSize kTotalsBytes = PackedLayout::kTotalsBytes;
-
   RayMarcher(Context& ctx, uint32_t maxRays);
 
   // instant-ngp's step for a bounded scene: the box diagonal over 1024.

@@ -1,6 +1,6 @@
 #pragma once
-// A posed pinhole camera in the nerf_synthetic / OpenGL convention: camera-to-world matrix,
-// camera looking down -Z with +Y up and +X right; pixel (x, y) counts rows downwards.
+// A posed camera in the nerf_synthetic / OpenGL convention: camera-to-world matrix, camera looking
+// down -Z with +Y up and +X right; pixel (x, y) counts rows downwards; optional lens distortion.
 #include <array>
 #include <cstdint>
 
@@ -8,10 +8,29 @@ namespace vknerf {
 
 inline constexpr std::array<float, 16> kIdentityPose{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
+// Lens distortion, in OpenCV's conventions on normalised image coordinates (x, y) = (X/Z, Y/Z) in
+// the OpenCV camera frame (x right, y down); pixel = (fx * x_d + cx, fy * y_d + cy).
+//   Pinhole:  no distortion.
+//   OpenCV:   radial-tangential with the rational radial term, r2 = x^2 + y^2,
+//             radial = (1 + k1 r2 + k2 r2^2 + k3 r2^3) / (1 + k4 r2 + k5 r2^2 + k6 r2^3),
+//             x_d = x radial + 2 p1 x y + p2 (r2 + 2 x^2), y_d = y radial + p1 (r2 + 2 y^2) + 2 p2 x y.
+//             COLMAP's SIMPLE_RADIAL, RADIAL, OPENCV and FULL_OPENCV are special cases.
+//   Fisheye:  OpenCV's fisheye (equidistant) model, theta = atan(r), r = sqrt(r2),
+//             theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8),
+//             (x_d, y_d) = (theta_d / r) (x, y). COLMAP's OPENCV_FISHEYE.
+enum class LensModel : uint32_t { Pinhole = 0, OpenCV = 1, Fisheye = 2 };
+
+struct Lens {
+  LensModel model = LensModel::Pinhole;
+  float k1 = 0, k2 = 0, k3 = 0, k4 = 0, k5 = 0, k6 = 0;  // Fisheye uses k1..k4 only
+  float p1 = 0, p2 = 0;                                  // OpenCV only
+};
+
 struct Camera {
   float fx = 0, fy = 0, cx = 0, cy = 0;  // focal lengths and principal point, pixels
   uint32_t width = 0, height = 0;
   std::array<float, 16> c2w = kIdentityPose;  // row-major 4x4
+  Lens lens;                                  // applied where rays are generated
 };
 
 struct Aabb {

@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/colmap_camera.h"
 #include "io/dataset_loaders.h"
 #include "vknerf/error.h"
 
@@ -88,43 +89,20 @@ struct ColmapCamera {
 
 std::map<uint64_t, ColmapCamera> readCameras(const fs::path& path) {
   std::map<uint64_t, ColmapCamera> cams;
-  // Parameter count, and the index where distortion parameters start, per perspective model.
-  struct Model {
-    const char* name;
-    size_t params, firstDistortion;
-    bool singleFocal;
-  };
-  static const Model kModels[] = {{"SIMPLE_PINHOLE", 3, 3, true}, {"PINHOLE", 4, 4, false},
-                                  {"SIMPLE_RADIAL", 4, 3, true},  {"RADIAL", 5, 3, true},
-                                  {"OPENCV", 8, 4, false},        {"FULL_OPENCV", 12, 4, false}};
   for (const Line& line : readLines(path)) {
     if (skippable(line.text)) continue;
     LineError fail = at(path, line);
     auto t = tokens(line.text);
     if (t.size() < 4) fail("expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]");
     uint64_t id = toUint(t[0], fail, "CAMERA_ID");
-    const Model* model = nullptr;
-    for (const Model& m : kModels)
-      if (t[1] == m.name) model = &m;
-    if (!model) fail("camera model " + t[1] + " is not handled (pinhole models only: undistort the images first)");
-    if (t.size() != 4 + model->params)
-      fail(t[1] + " needs " + std::to_string(model->params) + " parameters, got " + std::to_string(t.size() - 4));
+    const ColmapCameraModel* model = colmapModelByName(t[1]);
+    if (!model) fail("camera model " + t[1] + " is not a COLMAP camera model");
     uint64_t w = toUint(t[2], fail, "WIDTH"), h = toUint(t[3], fail, "HEIGHT");
-    if (w == 0 || h == 0 || w > 1000000 || h > 1000000) fail("image size " + t[2] + "x" + t[3] + " is not valid");
     std::vector<double> p;
     for (size_t i = 4; i < t.size(); ++i) p.push_back(toDouble(t[i], fail, "camera parameter"));
-    for (size_t i = model->firstDistortion; i < p.size(); ++i)
-      if (p[i] != 0) fail(t[1] + " camera " + t[0] + " has nonzero distortion: lens distortion is not handled (undistort the images first)");
     ColmapCamera c;
     c.at = fail.at;
-    Intrinsics& in = c.intrinsics;
-    in.width = uint32_t(w);
-    in.height = uint32_t(h);
-    in.fx = p[0];
-    in.fy = model->singleFocal ? p[0] : p[1];
-    in.cx = p[model->singleFocal ? 1 : 2];
-    in.cy = p[model->singleFocal ? 2 : 3];
-    if (!(in.fx > 0) || !(in.fy > 0)) fail("focal length must be positive");
+    c.intrinsics = colmapIntrinsics(*model, id, w, h, p, fail.at);
     if (!cams.emplace(id, c).second) fail("camera " + t[0] + " is defined twice");
   }
   if (cams.empty()) throw Error("'" + path.string() + "' defines no cameras");

@@ -20,6 +20,7 @@ struct Intrinsics {
   double fx = NAN, fy = NAN, cx = NAN, cy = NAN;
   double angleX = NAN, angleY = NAN;  // full field of view, radians
   uint32_t width = 0, height = 0;
+  Lens lens;  // distortion coefficients are dimensionless: downscaling leaves them alone
 };
 
 struct FrameSpec {

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
+#include <vector>
 
 #include "support/dataset_files.h"
 #include "support/error_message.h"
@@ -60,6 +62,10 @@ TEST_F(DatasetImage, JpegLoads) {
     EXPECT_NEAR(img.rgba[4 * p + 2], 40, 4);
     EXPECT_EQ(img.rgba[4 * p + 3], 255);
   }
+  uint32_t w = 0, h = 0;
+  EXPECT_TRUE(nerf::readImageSize((dir() / "a.jpg").string(), w, h));
+  EXPECT_EQ(w, 16u);
+  EXPECT_EQ(h, 16u);
 }
 
 TEST_F(DatasetImage, DownscaleWeightsColourByAlpha) {
@@ -132,28 +138,70 @@ TEST_F(DatasetImage, DecodeFromMemoryMatchesTheFile) {
                      "'junk'");
 }
 
-// stb_image 2.27 writes past its Huffman arrays for a table of more than 256 codes (found by
-// fuzz/image_fuzzer.cpp); src/io/jpeg_check.h refuses the file first.
-TEST_F(DatasetImage, JpegHuffmanTableOfTooManyCodesIsRefused) {
+namespace {
+
+std::vector<uint8_t> flatJpeg() {
   std::vector<uint8_t> rgb(16 * 16 * 3, 128);
   std::vector<uint8_t> jpeg;
-  ASSERT_TRUE(stbi_write_jpg_to_func(
+  stbi_write_jpg_to_func(
       [](void* out, void* data, int size) {
         auto* v = static_cast<std::vector<uint8_t>*>(out);
         v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
       },
-      &jpeg, 16, 16, 3, rgb.data(), 90));
-  size_t dht = 0;
-  for (size_t i = 2; i + 1 < jpeg.size() && !dht; ++i)
-    if (jpeg[i] == 0xFF && jpeg[i + 1] == 0xC4) dht = i;
+      &jpeg, 16, 16, 3, rgb.data(), 90);
+  return jpeg;
+}
+
+// Offset of the first marker 0xFF `code` after the SOI, 0 when there is none.
+size_t markerAt(const std::vector<uint8_t>& jpeg, uint8_t code) {
+  for (size_t i = 2; i + 1 < jpeg.size(); ++i)
+    if (jpeg[i] == 0xFF && jpeg[i + 1] == code) return i;
+  return 0;
+}
+
+// A corrupt JPEG is one clear error naming the file, from the decoder and the loader alike.
+void expectRefused(const std::vector<uint8_t>& jpeg, const std::filesystem::path& path) {
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::decodeImage(jpeg.data(), jpeg.size(), "bad.jpg"); }),
+                     "cannot read image 'bad.jpg': ");
+  writeText(path, std::string(jpeg.begin(), jpeg.end()));
+  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::loadImage(path.string()); }), path.string());
+}
+
+}  // namespace
+
+// stb_image 2.27 writes past its Huffman arrays for a table of more than 256 codes, and reads past
+// them when a scan names a table no DHT defined (both found by fuzz/image_fuzzer.cpp); JPEG now
+// decodes through libjpeg-turbo, which refuses both.
+TEST_F(DatasetImage, JpegHuffmanTableOfTooManyCodesIsRefused) {
+  auto jpeg = flatJpeg();
+  size_t dht = markerAt(jpeg, 0xC4);
   ASSERT_NE(dht, 0u);
   for (size_t i = 0; i < 16; ++i) jpeg[dht + 5 + i] = 17;  // 16 * 17 = 272 codes
-  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::decodeImage(jpeg.data(), jpeg.size(), "bad.jpg"); }), "Huffman table");
-  writeText(dir() / "bad.jpg", std::string(jpeg.begin(), jpeg.end()));
-  const std::string path = (dir() / "bad.jpg").string();
-  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::loadImage(path); }), path);
+  expectRefused(jpeg, dir() / "bad.jpg");
   uint32_t w, h;
-  EXPECT_FALSE(nerf::readImageSize(path, w, h));
+  EXPECT_FALSE(nerf::readImageSize((dir() / "bad.jpg").string(), w, h));
+}
+
+TEST_F(DatasetImage, JpegScanNamingAnUndefinedHuffmanTableIsRefused) {
+  auto jpeg = flatJpeg();
+  size_t sos = markerAt(jpeg, 0xDA);
+  ASSERT_NE(sos, 0u);
+  ASSERT_EQ(jpeg[sos + 4], 3);  // components in the scan; each is (id, DC table << 4 | AC table)
+  jpeg[sos + 6] = 0x33;         // tables 3: stb_image's encoder defines only 0 and 1
+  expectRefused(jpeg, dir() / "bad.jpg");
+}
+
+TEST_F(DatasetImage, TruncatedJpegIsRefusedNotDecodedAsGrey) {
+  const auto whole = flatJpeg();
+  const size_t sos = markerAt(whole, 0xDA);
+  ASSERT_NE(sos, 0u);
+  // Every cut from inside the headers to just before the end-of-image marker.
+  for (size_t cut = 3; cut + 2 < whole.size(); ++cut) {
+    std::vector<uint8_t> jpeg(whole.begin(), whole.begin() + cut);
+    EXPECT_MESSAGE_HAS(errorOf([&] { nerf::decodeImage(jpeg.data(), jpeg.size(), "cut.jpg"); }),
+                       "cannot read image 'cut.jpg': ")
+        << "cut at " << cut << " of " << whole.size();
+  }
 }
 
 // An empty IDAT chunk ahead of the image data is valid PNG; stb_image 2.27 copies it with

@@ -9,7 +9,7 @@ $SUDO apt-get update
 $SUDO apt-get install -y --no-install-recommends \
   build-essential cmake pkg-config git \
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools \
-  libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev \
+  libglm-dev libstb-dev libturbojpeg0-dev nlohmann-json3-dev libcli11-dev \
   libgtest-dev googletest libbenchmark-dev libopenblas-dev \
   libglfw3-dev xvfb xauth python3-matplotlib python3-numpy \
   clang libclang-rt-dev

@@ -3,8 +3,7 @@
 # build folder (build-asan/, clang), then each libFuzzer target of fuzz/ for FUZZ_SECONDS seconds
 # (default 20) from a seed corpus made from the sample scene. Any sanitizer report or fuzzer crash
 # fails the run. docs/robustness.md says how to fuzz for longer.
-# --suite-only: the sanitized suite without fuzzing (what CI runs while a known stb_image JPEG
-# defect, found by fuzz_image, is open: docs/robustness.md).
+# --suite-only: the sanitized suite without fuzzing.
 set -euo pipefail
 SUITE_ONLY=0
 if [ "${1:-}" = "--suite-only" ]; then SUITE_ONLY=1; fi

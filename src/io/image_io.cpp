@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "io/jpeg_check.h"
+#include "io/jpeg_decode.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 
@@ -17,7 +17,7 @@ namespace vknerf::nerf {
 
 namespace {
 
-// The whole file: stb is handed bytes, never a path, so that jpegHuffmanTablesFit sees them first.
+// The whole file: decoders are handed bytes, never a path, so that the format is checked first.
 bool readFile(const std::string& path, std::vector<uint8_t>& bytes, std::string& why) {
   errno = 0;
   std::ifstream in(path, std::ios::binary);
@@ -37,15 +37,37 @@ bool readFile(const std::string& path, std::vector<uint8_t>& bytes, std::string&
   return true;
 }
 
-// Datasets hold PNG and JPEG photos. stb guesses formats, and TGA has no signature: without this
-// check any bytes may decode as a TGA, whose header can claim a huge image that stb then loops
-// over for seconds (found by fuzzing).
-const char* unsupportedFormat(const uint8_t* data, size_t size) {
+// Datasets hold PNG and JPEG photos, told apart by their signatures. stb guesses formats, and TGA
+// has no signature: any bytes may decode as a TGA whose header claims a huge image that stb then
+// loops over for seconds (found by fuzzing), so only PNG reaches stb; JPEG goes to libjpeg-turbo.
+enum class Format { Png, Jpeg, Other };
+
+Format formatOf(const uint8_t* data, size_t size) {
   static const uint8_t kPng[] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
   static const uint8_t kJpeg[] = {0xff, 0xd8, 0xff};
-  if (size >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, data)) return nullptr;
-  if (size >= sizeof kJpeg && std::equal(kJpeg, kJpeg + sizeof kJpeg, data)) return nullptr;
-  return "not a PNG or JPEG file";
+  if (size >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, data)) return Format::Png;
+  if (size >= sizeof kJpeg && std::equal(kJpeg, kJpeg + sizeof kJpeg, data)) return Format::Jpeg;
+  return Format::Other;
+}
+
+// The image size from the file's header; false when the format or the header is not readable.
+bool headerSize(const uint8_t* data, size_t size, uint32_t& width, uint32_t& height) {
+  switch (formatOf(data, size)) {
+    case Format::Jpeg: {
+      JpegSize s;
+      if (!jpegSize(data, size, s)) return false;
+      width = s.width, height = s.height;
+      return true;
+    }
+    case Format::Png: {
+      int w = 0, h = 0, channels = 0;
+      if (!stbi_info_from_memory(data, int(size), &w, &h, &channels) || w <= 0 || h <= 0) return false;
+      width = uint32_t(w), height = uint32_t(h);
+      return true;
+    }
+    case Format::Other: break;
+  }
+  return false;
 }
 
 // The most pixels an image may claim: 1 GiB as RGBA8 (a 16384 x 16384 photo), so that a corrupt
@@ -63,22 +85,26 @@ ImageRGBA8 loadImage(const std::string& path) {
 
 ImageRGBA8 decodeImage(const uint8_t* data, size_t size, const std::string& name) {
   if (size > size_t(INT32_MAX)) throw Error("cannot read image '" + name + "': larger than 2 GiB");
-  if (!jpegHuffmanTablesFit(data, size))
-    throw Error("cannot read image '" + name + "': corrupt JPEG (a Huffman table of more than 256 codes)");
-  if (const char* why = unsupportedFormat(data, size)) throw Error("cannot read image '" + name + "': " + why);
-  int w = 0, h = 0, channels = 0;
-  if (stbi_info_from_memory(data, int(size), &w, &h, &channels) && uint64_t(w) * uint64_t(h) > kMaxPixels)
+  const Format format = formatOf(data, size);
+  if (format == Format::Other) throw Error("cannot read image '" + name + "': not a PNG or JPEG file");
+  uint32_t w = 0, h = 0;
+  if (headerSize(data, size, w, h) && uint64_t(w) * uint64_t(h) > kMaxPixels)
     throw Error("cannot read image '" + name + "': " + std::to_string(w) + "x" + std::to_string(h) +
                 " pixels is more than vknerf loads (" + std::to_string(kMaxPixels) + ")");
-  stbi_uc* pixels = stbi_load_from_memory(data, int(size), &w, &h, &channels, 4);
+  ImageRGBA8 img;
+  if (format == Format::Jpeg) {
+    decodeJpeg(data, size, name, img.width, img.height, img.rgba);
+    return img;
+  }
+  int iw = 0, ih = 0, channels = 0;
+  stbi_uc* pixels = stbi_load_from_memory(data, int(size), &iw, &ih, &channels, 4);
   if (!pixels) {
     const char* why = stbi_failure_reason();
     throw Error("cannot read image '" + name + "': " + (why ? why : "unknown error"));
   }
-  ImageRGBA8 img;
-  img.width = uint32_t(w);
-  img.height = uint32_t(h);
-  img.rgba.assign(pixels, pixels + size_t(w) * size_t(h) * 4);
+  img.width = uint32_t(iw);
+  img.height = uint32_t(ih);
+  img.rgba.assign(pixels, pixels + size_t(iw) * size_t(ih) * 4);
   stbi_image_free(pixels);
   return img;
 }
@@ -86,14 +112,7 @@ ImageRGBA8 decodeImage(const uint8_t* data, size_t size, const std::string& name
 bool readImageSize(const std::string& path, uint32_t& width, uint32_t& height) {
   std::vector<uint8_t> bytes;
   std::string why;
-  if (!readFile(path, bytes, why) || !jpegHuffmanTablesFit(bytes.data(), bytes.size()) ||
-      unsupportedFormat(bytes.data(), bytes.size()))
-    return false;
-  int w = 0, h = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &channels) || w <= 0 || h <= 0) return false;
-  width = uint32_t(w);
-  height = uint32_t(h);
-  return true;
+  return readFile(path, bytes, why) && headerSize(bytes.data(), bytes.size(), width, height);
 }
 
 namespace {

@@ -99,6 +99,21 @@ TEST(BadInput, FlagsAreUsageErrors) {
   });
 }
 
+// A batch whose rays do not fit one binding is refused with the largest batch that does, before
+// anything is allocated or trained (2^24 rays of 32 bytes is 512 MiB; every device here binds
+// 128 MiB: lavapipe's limit, the minimum the spec requires is lower still).
+TEST(BadInput, BatchesOverTheBindingLimitSayTheLargestThatFits) {
+  const std::string out = " -o " + temp("huge.vknerf") + " --steps 1";
+  for (const char* config : {"vanilla", "fast"}) {
+    SCOPED_TRACE(config);
+    auto r = runCli("train " + scene() + out + " --config " + config + " --rays 16777216");
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find(" rays per batch"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("a batch of 16777216 rays needs 536870912 bytes"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("  loss "), std::string::npos) << r.output;
+  }
+}
+
 TEST(BadInput, OutputsAreCheckedBeforeWorkAndWritesAreChecked) {
   const std::string folder = temp("an_output_folder");
   fs::create_directories(folder);

@@ -5,6 +5,7 @@
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
+#include "support/error_message.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "nerf/rays/rays.h"
@@ -149,6 +150,14 @@ TEST_F(ContextTest, BufferRoundTripAndZero) {
   gpu::Buffer empty(ctx(), 0);
   EXPECT_TRUE(empty.valid());
   EXPECT_TRUE(empty.download<float>().empty());
+}
+
+// Out of memory names the buffer and its size, so that a caller can say what to lower. 2^50
+// bytes is more than any device offers (and more than Vulkan implementations accept as a buffer).
+TEST_F(ContextTest, OutOfMemoryNamesTheBufferAndItsSize) {
+  const std::string msg = test::errorOf([&] { gpu::Buffer(ctx(), VkDeviceSize(1) << 50, "the test's buffer"); });
+  EXPECT_MESSAGE_HAS(msg, "cannot allocate the test's buffer of 1073741824.0 MiB (1125899906842624 bytes)");
+  EXPECT_MESSAGE_HAS(msg, "VK_ERROR_OUT_OF_");
 }
 
 TEST_F(ContextTest, IndirectDispatchReadsGroupCountsFromTheDevice) {

@@ -24,13 +24,33 @@ struct Raw {
   VkDeviceMemory memory = VK_NULL_HANDLE;
 };
 
-Raw allocate(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemoryPropertyFlags want) {
+std::string mebibytes(uint64_t bytes) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.1f MiB", double(bytes) / (1 << 20));
+  return s;
+}
+
+// Out of memory is what an oversized batch or image gives: say which buffer, how big, and how much
+// its owner holds already, so the caller can say what to lower.
+[[noreturn]] void outOfMemory(const char* what, VkDeviceSize bytes, VkResult r) {
+  std::string msg = std::string("cannot allocate ") + what + " of " + mebibytes(bytes) + " (" + std::to_string(bytes) +
+                    " bytes)";
+  if (auto account = MemoryAccount::current(); account && account->bytes() > 0)
+    msg += " with " + mebibytes(account->bytes()) + " allocated for the same model before it";
+  throw Error(msg + ": " + resultName(r));
+}
+
+Raw allocate(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemoryPropertyFlags want,
+             const char* what) {
   Raw raw;
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = bytes;
   bi.usage = usage;
   bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  check(vkCreateBuffer(ctx.device(), &bi, nullptr, &raw.buffer), "vkCreateBuffer");
+  if (VkResult r = vkCreateBuffer(ctx.device(), &bi, nullptr, &raw.buffer); r != VK_SUCCESS) {
+    if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) outOfMemory(what, bytes, r);
+    check(r, "vkCreateBuffer");
+  }
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(ctx.device(), raw.buffer, &req);
   int type = device(ctx).findMemoryType(req.memoryTypeBits, want);
@@ -44,11 +64,7 @@ Raw allocate(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemor
   VkResult r = vkAllocateMemory(ctx.device(), &ai, nullptr, &raw.memory);
   if (r != VK_SUCCESS) {
     vkDestroyBuffer(ctx.device(), raw.buffer, nullptr);
-    // Out of memory is what an oversized batch or image gives: say how big, so the caller can say what to lower.
-    char size[32];
-    std::snprintf(size, sizeof size, "%.1f MiB", double(bytes) / (1 << 20));
-    throw Error(std::string("cannot allocate a device buffer of ") + size + " (" + std::to_string(bytes) +
-                " bytes): " + resultName(r));
+    outOfMemory(what, bytes, r);
   }
   check(vkBindBufferMemory(ctx.device(), raw.buffer, raw.memory, 0), "vkBindBufferMemory");
   return raw;
@@ -64,13 +80,13 @@ constexpr VkMemoryPropertyFlags kHostFlags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT
 
 }  // namespace
 
-Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes), id_(nextBufferId++) {
+Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const char* what) : ctx_(&ctx), size_(bytes), id_(nextBufferId++) {
   // Vulkan forbids empty buffers; an empty array still gets a valid (unused) handle.
   VkDeviceSize alloc = std::max<VkDeviceSize>(bytes, 16);
   const bool unified = device(ctx).unifiedMemory();
   VkMemoryPropertyFlags want = unified ? (kHostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
                                        : VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  Raw raw = allocate(ctx, alloc, kUsage, want);
+  Raw raw = allocate(ctx, alloc, kUsage, want, what);
   buffer_ = raw.buffer;
   memory_ = raw.memory;
   if (unified) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
@@ -78,8 +94,8 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes), id_
   if (account_) account_->charge(size_);
 }
 
-Buffer Buffer::zeros(Context& ctx, VkDeviceSize bytes) {
-  Buffer b(ctx, bytes);
+Buffer Buffer::zeros(Context& ctx, VkDeviceSize bytes, const char* what) {
+  Buffer b(ctx, bytes, what);
   b.zero();
   return b;
 }
@@ -116,7 +132,7 @@ void Buffer::upload(const void* src, VkDeviceSize bytes, VkDeviceSize offset) {
     std::memcpy(static_cast<char*>(mapped_) + offset, src, bytes);
     return;
   }
-  Raw staging = allocate(*ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, kHostFlags);
+  Raw staging = allocate(*ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, kHostFlags, "an upload staging buffer");
   void* p;
   check(vkMapMemory(ctx_->device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &p), "vkMapMemory");
   std::memcpy(p, src, bytes);
@@ -134,7 +150,8 @@ void Buffer::download(void* dst, VkDeviceSize bytes, VkDeviceSize offset) const 
     std::memcpy(dst, static_cast<const char*>(mapped_) + offset, bytes);
     return;
   }
-  Raw staging = allocate(*ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, kHostFlags | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  Raw staging = allocate(*ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, kHostFlags | VK_MEMORY_PROPERTY_HOST_CACHED_BIT,
+                         "a download staging buffer");
   device(*ctx_).runOnce([&](VkCommandBuffer cmd) {
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cmd, buffer_, staging.buffer, 1, &region);

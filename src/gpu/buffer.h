@@ -17,15 +17,21 @@ namespace vknerf::gpu {
 
 class Buffer {
  public:
+  // `what` names the buffer in an out-of-memory error ("the training rays"): name those whose size
+  // follows a knob the user can lower.
+  static constexpr const char* kUnnamed = "a device buffer";
+
   Buffer() = default;
-  Buffer(Context& ctx, VkDeviceSize bytes);
-  template <class T> static Buffer of(Context& ctx, std::span<const T> data) {
-    Buffer b(ctx, data.size_bytes());
+  Buffer(Context& ctx, VkDeviceSize bytes, const char* what = kUnnamed);
+  template <class T> static Buffer of(Context& ctx, std::span<const T> data, const char* what = kUnnamed) {
+    Buffer b(ctx, data.size_bytes(), what);
     b.upload(data);
     return b;
   }
-  template <class T> static Buffer of(Context& ctx, const std::vector<T>& data) { return of(ctx, std::span<const T>(data)); }
-  static Buffer zeros(Context& ctx, VkDeviceSize bytes);
+  template <class T> static Buffer of(Context& ctx, const std::vector<T>& data, const char* what = kUnnamed) {
+    return of(ctx, std::span<const T>(data), what);
+  }
+  static Buffer zeros(Context& ctx, VkDeviceSize bytes, const char* what = kUnnamed);
   ~Buffer();
   Buffer(Buffer&& o) noexcept { *this = std::move(o); }
   Buffer& operator=(Buffer&& o) noexcept;

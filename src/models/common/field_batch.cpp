@@ -7,13 +7,13 @@ namespace vknerf::nerf {
 
 FieldBatch::FieldBatch(Context& ctx, const NerfMlp& mlp, uint32_t n, bool training)
     : capacity(n),
-      positions(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kPointBytes)),
-      directions(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kPointBytes)),
-      posFeatures(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * mlp.posStride() * sizeof(float))),
-      dirFeatures(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * mlp.dirStride() * sizeof(float))),
-      field(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kFieldBytes)) {
+      positions(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kPointBytes, "the sample positions")),
+      directions(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kPointBytes, "the sample directions")),
+      posFeatures(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * mlp.posStride() * sizeof(float), "the position encodings")),
+      dirFeatures(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * mlp.dirStride() * sizeof(float), "the direction encodings")),
+      field(gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kFieldBytes, "the field values per sample")) {
   if (!training) return;
-  dField = gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kFieldBytes);
+  dField = gpu::Buffer::zeros(ctx, VkDeviceSize(n) * kFieldBytes, "the field gradients per sample");
   workspace = std::make_unique<NerfMlp::Workspace>(ctx, mlp, n);
 }
 

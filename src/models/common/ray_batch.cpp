@@ -1,19 +1,36 @@
 #include "models/common/ray_batch.h"
 
+#include <string>
+
+#include "gpu/device.h"
 #include "reference/rng.h"
+#include "vknerf/error.h"
 
 namespace vknerf::nerf {
 
 uint32_t stepSeed(const TrainConfig& config, uint32_t step) { return ref::pcgHash(config.seed * 7919u + step); }
 
+namespace {
+// The ray generator binds a batch's rays as one range: a batch larger than the device's binding
+// limit is a configuration error, said before anything is allocated.
+uint32_t checkedCapacity(Context& ctx, uint32_t capacity) {
+  const uint64_t limit = gpu::device(ctx).properties().limits.maxStorageBufferRange;
+  if (uint64_t(capacity) * kRayBytes > limit)
+    throw Error("a batch of " + std::to_string(capacity) + " rays needs " + std::to_string(uint64_t(capacity) * kRayBytes) +
+                " bytes of rays in one binding, over this device's maxStorageBufferRange (" + std::to_string(limit) +
+                "): at most " + std::to_string(limit / kRayBytes) + " rays per batch");
+  return capacity;
+}
+}  // namespace
+
 RayBatch::RayBatch(Context& ctx, uint32_t capacity)
-    : capacity_(capacity),
+    : capacity_(checkedCapacity(ctx, capacity)),
       generation_(ctx),
       backgrounds_(ctx),
       // Zeroed: a recorded render evaluates the field over whole buffers, never over garbage.
-      rays_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * kRayBytes)),
-      pixelIds_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * kPixelIdBytes)),
-      background_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * 16)) {}
+      rays_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * kRayBytes, "the rays of a batch")),
+      pixelIds_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * kPixelIdBytes, "the pixel ids of a batch")),
+      background_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * 16, "the backgrounds of a batch")) {}
 
 void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count,
                               const Aabb& box, const TrainConfig& config) {

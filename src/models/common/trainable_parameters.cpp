@@ -17,12 +17,12 @@ AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
 
 TrainableParameters::TrainableParameters(Context& ctx, std::string name, const std::vector<float>& initial,
                                          const std::optional<AdamConfig>& adam)
-    : name_(std::move(name)), count_(initial.size()), params_(gpu::Buffer::of(ctx, initial)) {
+    : name_(std::move(name)), count_(initial.size()), params_(gpu::Buffer::of(ctx, initial, "the trainable parameters")) {
   if (!adam) return;
   const VkDeviceSize bytes = count_ * sizeof(float);
-  grads_ = gpu::Buffer::zeros(ctx, bytes);
-  m_ = gpu::Buffer::zeros(ctx, bytes);
-  v_ = gpu::Buffer::zeros(ctx, bytes);
+  grads_ = gpu::Buffer::zeros(ctx, bytes, "the parameter gradients");
+  m_ = gpu::Buffer::zeros(ctx, bytes, "Adam's first moments");
+  v_ = gpu::Buffer::zeros(ctx, bytes, "Adam's second moments");
   adam_.emplace(ctx, *adam);
 }
 

@@ -61,8 +61,8 @@ HashGridConfig hashGridConfigFor(const FastModel& m) {
 
 FastPipeline::Packed::Packed(Context& ctx, uint32_t rays, uint32_t samples)
     : offsets(gpu::Buffer::zeros(ctx, (VkDeviceSize(rays) + 1) * 4)),
-      samples(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * kSampleBytes)),
-      sampleRay(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * 4)),
+      samples(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * kSampleBytes, "the marched samples")),
+      sampleRay(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * 4, "the marched samples' ray ids")),
       totals(gpu::Buffer::zeros(ctx, PackedLayout::kTotalsBytes)) {}
 
 FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
@@ -96,7 +96,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       depth_(gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4)),
       marched_(ctx, rayCapacity_, sampleCapacity_),
       field_(ctx, mlp_, sampleCapacity_, training),
-      weights_(gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * 4)),
+      weights_(gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * 4, "the compositing weights")),
       raysNext_(std::min(rayCapacity_, 1024u)) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
   if (training) {
@@ -104,7 +104,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
     dColor_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 16);
     zeroDepthGrad_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4);
     partials_ = gpu::Buffer::zeros(ctx, gpu::groupsFor(rayCapacity_, PhotometricLoss::kRaysPerPartial) * 4);
-    dPos_ = gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * mlp_.posStride() * 4);
+    dPos_ = gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * mlp_.posStride() * 4, "the encoding gradients");
     occPoints_ = std::min(grid_.numCells(), kMaxOccupancyPoints);
     occField_ = FieldBatch(ctx, mlp_, occPoints_, false);
     occCells_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4);

@@ -27,10 +27,10 @@ Network::Network(Context& ctx, const VanillaModel& m, uint32_t seed, const std::
 
 Level::Level(Context& ctx, const NerfMlp& mlp, uint32_t rays, uint32_t spr, bool training)
     : samplesPerRay(spr),
-      samples(ctx, VkDeviceSize(rays) * spr * kSampleBytes),
-      weights(ctx, VkDeviceSize(rays) * spr * sizeof(float)),
-      color(ctx, VkDeviceSize(rays) * 16),
-      depth(ctx, VkDeviceSize(rays) * sizeof(float)),
+      samples(ctx, VkDeviceSize(rays) * spr * kSampleBytes, "the samples along the rays"),
+      weights(ctx, VkDeviceSize(rays) * spr * sizeof(float), "the compositing weights"),
+      color(ctx, VkDeviceSize(rays) * 16, "the rendered colours"),
+      depth(ctx, VkDeviceSize(rays) * sizeof(float), "the rendered depths"),
       field(ctx, mlp, rays * spr, training) {
   if (!training) return;
   dColor = gpu::Buffer(ctx, VkDeviceSize(rays) * 16);

@@ -29,7 +29,7 @@ uint32_t deviceChunkRows(const Context& ctx, uint32_t maxStride) {
 }
 
 gpu::Buffer rowsBuffer(Context& ctx, uint32_t rows, uint32_t stride) {
-  return gpu::Buffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(rows) * stride * 4, 16));
+  return gpu::Buffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(rows) * stride * 4, 16), "the MLP's activations");
 }
 
 ref::NerfShape nerfShape(const MlpConfig& c) {

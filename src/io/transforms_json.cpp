@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "io/dataset_loaders.h"
+#include "io/json_file.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {
@@ -16,54 +17,6 @@ namespace {
 using nlohmann::json;
 
 const char* const kSplits[] = {"train", "val", "test"};
-
-struct JsonFile {
-  fs::path path;
-  json root;
-  std::string name() const { return path.string(); }
-};
-
-[[noreturn]] void fieldError(const JsonFile& f, const std::string& field, const std::string& what) {
-  throw Error(f.name() + ": field '" + field + "' " + what);
-}
-
-JsonFile readJson(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path.string() + "'");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  JsonFile f{path, {}};
-  try {
-    f.root = json::parse(text);
-  } catch (const json::exception& e) {
-    // Parse errors carry "at line L, column C"; a number overflow (1e999) names only the literal,
-    // so its first occurrence in the text gives the position.
-    std::string what = e.what();
-    if (auto close = what.find("] "); what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
-      what = what.substr(close + 2);
-    if (what.find(" at line ") == std::string::npos) {
-      auto q0 = what.find('\''), q1 = what.rfind('\'');
-      if (q0 != std::string::npos && q1 > q0 + 1) {
-        if (size_t at = text.find(what.substr(q0 + 1, q1 - q0 - 1)); at != std::string::npos) {
-          size_t line = 1 + size_t(std::count(text.begin(), text.begin() + long(at), '\n'));
-          size_t column = at - (line > 1 ? text.rfind('\n', at) + 1 : 0) + 1;
-          what = "at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what;
-        }
-      }
-    }
-    throw Error(path.string() + ": invalid JSON: " + what);
-  }
-  if (!f.root.is_object()) throw Error(path.string() + ": invalid transforms file: the top level is not a JSON object");
-  return f;
-}
-
-std::optional<double> optNumber(const JsonFile& f, const json& obj, const char* key, const std::string& prefix) {
-  auto it = obj.find(key);
-  if (it == obj.end() || it->is_null()) return std::nullopt;
-  if (!it->is_number()) fieldError(f, prefix + key, "must be a number");
-  double v = it->get<double>();
-  if (!std::isfinite(v)) fieldError(f, prefix + key, "is not finite");
-  return v;
-}
 
 // Intrinsics stated by `obj` (the file's top level or one frame) override those in `in`.
 void readIntrinsics(const JsonFile& f, const json& obj, const std::string& prefix, Intrinsics& in) {
@@ -99,23 +52,6 @@ void readIntrinsics(const JsonFile& f, const json& obj, const std::string& prefi
     if (model != "OPENCV" && model != "PINHOLE" && model != "SIMPLE_PINHOLE" && model != "PERSPECTIVE")
       fieldError(f, prefix + "camera_model", "'" + model + "' is not handled (pinhole cameras only)");
   }
-}
-
-std::array<double, 16> readMatrix(const JsonFile& f, const json& frame, const std::string& prefix) {
-  const std::string field = prefix + "transform_matrix";
-  auto it = frame.find("transform_matrix");
-  if (it == frame.end()) fieldError(f, field, "is missing");
-  const json& m = *it;
-  if (!m.is_array() || (m.size() != 4 && m.size() != 3)) fieldError(f, field, "must be a 4x4 (or 3x4) array of numbers");
-  std::array<double, 16> out{0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
-  for (size_t r = 0; r < m.size(); ++r) {
-    if (!m[r].is_array() || m[r].size() != 4) fieldError(f, field, "must be a 4x4 (or 3x4) array of numbers");
-    for (size_t c = 0; c < 4; ++c) {
-      if (!m[r][c].is_number()) fieldError(f, field, "must be a 4x4 (or 3x4) array of numbers");
-      out[4 * r + c] = m[r][c].get<double>();
-    }
-  }
-  return out;
 }
 
 // The image a frame names, relative to the JSON's folder; nerf_synthetic leaves the extension out.
@@ -158,7 +94,7 @@ std::vector<FrameSpec> readFrames(const JsonFile& f) {
     if (fp == frame.end()) fieldError(f, prefix + "file_path", "is missing");
     if (!fp->is_string() || fp->get<std::string>().empty()) fieldError(f, prefix + "file_path", "must be a non-empty string");
     resolveImage(f, fp->get<std::string>(), spec);
-    spec.c2w = readMatrix(f, frame, prefix);
+    spec.c2w = readMatrixField(f, frame, "transform_matrix", prefix);
     checkRigid(spec.c2w, spec.where);
     frames.push_back(std::move(spec));
   }
@@ -228,7 +164,7 @@ void addOthers(const fs::path& folder, const std::vector<std::string>& taken, Sc
     std::error_code ec;
     if (!fs::is_regular_file(p, ec)) continue;
     try {
-      JsonFile f = readJson(p);
+      JsonFile f = readJson(p, "transforms file");
       for (auto& fr : readFrames(f)) scene.others.push_back(std::move(fr));
       takeBox(f, scene);
     } catch (const Error&) {
@@ -259,7 +195,7 @@ SceneSpec readTransformsJson(const fs::path& target, const DatasetOptions& optio
     for (const std::string& s : wanted) {
       fs::path p = folder / ("transforms_" + s + ".json");
       if (!fs::is_regular_file(p, ec)) throw Error("'" + p.string() + "' not found (split '" + s + "')");
-      JsonFile f = readJson(p);
+      JsonFile f = readJson(p, "transforms file");
       for (auto& fr : readFrames(f)) scene.frames.push_back(std::move(fr));
       takeBox(f, scene);
     }
@@ -268,7 +204,7 @@ SceneSpec readTransformsJson(const fs::path& target, const DatasetOptions& optio
   }
 
   // One file for the whole scene: hold out evenly spaced frames.
-  JsonFile f = readJson(isFolder ? folder / "transforms.json" : target);
+  JsonFile f = readJson(isFolder ? folder / "transforms.json" : target, "transforms file");
   std::vector<FrameSpec> all = readFrames(f);
   takeBox(f, scene);
   std::vector<size_t> pick = holdoutIndices(all.size(), options.holdoutFraction, options.split);

@@ -243,16 +243,56 @@ TEST_F(DatasetColmap, ImagesSortedByNameThenHeldOut) {
   EXPECT_EQ(names({.split = "train", .holdoutFraction = 0.34f}), "a.png c.png ");
 }
 
-TEST_F(DatasetColmap, DistortionAndNonPinholeModelsAreRejected) {
+TEST_F(DatasetColmap, EveryDistortionModelLoadsItsLens) {
   const std::string image = imageLine(1, fromOpenGl(poseLookingAt({4, 0, 0}, {0, 0, 0})), 2, "a.png") + "\n";
-  writeModel(kPinhole + "2 OPENCV 16 12 20 20 8 6 0.01 0 0 0\n", image, {"a.png"});
-  std::string e = loadError();
-  EXPECT_MESSAGE_HAS(e, "cameras.txt:3");
-  EXPECT_MESSAGE_HAS(e, "distortion");
-  writeModel("2 SIMPLE_RADIAL 16 12 20 8 6 -0.2\n", image, {"a.png"});
-  EXPECT_MESSAGE_HAS(loadError(), "cameras.txt:2: SIMPLE_RADIAL camera 2 has nonzero distortion");
-  writeModel("2 OPENCV_FISHEYE 16 12 20 20 8 6 0 0 0 0\n", image, {"a.png"});
-  EXPECT_MESSAGE_HAS(loadError(), "camera model OPENCV_FISHEYE is not handled");
+  struct Case {
+    std::string camera;  // a cameras.txt line for camera 2
+    Lens lens;
+    float fy;
+  };
+  const Case cases[] = {
+      {"2 SIMPLE_RADIAL 16 12 20 8 6 -0.2", {LensModel::OpenCV, -0.2f}, 20},
+      {"2 RADIAL 16 12 20 8 6 -0.2 0.05", {LensModel::OpenCV, -0.2f, 0.05f}, 20},
+      {"2 OPENCV 16 12 20 21 8 6 -0.2 0.05 0.001 -0.002", {LensModel::OpenCV, -0.2f, 0.05f, 0, 0, 0, 0, 0.001f, -0.002f}, 21},
+      {"2 FULL_OPENCV 16 12 20 21 8 6 -0.2 0.05 0.001 -0.002 0.01 0.1 0.02 0.003",
+       {LensModel::OpenCV, -0.2f, 0.05f, 0.01f, 0.1f, 0.02f, 0.003f, 0.001f, -0.002f}, 21},
+      {"2 OPENCV_FISHEYE 16 12 20 21 8 6 0.03 -0.006 0.001 -0.0002", {LensModel::Fisheye, 0.03f, -0.006f, 0.001f, -0.0002f}, 21},
+      {"2 SIMPLE_RADIAL_FISHEYE 16 12 20 8 6 0.03", {LensModel::Fisheye, 0.03f}, 20},
+      {"2 RADIAL_FISHEYE 16 12 20 8 6 0.03 -0.006", {LensModel::Fisheye, 0.03f, -0.006f}, 20},
+      {"2 OPENCV 16 12 20 21 8 6 0 0 0 0", {}, 21},  // zero distortion is a pinhole
+  };
+  for (const Case& c : cases) {
+    writeModel(c.camera + "\n", image, {"a.png"});
+    Dataset d = Dataset::load(dir().string(), {.split = "all"});
+    ASSERT_EQ(d.cameras.size(), 1u);
+    const Lens& l = d.cameras[0].lens;
+    EXPECT_EQ(l.model, c.lens.model) << c.camera;
+    const float got[] = {l.k1, l.k2, l.k3, l.k4, l.k5, l.k6, l.p1, l.p2};
+    const float want[] = {c.lens.k1, c.lens.k2, c.lens.k3, c.lens.k4, c.lens.k5, c.lens.k6, c.lens.p1, c.lens.p2};
+    for (int k = 0; k < 8; ++k) EXPECT_EQ(got[k], want[k]) << c.camera << " coefficient " << k;
+    EXPECT_EQ(d.cameras[0].fx, 20.0f);
+    EXPECT_EQ(d.cameras[0].fy, c.fy);
+    EXPECT_EQ(d.cameras[0].cx, 8.0f);
+  }
+  // Downscaling scales the intrinsics and keeps the dimensionless coefficients.
+  writeModel("2 OPENCV 16 12 20 21 8 6 -0.2 0.05 0.001 -0.002\n", image, {"a.png"});
+  Dataset half = Dataset::load(dir().string(), {.split = "all", .downscale = 2});
+  EXPECT_EQ(half.cameras[0].fx, 10.0f);
+  EXPECT_EQ(half.cameras[0].cy, 3.0f);
+  EXPECT_EQ(half.cameras[0].lens.k1, -0.2f);
+  EXPECT_EQ(half.cameras[0].lens.p2, -0.002f);
+}
+
+TEST_F(DatasetColmap, UnhandledModelsAndNonInvertibleLensesNameTheRecord) {
+  const std::string image = imageLine(1, fromOpenGl(poseLookingAt({4, 0, 0}, {0, 0, 0})), 2, "a.png") + "\n";
+  writeModel(kPinhole + "2 FOV 16 12 20 20 8 6 0.9\n", image, {"a.png"});
+  EXPECT_MESSAGE_HAS(loadError(), "cameras.txt:3: camera model FOV of camera 2 is not handled");
+  writeModel("2 THIN_PRISM_FISHEYE 16 12 20 20 8 6 0 0 0 0 0 0 0 0\n", image, {"a.png"});
+  EXPECT_MESSAGE_HAS(loadError(), "cameras.txt:2: camera model THIN_PRISM_FISHEYE of camera 2 is not handled");
+  writeModel("2 SIMPLE_RADIAL 16 12 20 8 6 -10\n", image, {"a.png"});
+  EXPECT_MESSAGE_HAS(loadError(), "cameras.txt:2: SIMPLE_RADIAL camera 2: k1 = -10: lens distortion does not invert over the image (fails at pixel (0, 0)");
+  writeModel("2 OPENCV 16 12 20 20 8 6 0.1 1e300 0 0\n", image, {"a.png"});
+  EXPECT_MESSAGE_HAS(loadError(), "cameras.txt:2: camera parameter");
 }
 
 TEST_F(DatasetColmap, MalformedInputNamesFileAndLine) {

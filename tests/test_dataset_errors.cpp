@@ -168,16 +168,43 @@ TEST_F(DatasetErrors, FocalLengthsAndAngles) {
   EXPECT_MESSAGE_HAS(loadError(j), "field 'w' must be a whole number of pixels");
 }
 
-TEST_F(DatasetErrors, DistortionAndNonPinholeModels) {
+TEST_F(DatasetErrors, LensFields) {
+  // A lens that does not invert over the image names the file, the frame and the coefficients.
   json j = scene();
-  j["k1"] = 0.02;
-  EXPECT_MESSAGE_HAS(loadError(j), file() + ": field 'k1' is nonzero: lens distortion is not handled");
+  j["k1"] = -10;
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": frames[0]: k1 = -10: lens distortion does not invert over the image (fails at pixel (");
   j = scene();
+  j["frames"][1]["k1"] = -10;
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": frames[1]: k1 = -10: lens distortion does not invert");
+  j = scene();
+  j["k1"] = 1e39;
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": field 'k1' is not finite as a 32-bit float");
+  // instant-ngp's keys: k4 only with is_fisheye, no tangential terms on the fisheye.
+  j = scene();
+  j["k4"] = 0.01;
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": field 'k4' is nonzero: k4 belongs to the fisheye model");
+  j = scene();
+  j["is_fisheye"] = true;
   j["frames"][1]["p2"] = -0.001;
-  EXPECT_MESSAGE_HAS(loadError(j), "field 'frames[1].p2' is nonzero");
+  EXPECT_MESSAGE_HAS(loadError(j), "field 'frames[1].p2' is nonzero: the fisheye model has no tangential terms");
   j = scene();
-  j["camera_model"] = "OPENCV_FISHEYE";
-  EXPECT_MESSAGE_HAS(loadError(j), "field 'camera_model' 'OPENCV_FISHEYE' is not handled");
+  j["is_fisheye"] = "yes";
+  EXPECT_MESSAGE_HAS(loadError(j), "field 'is_fisheye' must be true or false");
+  // nerfstudio's camera_model.
+  j = scene();
+  j["camera_model"] = "EQUIRECTANGULAR";
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": field 'camera_model' 'EQUIRECTANGULAR' is not handled (PINHOLE, OPENCV or OPENCV_FISHEYE)");
+  j = scene();
+  j["camera_model"] = 3;
+  EXPECT_MESSAGE_HAS(loadError(j), "field 'camera_model' must be a string");
+  j = scene();
+  j["camera_model"] = "PINHOLE";
+  j["frames"][0]["k1"] = 0.1;
+  EXPECT_MESSAGE_HAS(loadError(j), "field 'frames[0].k1' is nonzero: camera_model 'PINHOLE' has no distortion");
+  j = scene();
+  j["camera_model"] = "OPENCV";
+  j["is_fisheye"] = true;
+  EXPECT_MESSAGE_HAS(loadError(j), "field 'is_fisheye' contradicts camera_model 'OPENCV'");
 }
 
 TEST_F(DatasetErrors, BadBoxFields) {

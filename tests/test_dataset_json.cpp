@@ -114,6 +114,68 @@ TEST_F(DatasetTransforms, InstantNgpIntrinsicsAndPerFrameOverrides) {
   EXPECT_EQ(c[3].fy, 5.5f);
 }
 
+// instant-ngp's keys: k1 k2 [k3] p1 p2 at the top level, overridden per frame; is_fisheye makes
+// k1..k4 the fisheye's. Downscaling keeps the coefficients.
+TEST_F(DatasetTransforms, InstantNgpLensKeys) {
+  json fr = frames("images/f", 3);
+  fr[1]["k1"] = -0.05;
+  fr[2]["is_fisheye"] = true;
+  fr[2]["p1"] = 0;
+  fr[2]["p2"] = 0;
+  fr[2]["k4"] = -0.0002;
+  json j{{"fl_x", 7.0}, {"fl_y", 6.5}, {"w", 8}, {"h", 6}, {"k1", -0.1}, {"k2", 0.02}, {"k3", -0.003},
+         {"p1", 0.001}, {"p2", -0.002}, {"frames", fr}};
+  writeJson(dir() / "transforms.json", j);
+  for (uint32_t downscale : {1u, 2u}) {
+    Dataset d = Dataset::load(dir().string(), {.split = "all", .downscale = downscale});
+    ASSERT_EQ(d.cameras.size(), 3u);
+    const Lens& a = d.cameras[0].lens;
+    EXPECT_EQ(a.model, LensModel::OpenCV);
+    EXPECT_EQ(a.k1, -0.1f);
+    EXPECT_EQ(a.k2, 0.02f);
+    EXPECT_EQ(a.k3, -0.003f);
+    EXPECT_EQ(a.p1, 0.001f);
+    EXPECT_EQ(a.p2, -0.002f);
+    EXPECT_EQ(d.cameras[1].lens.k1, -0.05f);
+    EXPECT_EQ(d.cameras[1].lens.k2, 0.02f);
+    const Lens& f = d.cameras[2].lens;
+    EXPECT_EQ(f.model, LensModel::Fisheye);
+    EXPECT_EQ(f.k1, -0.1f);
+    EXPECT_EQ(f.k3, -0.003f);
+    EXPECT_EQ(f.k4, -0.0002f);
+    EXPECT_EQ(d.cameras[0].fx, 7.0f / float(downscale));
+  }
+}
+
+// nerfstudio's camera_model: OPENCV reads k1 k2 k3 p1 p2, OPENCV_FISHEYE k1..k4; a lens whose
+// coefficients are all zero is a pinhole.
+TEST_F(DatasetTransforms, NerfstudioCameraModels) {
+  json j{{"camera_model", "OPENCV"}, {"fl_x", 7.0}, {"fl_y", 7.0}, {"cx", 4.0}, {"cy", 3.0}, {"w", 8}, {"h", 6},
+         {"k1", 0.05}, {"k2", -0.01}, {"k3", 0.002}, {"k4", 0}, {"p1", -0.0005}, {"p2", 0.0007}, {"frames", frames("f", 2)}};
+  writeJson(dir() / "transforms.json", j);
+  Lens l = Dataset::load(dir().string(), {.split = "all"}).cameras[0].lens;
+  EXPECT_EQ(l.model, LensModel::OpenCV);
+  EXPECT_EQ(l.k1, 0.05f);
+  EXPECT_EQ(l.k2, -0.01f);
+  EXPECT_EQ(l.k3, 0.002f);
+  EXPECT_EQ(l.p1, -0.0005f);
+  EXPECT_EQ(l.p2, 0.0007f);
+  j["camera_model"] = "OPENCV_FISHEYE";
+  j["k4"] = 0.0003;
+  j.erase("p1");
+  j.erase("p2");
+  writeJson(dir() / "transforms.json", j);
+  l = Dataset::load(dir().string(), {.split = "all"}).cameras[1].lens;
+  EXPECT_EQ(l.model, LensModel::Fisheye);
+  EXPECT_EQ(l.k1, 0.05f);
+  EXPECT_EQ(l.k4, 0.0003f);
+  EXPECT_EQ(l.p1, 0.0f);
+  j["camera_model"] = "PINHOLE";
+  for (const char* k : {"k1", "k2", "k3", "k4"}) j.erase(k);
+  writeJson(dir() / "transforms.json", j);
+  EXPECT_EQ(Dataset::load(dir().string(), {.split = "all"}).cameras[0].lens.model, LensModel::Pinhole);
+}
+
 TEST_F(DatasetTransforms, FilePathsWithAndWithoutExtensions) {
   auto m = matrixJson(poseLookingAt({0, -4, 1}, {0, 0, 0}));
   writePng(dir() / "a.png", patternImage(8, 6, 1));

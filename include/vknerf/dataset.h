@@ -29,8 +29,18 @@
 //     closest to all optical axes, half extent the median over cameras of distance * tan(half the
 //     wider field of view) ("cameras"); then, when the loaded images have transparent pixels,
 //     shrunk to the visual hull of their alpha masks ("cameras+alpha").
-// Unsupported: lens distortion (nonzero k1..k4, p1, p2 or COLMAP distortion parameters) and
-// non-pinhole camera models are errors; undistort the images first.
+// Lenses (Camera::lens, applied where rays are generated; the photos are never resampled):
+//   - JSON, at the top level or per frame: nerfstudio's camera_model PINHOLE, OPENCV (k1 k2 k3
+//     radial, p1 p2 tangential) or OPENCV_FISHEYE (k1..k4); without camera_model, instant-ngp's
+//     keys: is_fisheye true reads k1..k4 as the fisheye's, otherwise nonzero k1 k2 k3 p1 p2 make an
+//     OpenCV lens (k3 as OpenCV's r^6 term) and a nonzero k4 is an error. Any other camera_model is
+//     an error naming the field.
+//   - COLMAP: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV, FULL_OPENCV (LensModel::OpenCV),
+//     OPENCV_FISHEYE, SIMPLE_RADIAL_FISHEYE, RADIAL_FISHEYE (LensModel::Fisheye); FOV and
+//     THIN_PRISM_FISHEYE are errors naming the file and record.
+//   - Every lens must invert over its whole image (checkLens in vknerf/camera.h), else loading fails
+//     naming the file, the coefficients and the pixel where it fails. Downscaling keeps the
+//     (dimensionless) coefficients and scales the focal lengths and principal point.
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -92,6 +92,10 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
   c.width = width;
   c.height = height;
   for (int i = 0; i < 16; ++i) c.c2w[i] = asDeviceFloat(f.c2w[i], f, "transform_matrix");
+  // The coefficients are dimensionless, so the check at full resolution holds for every downscale:
+  // the grid runs from edge to edge of the image, which bounds every pixel centre at any scale.
+  c.lens = in.lens;
+  checkLens(c, f.where);
   return c;
 }
 

@@ -95,6 +95,8 @@ bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8>
   for (const ImageRGBA8& img : images)
     for (size_t i = 3; i < img.rgba.size() && !anyTransparent; i += 4) anyTransparent = img.rgba[i] == 0;
   if (!anyTransparent) return false;
+  for (const Camera& c : cameras)
+    if (c.lens.model != LensModel::Pinhole) return false;  // the projection below is the pinhole's
 
   // Only the given box is searched: a larger region would reach the cameras, and the space between
   // a camera and the object is seen through the object by that camera and hardly by any other, so

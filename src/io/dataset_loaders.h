@@ -52,8 +52,9 @@ std::vector<size_t> holdoutIndices(size_t n, float fraction, const std::string& 
 void checkRigid(const std::array<double, 16>& m, const std::string& where);
 
 // Intrinsics for an image of width x height: focal lengths from fl_* or camera_angle_*, principal
-// point defaulting to the image centre. Throws (naming `f.where`) when the file's size disagrees
-// with the image's or the focal length is missing or not positive.
+// point defaulting to the image centre, the lens as the file states it. Throws (naming `f.where`)
+// when the file's size disagrees with the image's, the focal length is missing or not positive, or
+// the lens does not invert over the image (checkLens, vknerf/camera.h).
 Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height);
 
 // Scene box from the cameras alone (see vknerf/dataset.h); needs at least one camera.
@@ -62,8 +63,8 @@ Aabb boxFromCameras(std::span<const Camera> cameras);
 // on a 64^3 grid over `box`: a cell stays unless some camera with its centre in view sees all of it
 // (as much as lies in the frame) on transparent pixels, and counts only if some camera has its
 // centre in view. Conservative for objects fully in view: every cell holding an opaque point is
-// kept. Returns false, leaving `box` alone, when no image has a fully transparent pixel or the masks
-// leave nothing.
+// kept. Returns false, leaving `box` alone, when no image has a fully transparent pixel, some camera
+// has lens distortion (the carving projects through the pinhole model) or the masks leave nothing.
 bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8> images, Aabb& box);
 
 }  // namespace vknerf::nerf::detail

@@ -1,5 +1,6 @@
 // nerf_synthetic / instant-ngp / nerfstudio transforms*.json. The poses are camera-to-world in the
-// OpenGL convention already, so they are only checked, never changed.
+// OpenGL convention already, so they are only checked, never changed. Intrinsics and the lens may be
+// stated at the top level, per frame, or both (a frame's keys override the top level's).
 #include <algorithm>
 #include <fstream>
 #include <iterator>
@@ -44,14 +45,91 @@ void readIntrinsics(const JsonFile& f, const json& obj, const std::string& prefi
   if (auto v = optNumber(f, obj, "cy", prefix)) in.cy = *v;
   if (auto v = size("w")) in.width = *v;
   if (auto v = size("h")) in.height = *v;
-  for (const char* key : {"k1", "k2", "k3", "k4", "p1", "p2"})
-    if (auto v = optNumber(f, obj, key, prefix); v && *v != 0)
-      fieldError(f, prefix + key, "is nonzero: lens distortion is not handled (undistort the images first)");
-  if (auto it = obj.find("camera_model"); it != obj.end()) {
-    std::string model = it->is_string() ? it->get<std::string>() : "";
-    if (model != "OPENCV" && model != "PINHOLE" && model != "SIMPLE_PINHOLE" && model != "PERSPECTIVE")
-      fieldError(f, prefix + "camera_model", "'" + model + "' is not handled (pinhole cameras only)");
+}
+
+// The lens keys of the file's top level or of one frame (a frame's override the top level's), each
+// with the field that stated it, for messages; resolveLens() turns them into a Lens.
+struct LensKey {
+  double value = 0;
+  std::string field;
+};
+struct LensKeys {
+  LensKey k1, k2, k3, k4, p1, p2;
+  std::optional<bool> fisheye;  // instant-ngp's is_fisheye
+  std::string fisheyeField;
+  std::optional<std::string> model;  // nerfstudio's camera_model
+  std::string modelField;
+};
+
+void readLensKeys(const JsonFile& f, const json& obj, const std::string& prefix, LensKeys& keys) {
+  const std::pair<const char*, LensKey*> coefficients[] = {{"k1", &keys.k1}, {"k2", &keys.k2}, {"k3", &keys.k3},
+                                                           {"k4", &keys.k4}, {"p1", &keys.p1}, {"p2", &keys.p2}};
+  for (const auto& [key, slot] : coefficients)
+    if (auto v = optNumber(f, obj, key, prefix)) {
+      if (!std::isfinite(float(*v))) fieldError(f, prefix + key, "is not finite as a 32-bit float");
+      *slot = {*v, prefix + key};
+    }
+  if (auto it = obj.find("is_fisheye"); it != obj.end() && !it->is_null()) {
+    if (!it->is_boolean()) fieldError(f, prefix + "is_fisheye", "must be true or false");
+    keys.fisheye = it->get<bool>();
+    keys.fisheyeField = prefix + "is_fisheye";
   }
+  if (auto it = obj.find("camera_model"); it != obj.end() && !it->is_null()) {
+    if (!it->is_string()) fieldError(f, prefix + "camera_model", "must be a string");
+    keys.model = it->get<std::string>();
+    keys.modelField = prefix + "camera_model";
+  }
+}
+
+// nerfstudio's camera_model names the model: PINHOLE (or SIMPLE_PINHOLE, PERSPECTIVE), OPENCV (k1
+// k2 k3 radial, p1 p2 tangential), OPENCV_FISHEYE (k1..k4). Without it, instant-ngp's is_fisheye
+// picks the fisheye, else any nonzero coefficient the radial-tangential model. instant-ngp's own
+// radial-tangential lens has k1 k2 p1 p2 only (its k3/k4 land in the p1/p2 slots and are overwritten
+// by them); k3 here is OpenCV's and nerfstudio's r^6 term, and k4 outside the fisheye (nerfstudio's
+// r^8 term, which OpenCV's model lacks) is refused rather than misread. A lens whose coefficients
+// are all zero is a pinhole.
+Lens resolveLens(const JsonFile& f, const LensKeys& k) {
+  enum class Kind { Unstated, Pinhole, OpenCV, Fisheye } kind = Kind::Unstated;
+  if (k.model) {
+    const std::string& m = *k.model;
+    if (m == "PINHOLE" || m == "SIMPLE_PINHOLE" || m == "PERSPECTIVE")
+      kind = Kind::Pinhole;
+    else if (m == "OPENCV")
+      kind = Kind::OpenCV;
+    else if (m == "OPENCV_FISHEYE")
+      kind = Kind::Fisheye;
+    else
+      fieldError(f, k.modelField, "'" + m + "' is not handled (PINHOLE, OPENCV or OPENCV_FISHEYE)");
+    if (k.fisheye && *k.fisheye != (kind == Kind::Fisheye))
+      fieldError(f, k.fisheyeField, "contradicts " + k.modelField + " '" + m + "'");
+  } else if (k.fisheye && *k.fisheye) {
+    kind = Kind::Fisheye;
+  }
+  auto zero = [&](const LensKey& key, const std::string& why) {
+    if (key.value != 0) fieldError(f, key.field, "is nonzero: " + why);
+  };
+  Lens l;
+  if (kind == Kind::Pinhole) {
+    for (const LensKey* key : {&k.k1, &k.k2, &k.k3, &k.k4, &k.p1, &k.p2})
+      zero(*key, k.modelField + " '" + *k.model + "' has no distortion");
+    return l;
+  }
+  if (kind == Kind::Fisheye) {
+    zero(k.p1, "the fisheye model has no tangential terms");
+    zero(k.p2, "the fisheye model has no tangential terms");
+    l.model = LensModel::Fisheye;
+    l.k4 = float(k.k4.value);
+  } else {
+    zero(k.k4, "k4 belongs to the fisheye model (is_fisheye or camera_model OPENCV_FISHEYE); the radial-tangential model reads k1 k2 k3 p1 p2");
+    l.model = LensModel::OpenCV;
+    l.p1 = float(k.p1.value);
+    l.p2 = float(k.p2.value);
+  }
+  l.k1 = float(k.k1.value);
+  l.k2 = float(k.k2.value);
+  l.k3 = float(k.k3.value);
+  if (l.k1 == 0 && l.k2 == 0 && l.k3 == 0 && l.k4 == 0 && l.p1 == 0 && l.p2 == 0) l.model = LensModel::Pinhole;
+  return l;
 }
 
 // The image a frame names, relative to the JSON's folder; nerf_synthetic leaves the extension out.
@@ -77,6 +155,8 @@ void resolveImage(const JsonFile& f, const std::string& filePath, FrameSpec& spe
 std::vector<FrameSpec> readFrames(const JsonFile& f) {
   Intrinsics global;
   readIntrinsics(f, f.root, "", global);
+  LensKeys globalLens;
+  readLensKeys(f, f.root, "", globalLens);
   auto it = f.root.find("frames");
   if (it == f.root.end()) fieldError(f, "frames", "is missing");
   if (!it->is_array()) fieldError(f, "frames", "must be an array");
@@ -90,6 +170,9 @@ std::vector<FrameSpec> readFrames(const JsonFile& f) {
     spec.where = f.name() + ": frames[" + std::to_string(i) + "]";
     spec.intrinsics = global;
     readIntrinsics(f, frame, prefix, spec.intrinsics);
+    LensKeys lens = globalLens;
+    readLensKeys(f, frame, prefix, lens);
+    spec.intrinsics.lens = resolveLens(f, lens);
     auto fp = frame.find("file_path");
     if (fp == frame.end()) fieldError(f, prefix + "file_path", "is missing");
     if (!fp->is_string() || fp->get<std::string>().empty()) fieldError(f, prefix + "file_path", "must be a non-empty string");

@@ -1,5 +1,7 @@
 #include "nerf/rays/rays.h"
 
+#include <string>
+
 namespace vknerf::nerf {
 namespace {
 struct Push {
@@ -13,8 +15,12 @@ constexpr uint32_t kLocal = 64;
 std::vector<CameraGpu> packCameras(std::span<const Camera> cameras) {
   std::vector<CameraGpu> out;
   uint32_t first = 0;
-  for (const Camera& c : cameras) {
-    CameraGpu g{{c.fx, c.fy, c.cx, c.cy}, {}, {c.width, c.height, first, 0}};
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const Camera& c = cameras[i];
+    checkLens(c, "camera " + std::to_string(i));
+    const Lens& l = c.lens;
+    CameraGpu g{{c.fx, c.fy, c.cx, c.cy}, {}, {c.width, c.height, first, 0}, {l.k1, l.k2, l.k3, l.k4},
+                {l.k5, l.k6, l.p1, l.p2}, {uint32_t(l.model), 0, 0, 0}};
     for (int i = 0; i < 12; ++i) g.c2w[i] = c.c2w[i];
     first += c.width * c.height;
     out.push_back(g);

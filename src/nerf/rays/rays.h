@@ -11,13 +11,18 @@
 
 namespace vknerf::nerf {
 
-struct CameraGpu {  // mirrors `struct Camera` in shaders/camera.glsl
+struct CameraGpu {  // mirrors `struct Camera` in shaders/rays/camera.glsl (std430: vec4 / uvec4 members)
   float intrinsics[4];
   float c2w[12];
   uint32_t size[4];  // width, height, first pixel of this image in a concatenated pixel buffer, 0
+  float lensK[4];    // k1, k2, k3, k4
+  float lensKP[4];   // k5, k6, p1, p2
+  uint32_t lensModel[4];  // LensModel, 0, 0, 0
 };
-static_assert(sizeof(CameraGpu) == 80);
+static_assert(sizeof(CameraGpu) == 128);
 
+// Throws vknerf::Error (naming "camera <index>") for a lens checkLens() rejects, so that no camera
+// reaches the device with a lens the ray generator cannot invert.
 std::vector<CameraGpu> packCameras(std::span<const Camera> cameras);
 
 constexpr VkDeviceSize kRayBytes = 32;

@@ -1,10 +1,11 @@
 #pragma once
-// CPU reference for shaders/rays.comp and camera.glsl, in float or double.
+// CPU reference for shaders/rays.comp and camera.glsl, in float or double; the lens in lens.h.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 
+#include "reference/rays/lens.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::ref {
@@ -15,10 +16,14 @@ template <class T> struct Ray {
   bool hit() const { return tNear >= 0; }
 };
 
+// Ray through the point (px, py) of the image in pixel coordinates (origin at the top-left corner
+// of the top-left pixel): distorted normalised OpenCV coordinates ((px - cx) / fx, (py - cy) / fy),
+// undistorted by the lens, become the direction (x, -y, -z) in the OpenGL camera frame, then world.
 template <class T>
-Ray<T> cameraRay(const Camera& cam, uint32_t x, uint32_t y) {
+Ray<T> cameraRayAt(const Camera& cam, T px, T py) {
   const auto& m = cam.c2w;
-  T dc[3] = {(T(x) + T(0.5) - T(cam.cx)) / T(cam.fx), -(T(y) + T(0.5) - T(cam.cy)) / T(cam.fy), T(-1)};
+  const auto u = lensDirection<T>(cam.lens, (px - T(cam.cx)) / T(cam.fx), (py - T(cam.cy)) / T(cam.fy));
+  T dc[3] = {u[0], -u[1], -u[2]};
   Ray<T> r;
   T n = 0;
   for (int k = 0; k < 3; ++k) {
@@ -29,6 +34,12 @@ Ray<T> cameraRay(const Camera& cam, uint32_t x, uint32_t y) {
   n = std::sqrt(n);
   for (auto& v : r.d) v /= n;
   return r;
+}
+
+// Ray through the centre of pixel (x, y).
+template <class T>
+Ray<T> cameraRay(const Camera& cam, uint32_t x, uint32_t y) {
+  return cameraRayAt<T>(cam, T(x) + T(0.5), T(y) + T(0.5));
 }
 
 // Slab intersection clipped to t >= tMin; a zero direction component is a slab of infinite extent

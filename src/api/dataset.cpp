@@ -31,9 +31,9 @@ std::vector<size_t> holdoutIndices(size_t n, float fraction, const std::string& 
   return out;
 }
 
-void checkRigid(const std::array<double, 16>& m, const std::string& where) {
+void checkRigid(const std::array<double, 16>& m, const std::string& where, const char* field) {
   for (double v : m)
-    if (!std::isfinite(v)) throw Error(where + ": transform_matrix has a non-finite entry");
+    if (!std::isfinite(v)) throw Error(where + ": " + field + " has a non-finite entry");
   // 1e-3 accepts matrices printed with 4+ significant digits and catches any scale, shear or mirror
   // a pose could carry by mistake.
   constexpr double kTol = 1e-3;
@@ -45,15 +45,15 @@ void checkRigid(const std::array<double, 16>& m, const std::string& where) {
       worst = std::max(worst, std::fabs(dot - (a == b ? 1.0 : 0.0)));
     }
   if (worst > kTol)
-    throw Error(where + ": transform_matrix rotation part is not orthonormal (|R^T R - I| = " +
+    throw Error(where + ": " + field + " rotation part is not orthonormal (|R^T R - I| = " +
                 std::to_string(worst) + "); poses must be rigid");
   double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
                m[2] * (m[4] * m[9] - m[5] * m[8]);
   if (std::fabs(det - 1) > kTol)
-    throw Error(where + ": transform_matrix rotation part has determinant " + std::to_string(det) +
+    throw Error(where + ": " + field + " rotation part has determinant " + std::to_string(det) +
                 " (a reflection); poses must be rigid");
   if (std::fabs(m[12]) > kTol || std::fabs(m[13]) > kTol || std::fabs(m[14]) > kTol || std::fabs(m[15] - 1) > kTol)
-    throw Error(where + ": transform_matrix last row is not (0, 0, 0, 1)");
+    throw Error(where + ": " + field + " last row is not (0, 0, 0, 1)");
 }
 
 // The device computes in 32-bit floats, and ray arithmetic squares positions and multiplies pixel

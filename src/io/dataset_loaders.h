@@ -49,7 +49,7 @@ std::vector<size_t> holdoutIndices(size_t n, float fraction, const std::string& 
 
 // Throws unless the 3x3 part of `m` is a rotation (orthonormal, det +1, within 1e-3) and its
 // translation is finite and its last row (0, 0, 0, 1).
-void checkRigid(const std::array<double, 16>& m, const std::string& where);
+void checkRigid(const std::array<double, 16>& m, const std::string& where, const char* field = "transform_matrix");
 
 // Intrinsics for an image of width x height: focal lengths from fl_* or camera_angle_*, principal
 // point defaulting to the image centre, the lens as the file states it. Throws (naming `f.where`)

@@ -1,13 +1,17 @@
-// `vknerf render MODEL SCENE|--orbit N -o DIR`: RGB, depth (colour-mapped PNG and raw PFM) and
-// opacity for a split's cameras or an orbit, frames numbered for assembly into a video.
+// `vknerf render MODEL SCENE|--orbit N|--path PATH.json [-o DIR] [--video OUT.mp4]`: RGB, depth
+// (colour-mapped PNG and raw PFM) and opacity for a split's cameras, an orbit or a camera path,
+// frames numbered, and/or an H.264 video of the RGB frames (through ffmpeg).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "checks.h"
 #include "command.h"
 #include "lib/render_output.h"
+#include "lib/video_encoder.h"
+#include "vknerf/camera_path.h"
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
@@ -18,9 +22,10 @@ namespace vknerf::cli {
 namespace {
 
 struct Options {
-  std::string model, scene, outDir, split = "test";
+  std::string model, scene, outDir, split = "test", path, video;
   uint32_t orbit = 0, downscale = 1, size = 100, limit = 0;
   float elevationDegrees = 30, radius = 0;
+  double fps = 0;  // 0: the path's, else 24
 };
 
 // n cameras on a circle around the box centre, looking at it, +Z up (nerf_synthetic's world).
@@ -37,16 +42,26 @@ std::vector<Camera> orbitCameras(uint32_t n, const Aabb& box, float radius, floa
 }
 
 int run(const Options& o, const Globals& g) {
-  if (o.scene.empty() && o.orbit == 0) {
-    std::fprintf(stderr, "vknerf render: give a SCENE (renders its --split cameras) or --orbit N\n");
-    return 2;
+  if (o.scene.empty() && o.orbit == 0 && o.path.empty())
+    throw UsageError("render: give a SCENE (renders its --split cameras), --orbit N or --path PATH.json");
+  if (o.orbit && !o.path.empty()) throw UsageError("render: --orbit and --path each give the cameras: choose one");
+  if (o.outDir.empty() && o.video.empty()) throw UsageError("render: give -o DIR for the frames, --video OUT.mp4, or both");
+  // The outputs before any rendering: a path that cannot hold them fails now.
+  if (!o.outDir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.outDir, ec);
+    if (!std::filesystem::is_directory(o.outDir))
+      throw Error("output folder " + o.outDir + ": " + (ec ? ec.message() : "exists and is not a folder"));
+    checkOutputPath(o.outDir + "/rgb_0000.png", "output folder " + o.outDir);
   }
-  // The output folder before any rendering: a path that cannot hold the frames fails now.
-  std::error_code ec;
-  std::filesystem::create_directories(o.outDir, ec);
-  if (!std::filesystem::is_directory(o.outDir))
-    throw Error("output folder " + o.outDir + ": " + (ec ? ec.message() : "exists and is not a folder"));
-  checkOutputPath(o.outDir + "/rgb_0000.png", "output folder " + o.outDir);
+  if (!o.video.empty()) checkOutputPath(o.video, "--video");
+  double fps = o.fps > 0 ? o.fps : 24;
+  std::vector<Camera> pathCameras;
+  if (!o.path.empty()) {
+    CameraPath path = loadCameraPath(o.path);
+    pathCameras = std::move(path.cameras);
+    if (o.fps <= 0) fps = path.fps;
+  }
   auto ctx = g.context();
   Model model = Model::load(ctx, o.model);
   std::vector<Camera> cams;
@@ -66,23 +81,47 @@ int run(const Options& o, const Globals& g) {
   }
   if (radius <= 0) radius = 4.0f;
   if (o.orbit) cams = orbitCameras(o.orbit, model.bounds(), radius, o.elevationDegrees, like);
+  if (!pathCameras.empty()) cams = std::move(pathCameras);
   if (o.limit && cams.size() > o.limit) cams.resize(o.limit);
+  std::optional<nerf::VideoEncoder> video;
+  if (!o.video.empty()) {
+    for (const Camera& c : cams)
+      if (c.width != cams[0].width || c.height != cams[0].height)
+        throw Error("--video " + o.video + ": the views differ in size (" + std::to_string(cams[0].width) + "x" +
+                    std::to_string(cams[0].height) + " and " + std::to_string(c.width) + "x" + std::to_string(c.height) +
+                    "); a video needs one size");
+    video.emplace(o.video, cams[0].width, cams[0].height, fps);  // fails now when ffmpeg is missing
+  }
   const auto& b = model.bounds();
   float diag = std::sqrt((b.max[0] - b.min[0]) * (b.max[0] - b.min[0]) + (b.max[1] - b.min[1]) * (b.max[1] - b.min[1]) +
                          (b.max[2] - b.min[2]) * (b.max[2] - b.min[2]));
+  const auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < cams.size(); ++i) {
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = model.render(cams[i]);
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     char name[64];
     std::snprintf(name, sizeof name, "%04zu", i);
-    std::string base = o.outDir + "/";
-    nerf::saveRgbPng(base + "rgb_" + name + ".png", img);
-    nerf::saveDepthPng(base + "depth_" + name + ".png", img, std::max(radius - 0.5f * diag, 0.0f), radius + 0.5f * diag);
-    nerf::saveDepthPfm(base + "depth_" + name + ".pfm", img);
-    nerf::saveOpacityPng(base + "opacity_" + name + ".png", img);
-    std::printf("frame %s: %ux%u in %.3f s -> %srgb_%s.png\n", name, img.width, img.height, s, base.c_str(), name);
+    if (!o.outDir.empty()) {
+      std::string base = o.outDir + "/";
+      nerf::saveRgbPng(base + "rgb_" + name + ".png", img);
+      nerf::saveDepthPng(base + "depth_" + name + ".png", img, std::max(radius - 0.5f * diag, 0.0f),
+                         radius + 0.5f * diag);
+      nerf::saveDepthPfm(base + "depth_" + name + ".pfm", img);
+      nerf::saveOpacityPng(base + "opacity_" + name + ".png", img);
+    }
+    if (video) video->addFrame(nerf::rgbaOf(img).rgba);
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double rate = double(i + 1) / elapsed;
+    std::printf("frame %s (%zu/%zu): %ux%u in %.3f s; %.2f frames/s, ETA %.0f s\n", name, i + 1, cams.size(),
+                img.width, img.height, s, rate, double(cams.size() - i - 1) / rate);
+    std::fflush(stdout);
   }
+  if (video) {
+    video->finish();
+    std::printf("wrote %s: %zu frames at %g frames/s\n", o.video.c_str(), cams.size(), fps);
+  }
+  if (!o.outDir.empty()) std::printf("wrote %zu views to %s\n", cams.size(), o.outDir.c_str());
   return 0;
 }
 
@@ -90,7 +129,10 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   auto o = std::make_shared<Options>();
   app.add_option("model", o->model, "Model checkpoint (from vknerf train)")->required();
   app.add_option("scene", o->scene, "Scene whose cameras to render (see --split)");
-  app.add_option("-o,--output", o->outDir, "Output folder")->required();
+  app.add_option("-o,--output", o->outDir, "Output folder for the frames (RGB, depth and opacity images)");
+  app.add_option("--path", o->path, "Render the cameras of a nerfstudio camera path (JSON) instead");
+  app.add_option("--video", o->video, "Also (or only) write the RGB frames as an H.264 MP4 video (needs ffmpeg)");
+  app.add_option("--fps", o->fps, "Video frame rate (default: the camera path's, else 24)")->check(CLI::Range(0.001, 1000.0));
   app.add_option("--split", o->split, "Split of SCENE to render")->check(CLI::IsMember({"train", "val", "test", "all"}));
   app.add_option("--orbit", o->orbit, "Render N views on a circle around the scene instead")->check(CLI::Range(1u, 10000u));
   app.add_option("--elevation", o->elevationDegrees, "Orbit elevation in degrees")->check(FiniteNumber);

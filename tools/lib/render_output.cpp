@@ -31,12 +31,14 @@ void colormap(float t, uint8_t* rgb) {
 
 }  // namespace
 
-void saveRgbPng(const std::string& path, const RenderedImage& img) {
+ImageRGBA8 rgbaOf(const RenderedImage& img) {
   ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};
   for (size_t p = 0; p < size_t(img.width) * img.height; ++p)
     for (int k = 0; k < 3; ++k) out.rgba[p * 4 + k] = toByte(img.rgb[p * 3 + k]);
-  savePng(path, out);
+  return out;
 }
+
+void saveRgbPng(const std::string& path, const RenderedImage& img) { savePng(path, rgbaOf(img)); }
 
 void saveOpacityPng(const std::string& path, const RenderedImage& img) {
   ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};

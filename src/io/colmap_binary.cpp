@@ -161,7 +161,7 @@ void readPoints(const fs::path& path, ColmapModel& model) {
     const uint64_t id = f.read<uint64_t>("point id");
     f.setRecord("point " + std::to_string(id) + " (" + record + ")");
     std::array<double, 3> p;
-    for (double& v : p) v = f.finite("coordinates");
+    for (double& v : p) v = f.finite("position");
     for (int k = 0; k < 3; ++k) f.read<uint8_t>("colour");
     f.read<double>("error");
     f.skip(f.count(kTrackElement, "track"), kTrackElement);

@@ -1,5 +1,5 @@
 // Writes the fuzzers' seed corpus from the sample scene: make_seeds <assets/tabletop> <corpus folder>
-// gives <corpus>/{transforms,colmap,checkpoint,image}/, one folder per fuzzer.
+// gives <corpus>/{transforms,colmap,colmap_binary,checkpoint,image}/, one folder per fuzzer.
 #include <stb/stb_image_write.h>  // declarations only: libvknerf holds the implementation
 
 #include <cstdio>
@@ -14,6 +14,7 @@
 #include "io/config_json.h"
 #include "io/image_io.h"
 #include "scratch_folder.h"
+#include "support/colmap_model_files.h"
 #include "vknerf/error.h"
 
 namespace fs = std::filesystem;
@@ -77,6 +78,37 @@ void colmapSeeds(const fs::path& out) {
   writeText(out / "no_points.txt", cameras + nul + images);
 }
 
+// The model of colmapSeeds in COLMAP's binary form, the files joined by the fuzzer's marker; and
+// one whose cameras are of the other models vknerf reads.
+void colmapBinarySeeds(const fs::path& out) {
+  using namespace vknerf::test;
+  ColmapModelRecords m;
+  m.cameras = {{1, "PINHOLE", 8, 6, {9.5, 9.5, 4, 3}}, {2, "SIMPLE_RADIAL", 8, 6, {9.5, 4, 3, 0}}};
+  const double h = 0.70710678118654752;
+  m.images = {{1, {1, 0, 0, 0}, {0, 0, 4}, 1, "a.png", {{10, 12, 1}, {20, 30, -1}}},
+              {2, {h, 0, h, 0}, {0, 0, 4}, 2, "b.png", {}},
+              {3, {0, 1, 0, 0}, {0, 0, 4}, 1, "c.png", {}}};
+  m.points = {{1, {0.5, 0.2, 0.1}, {255, 0, 0}, 0.5, {{1, 0}}},
+              {2, {-0.5, -0.2, 0.3}, {0, 255, 0}, 0.5, {}},
+              {3, {0.1, 0.4, -0.6}, {0, 0, 255}, 0.5, {{2, 1}, {3, 0}}}};
+  ColmapModelRecords others = m;
+  others.cameras = {{1, "SIMPLE_PINHOLE", 8, 6, {9.5, 4, 3}}, {2, "OPENCV", 8, 6, {9.5, 9.5, 4, 3, 0, 0, 0, 0}},
+                    {3, "RADIAL", 8, 6, {9.5, 4, 3, 0, 0}}, {4, "FULL_OPENCV", 8, 6, {9.5, 9.5, 4, 3, 0, 0, 0, 0, 0, 0, 0, 0}}};
+  others.images[2].camera = 4;
+  const fs::path tmp = out / "tmp";
+  auto joined = [&](const ColmapModelRecords& model, bool withPoints) {
+    fs::remove_all(tmp);
+    writeColmapBinary(tmp, model);
+    std::string all = readText(tmp / "cameras.bin") + "%%%%" + readText(tmp / "images.bin");
+    if (withPoints) all += "%%%%" + readText(tmp / "points3D.bin");
+    return all;
+  };
+  writeText(out / "model.bin", joined(m, true));
+  writeText(out / "no_points.bin", joined(m, false));
+  writeText(out / "other_models.bin", joined(others, true));
+  fs::remove_all(tmp);
+}
+
 // Hand-built checkpoints of both models, laid out as Trainer::save writes them, with small sections.
 void checkpointSeeds(const fs::path& out) {
   vknerf::TrainConfig vanilla, fast;
@@ -129,6 +161,7 @@ int main(int argc, char** argv) {
     const fs::path scene = argv[1], out = argv[2];
     transformsSeeds(scene, out / "transforms");
     colmapSeeds(out / "colmap");
+    colmapBinarySeeds(out / "colmap_binary");
     checkpointSeeds(out / "checkpoint");
     imageSeeds(scene, out / "image");
   } catch (const std::exception& e) {

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "reference/rays/rays.h"
+#include "support/colmap_model_files.h"
 #include "support/dataset_files.h"
 #include "support/error_message.h"
 #include "support/temp_dir.h"
@@ -12,48 +13,6 @@ using namespace vknerf;
 using namespace vknerf::test;
 
 namespace {
-
-using Mat3 = std::array<double, 9>;  // row-major
-using Vec3 = std::array<double, 3>;
-
-Vec3 mul(const Mat3& R, const Vec3& v) {
-  return {R[0] * v[0] + R[1] * v[1] + R[2] * v[2], R[3] * v[0] + R[4] * v[1] + R[5] * v[2],
-          R[6] * v[0] + R[7] * v[1] + R[8] * v[2]};
-}
-Mat3 transpose(const Mat3& R) { return {R[0], R[3], R[6], R[1], R[4], R[7], R[2], R[5], R[8]}; }
-
-// Unit quaternion (w, x, y, z) of a rotation matrix, Shepperd's method (each branch divides by the
-// largest of the four candidates).
-std::array<double, 4> quaternion(const Mat3& R) {
-  double tr = R[0] + R[4] + R[8];
-  if (tr > 0) {
-    double s = 2 * std::sqrt(tr + 1);
-    return {s / 4, (R[7] - R[5]) / s, (R[2] - R[6]) / s, (R[3] - R[1]) / s};
-  }
-  if (R[0] > R[4] && R[0] > R[8]) {
-    double s = 2 * std::sqrt(1 + R[0] - R[4] - R[8]);
-    return {(R[7] - R[5]) / s, s / 4, (R[1] + R[3]) / s, (R[2] + R[6]) / s};
-  }
-  if (R[4] > R[8]) {
-    double s = 2 * std::sqrt(1 + R[4] - R[0] - R[8]);
-    return {(R[2] - R[6]) / s, (R[1] + R[3]) / s, s / 4, (R[5] + R[7]) / s};
-  }
-  double s = 2 * std::sqrt(1 + R[8] - R[0] - R[4]);
-  return {(R[3] - R[1]) / s, (R[2] + R[6]) / s, (R[5] + R[7]) / s, s / 4};
-}
-
-// World-to-camera (R, t) in COLMAP's OpenCV convention of an OpenGL camera-to-world pose.
-struct W2c {
-  Mat3 R;
-  Vec3 t;
-};
-W2c fromOpenGl(const std::array<double, 16>& m) {
-  Mat3 c2wCv = {m[0], -m[1], -m[2], m[4], -m[5], -m[6], m[8], -m[9], -m[10]};  // flip camera y, z
-  W2c out{transpose(c2wCv), {}};
-  Vec3 c{m[3], m[7], m[11]}, rc = mul(out.R, c);
-  out.t = {-rc[0], -rc[1], -rc[2]};
-  return out;
-}
 
 std::string imageLine(int id, const W2c& p, int camera, const std::string& name) {
   auto q = quaternion(p.R);

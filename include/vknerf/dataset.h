@@ -1,5 +1,6 @@
 #pragma once
-// Posed photos in: nerf_synthetic / instant-ngp / nerfstudio `transforms*.json`, or a COLMAP text model.
+// Posed photos in: nerf_synthetic / instant-ngp / nerfstudio `transforms*.json`, or a COLMAP model
+// (text or binary).
 // Every loader produces cameras in the OpenGL convention of vknerf/camera.h (camera-to-world, the
 // camera looks down -Z, +Y up) and one RGBA8 image per camera, all of one size.
 //
@@ -7,9 +8,13 @@
 //   - a folder holding transforms_{train,val,test}.json (split files) or transforms.json (one file);
 //   - a path to one JSON file. A file named transforms_<split>.json is a split on its own: all its
 //     frames are loaded and options.split is ignored. Any other JSON file is split by the holdout;
-//   - a COLMAP text model: the scene folder holding sparse/0/ or sparse/, or the folder holding
-//     cameras.txt itself; images come from the first images/ folder found in the model folder or
-//     the two folders above it (e.g. <scene>/images/ for <scene>/sparse/0/).
+//   - a COLMAP model: the scene folder holding sparse/0/ or sparse/, or the model folder itself;
+//     images come from the first images/ folder found in the model folder or the two folders above
+//     it (e.g. <scene>/images/ for <scene>/sparse/0/). The model is read as text (cameras.txt,
+//     images.txt, points3D.txt) when cameras.txt or images.txt is there, else as binary
+//     (cameras.bin, images.bin, points3D.bin, COLMAP's default output); a folder holding both forms
+//     is read as text, the form a person edits (points3D is then points3D.txt). Both forms load
+//     to the same Dataset.
 // Splits: options.split is "train", "val", "test" or "all". Split files are used when present;
 // otherwise a deterministic holdout sends round(holdoutFraction * n) (at least one when the fraction is
 // positive) evenly spaced frames to "val" and "test" (the same frames) and the rest to "train".
@@ -22,7 +27,7 @@
 //     ((0.5 -+ aabb_scale / 2) - offset) / scale ("aabb_scale"); else the cameras (below).
 //   - COLMAP: world-to-camera (OpenCV: x right, y down, z forward) becomes camera-to-world in the
 //     OpenGL convention by negating the camera's y and z axes. The scene is then translated and
-//     uniformly scaled (never rotated) so that its box, the 1st-99th percentiles of points3D.txt per
+//     uniformly scaled (never rotated) so that its box, the 1st-99th percentiles of points3D per
 //     axis padded by 5% ("points3D") or else the camera box ("cameras"), is centred at the origin
 //     with its largest half extent 1.
 //   - From the cameras (of every split, so the splits agree): centred at the least-squares point

@@ -1,6 +1,6 @@
 // Dataset::load: find the format, read the poses, load the images, complete the intrinsics, downscale,
-// and find the scene box. The formats themselves live in dataset_transforms_json.cpp and
-// dataset_colmap.cpp, the box in dataset_bounds.cpp.
+// and find the scene box. The formats themselves live in transforms_json.cpp and colmap_*.cpp, the
+// box in dataset_bounds.cpp.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -124,14 +124,14 @@ SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
   if (isFile(path / "transforms_train.json") || isFile(path / "transforms.json"))
     return readTransformsJson(path, options);
   for (const fs::path& model : {path / "sparse" / "0", path / "sparse", path}) {
-    if (!isFile(model / "cameras.txt") && !isFile(model / "images.txt")) continue;
+    if (colmapForm(model) == ColmapForm::none) continue;
     // The scene folder holds images/; the model sits in it, or in its sparse/ or sparse/0/.
     for (const fs::path& scene : {model, model.parent_path(), model.parent_path().parent_path(), path})
       if (isDir(scene / "images")) return readColmap(model, scene / "images", options);
     throw Error("COLMAP model '" + model.string() + "': no images/ folder in it or the two folders above it");
   }
   throw Error("dataset '" + path.string() +
-              "': no transforms_train.json, transforms.json or COLMAP text model (sparse/0/cameras.txt) in it");
+              "': no transforms_train.json, transforms.json or COLMAP model (sparse/0/cameras.txt or cameras.bin) in it");
 }
 
 // Loads (and downscales) every frame's image, two or more at a time; rethrows the first failure in

@@ -41,6 +41,11 @@ struct SceneSpec {
 
 // Readers. `target` is what Dataset::load was given, already classified.
 SceneSpec readTransformsJson(const fs::path& target, const DatasetOptions& options);
+// A COLMAP model folder is text when it holds cameras.txt or images.txt (the form vknerf read
+// first, and the one a person edits), else binary when it holds cameras.bin or images.bin.
+enum class ColmapForm { none, text, binary };
+ColmapForm colmapForm(const fs::path& modelDir);
+// Reads the model in `modelDir` in the form colmapForm() names.
 SceneSpec readColmap(const fs::path& modelDir, const fs::path& imagesDir, const DatasetOptions& options);
 
 // Indices of frames in `split` ("train", "val", "test", "all") of n frames, holding out

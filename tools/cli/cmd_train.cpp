@@ -242,10 +242,10 @@ int train(const Options& o, const Globals& g) {
   return stopSignal ? 128 + stopSignal : 0;
 }
 
-Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON or COLMAP text model)",
+Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON or COLMAP model, text or binary)",
                    [](CLI::App& app, const Globals& g) {
                      auto o = std::make_shared<Options>();
-                     app.add_option("scene", o->scene, "Scene folder, transforms JSON file, or COLMAP text model")->required();
+                     app.add_option("scene", o->scene, "Scene folder, transforms JSON file, or COLMAP model (text or binary)")->required();
                      app.add_option("-o,--output", o->output, "Model checkpoint to write (default: <scene name>.vknerf)");
                      app.add_option("--config", o->config, "Model configuration: vanilla (NeRF paper) or fast (hash grid + occupancy grid)")->check(CLI::IsMember({"vanilla", "fast"}));
                      app.add_option("--steps", o->steps, "Number of training steps");

@@ -99,6 +99,9 @@ class Trainer {
   std::vector<std::pair<std::string, double>> lastStepTimings() const;
   // What the model spends: parameters, device memory, samples per ray, occupancy (fast model).
   ModelStatistics statistics() const;
+  // Device memory the training images take (RGBA8), and the storage buffers they are spread over.
+  double trainingPixelsDeviceMiB() const;
+  uint32_t trainingPixelBindings() const;
 
   // Checkpoint: config, parameters, Adam state and the step, written atomically.
   void save(const std::string& path) const;

@@ -6,7 +6,7 @@
 struct Camera {
   vec4 intrinsics;  // fx, fy, cx, cy (pixels)
   vec4 c2w[3];      // rows of the 3x4 camera-to-world matrix
-  uvec4 size;       // width, height, first pixel index of this image in the pixel buffer, unused
+  uvec4 size;       // width, height, first pixel of this image in its pixel binding, that binding's index
 };
 
 // Ray through the centre of pixel (x, y): origin and unit direction in world space.

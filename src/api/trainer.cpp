@@ -9,8 +9,10 @@
 #include "gpu/recorder.h"
 #include "io/checkpoint.h"
 #include "io/config_json.h"
+#include "io/memory_fit.h"
 #include "api/model_impl.h"
 #include "nerf/loss/photometric_loss.h"
+#include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
 #include "reference/rng.h"
 #include "vknerf/error.h"
@@ -137,8 +139,9 @@ struct Trainer::Impl {
   std::shared_ptr<Context> ctx;
   TrainConfig config;
   Aabb box;
-  uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;
-  gpu::Buffer images, cameras;
+  uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;  // the first image's size, for the checkpoint
+  std::unique_ptr<nerf::TrainingPixels> pixels;
+  gpu::Buffer cameras;
   std::unique_ptr<nerf::FieldPipeline> pipe;
   uint32_t lastRays = 0;
   std::unique_ptr<gpu::Recorder> rec;
@@ -158,11 +161,32 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;
   s.imageHeight = train.images[0].height;
-  std::vector<uint8_t> pixels;
-  for (const auto& im : train.images) pixels.insert(pixels.end(), im.rgba.begin(), im.rgba.end());
-  s.images = gpu::Buffer::of(*ctx, pixels);
-  s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras));
+  std::vector<nerf::ImageSize> sizes;
+  std::vector<uint64_t> pixelCounts;
+  for (uint32_t i = 0; i < s.numCameras; ++i) {
+    const ImageRGBA8& im = train.images[i];
+    if (im.width != train.cameras[i].width || im.height != train.cameras[i].height ||
+        im.rgba.size() != size_t(im.width) * im.height * 4)
+      throw Error("training image " + std::to_string(i) + " is " + std::to_string(im.width) + "x" +
+                  std::to_string(im.height) + " with " + std::to_string(im.rgba.size()) + " bytes but its camera is " +
+                  std::to_string(train.cameras[i].width) + "x" + std::to_string(train.cameras[i].height));
+    sizes.emplace_back(im.width, im.height);
+    pixelCounts.push_back(uint64_t(im.width) * im.height);
+  }
+  // The fit is checked before the pixels are allocated: the pixels alone first, then with the
+  // model's buffers, which are measured by building the model (its size follows the configuration,
+  // not the dataset).
+  const uint64_t deviceBytes = nerf::deviceMemoryBytes(*ctx);
+  const std::string device = "the device (" + ctx->deviceName() + ")";
+  nerf::requireFit("training", sizes, 0, "", deviceBytes, device);
+  auto layout = nerf::planPixelBindings(pixelCounts, nerf::pixelBytesPerBinding(*ctx));
   s.pipe = nerf::makeFieldPipeline(*ctx, config, s.box, config.raysPerBatch, true);
+  nerf::requireFit("training", sizes, s.pipe->memory()->bytes(), "model", deviceBytes, device);
+  // On a CPU device the device's memory is the host's: the pixels come out of what is left of it.
+  if (ctx->isCpu()) nerf::requireFit("training", sizes, 0, "", nerf::availableHostBytes(), "host memory (available)");
+  s.pixels = std::make_unique<nerf::TrainingPixels>(*ctx, layout);
+  for (uint32_t i = 0; i < s.numCameras; ++i) s.pixels->upload(i, train.images[i].rgba.data());
+  s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;
@@ -179,7 +203,7 @@ const Model& Trainer::model() const { return *impl_->model; }
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
-  const auto size = s.pipe->trainStep(*s.rec, {&s.images, &s.cameras, s.numCameras}, s.step);
+  const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras}, s.step);
   const uint32_t R = size.rays;
   ++s.step;
   StepStats st;
@@ -198,6 +222,8 @@ StepStats Trainer::step(bool readLoss) {
 }
 
 ModelStatistics Trainer::statistics() const { return impl_->pipe->statistics(); }
+double Trainer::trainingPixelsDeviceMiB() const { return double(impl_->pixels->bytes()) / double(1 << 20); }
+uint32_t Trainer::trainingPixelBindings() const { return uint32_t(impl_->pixels->bindings().size()); }
 
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;

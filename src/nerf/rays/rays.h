@@ -14,11 +14,20 @@ namespace vknerf::nerf {
 struct CameraGpu {  // mirrors `struct Camera` in shaders/camera.glsl
   float intrinsics[4];
   float c2w[12];
-  uint32_t size[4];  // width, height, first pixel of this image in a concatenated pixel buffer, 0
+  uint32_t size[4];  // width, height, first pixel of this image in its pixel binding, that binding's index
 };
 static_assert(sizeof(CameraGpu) == 80);
 
-std::vector<CameraGpu> packCameras(std::span<const Camera> cameras);
+// Where one camera's training image lies on the device: the binding (of the training pixels'
+// several buffers) that holds the whole image, and the index of its first pixel there.
+struct PixelPlacement {
+  uint32_t binding = 0;
+  uint32_t firstPixel = 0;
+};
+
+// Cameras as the shaders read them. Without `placement`, the images follow one another in binding 0
+// (a render, or a training set small enough for one buffer); otherwise one placement per camera.
+std::vector<CameraGpu> packCameras(std::span<const Camera> cameras, std::span<const PixelPlacement> placement = {});
 
 constexpr VkDeviceSize kRayBytes = 32;
 constexpr VkDeviceSize kPixelIdBytes = 8;

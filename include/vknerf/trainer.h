@@ -8,6 +8,7 @@
 //   for (int i = 0; i < 1000; ++i) trainer.step();
 //   trainer.save("tabletop.vknerf");
 //   auto view = vknerf::Model::load(ctx, "tabletop.vknerf").render(data.cameras[0]);
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -69,7 +70,9 @@ class Model {
   const TrainConfig& config() const;
   const Aabb& bounds() const;
   // Renders on the device, waits, and reads the image back.
-  RenderedImage render(const Camera& camera) const;
+  // `progress`, when given, is called after each tile of rays with (pixels done, pixels in all).
+  RenderedImage render(const Camera& camera,
+                       const std::function<void(uint64_t done, uint64_t total)>& progress = {}) const;
   // Records the render of `camera` into the caller's command buffer `cmd` (primary, recording, from
   // a pool of the context's queue family), writing `target`; nothing is submitted. Contract (see
   // docs/embedding.md): before the commands, the caller makes earlier writes to the target visible

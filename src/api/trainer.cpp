@@ -38,7 +38,7 @@ json configJson(const nerf::Checkpoint& ck, const std::string& path) {
 
 // ---------------------------------------------------------------- Model
 
-RenderedImage Model::Impl::render(const Camera& cam) const {
+RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(uint64_t, uint64_t)>& progress) const {
   if (cam.width == 0 || cam.height == 0) throw Error("render: camera has an empty image size");
   if (!(cam.fx > 0) || !(cam.fy > 0)) throw Error("render: camera focal length must be positive");
   Context& c = *ctx;
@@ -67,6 +67,7 @@ RenderedImage Model::Impl::render(const Camera& cam) const {
       img.opacity[p] = o;
       img.depth[p] = o > 1e-4f ? depth[i] / o : 0.0f;
     }
+    if (progress) progress(first + n, total);
   }
   return img;
 }
@@ -77,7 +78,9 @@ Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 const TrainConfig& Model::config() const { return impl_->config; }
 const Aabb& Model::bounds() const { return impl_->box; }
-RenderedImage Model::render(const Camera& camera) const { return impl_->render(camera); }
+RenderedImage Model::render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const {
+  return impl_->render(camera, progress);
+}
 
 namespace {
 

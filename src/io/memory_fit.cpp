@@ -35,7 +35,7 @@ std::string mebibytes(uint64_t bytes) {
 }
 
 void requireFit(const std::string& what, std::span<const ImageSize> sizes, uint64_t fixedBytes,
-                const std::string& fixedWhat, uint64_t available, const std::string& where) {
+                const std::string& fixedWhat, uint64_t available, const std::string& where, uint32_t downscaleNow) {
   const uint64_t pixels = rgba8Bytes(sizes);
   if (fixedBytes + pixels <= available) return;
   uint32_t smallestSide = UINT32_MAX;
@@ -43,7 +43,8 @@ void requireFit(const std::string& what, std::span<const ImageSize> sizes, uint6
   std::string advice = "; no --downscale makes it fit";
   for (uint32_t f = 2; f <= smallestSide; ++f)
     if (fixedBytes + rgba8Bytes(sizes, f) <= available) {
-      advice = "; --downscale " + std::to_string(f) + " (relative to the images as loaded) would fit";
+      advice = downscaleNow ? "; --downscale " + std::to_string(f * downscaleNow) + " would fit"
+                            : "; " + std::to_string(f) + " times the current --downscale would fit";
       break;
     }
   throw Error(what + " needs " + mebibytes(fixedBytes + pixels) + " (" + std::to_string(sizes.size()) +

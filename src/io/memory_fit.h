@@ -17,10 +17,11 @@ uint64_t rgba8Bytes(std::span<const ImageSize> sizes, uint32_t downscale = 1);
 uint64_t availableHostBytes();
 
 // Throws vknerf::Error when fixedBytes + the images' RGBA8 bytes exceed `available`:
-// "<what> needs X MiB (pixels P MiB + <fixedWhat> F MiB), <where> has Y MiB; --downscale N
-// (relative to the images as given) would fit", or that no downscale would fit.
+// "<what> needs X MiB (n images: P MiB, <fixedWhat>: F MiB) but <where> has Y MiB; --downscale N
+// would fit", or that no downscale would. `downscaleNow` is the factor the images already carry
+// (the advice is N = downscaleNow * the extra factor); 0 when unknown, and the advice is relative.
 void requireFit(const std::string& what, std::span<const ImageSize> sizes, uint64_t fixedBytes,
-                const std::string& fixedWhat, uint64_t available, const std::string& where);
+                const std::string& fixedWhat, uint64_t available, const std::string& where, uint32_t downscaleNow = 0);
 
 std::string mebibytes(uint64_t bytes);  // "12.3 MiB"
 

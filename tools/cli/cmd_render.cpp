@@ -7,6 +7,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "progress.h"
 #include "lib/render_output.h"
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"
@@ -72,7 +73,7 @@ int run(const Options& o, const Globals& g) {
                          (b.max[2] - b.min[2]) * (b.max[2] - b.min[2]));
   for (size_t i = 0; i < cams.size(); ++i) {
     auto t0 = std::chrono::steady_clock::now();
-    RenderedImage img = model.render(cams[i]);
+    RenderedImage img = model.render(cams[i], progressPrinter("rendering view " + std::to_string(i) + ": pixels", true));
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     char name[64];
     std::snprintf(name, sizeof name, "%04zu", i);

@@ -92,6 +92,9 @@ class Model {
 class Trainer {
  public:
   Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config);
+  // The same, releasing each image's host pixels as soon as they are on the device, so that the
+  // host never holds the whole set twice (on a CPU device the device's memory is the host's).
+  Trainer(std::shared_ptr<Context> ctx, Dataset&& train, const TrainConfig& config);
   ~Trainer();
 
   // One optimisation step over a random batch of rays (recorded into one command buffer).
@@ -115,6 +118,7 @@ class Trainer {
   static TrainConfig configOf(const std::string& path);
 
  private:
+  Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config, Dataset* release);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

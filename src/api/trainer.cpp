@@ -153,6 +153,12 @@ struct Trainer::Impl {
 };
 
 Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config)
+    : Trainer(std::move(ctx), train, config, nullptr) {}
+
+Trainer::Trainer(std::shared_ptr<Context> ctx, Dataset&& train, const TrainConfig& config)
+    : Trainer(std::move(ctx), train, config, &train) {}
+
+Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config, Dataset* release)
     : impl_(std::make_unique<Impl>()) {
   if (train.cameras.empty()) throw Error("training set is empty");
   if (train.images.size() != train.cameras.size()) throw Error("training set has " + std::to_string(train.images.size()) +
@@ -188,7 +194,10 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   // On a CPU device the device's memory is the host's: the pixels come out of what is left of it.
   if (ctx->isCpu()) nerf::requireFit("training", sizes, 0, "", nerf::availableHostBytes(), "host memory (available)");
   s.pixels = std::make_unique<nerf::TrainingPixels>(*ctx, layout);
-  for (uint32_t i = 0; i < s.numCameras; ++i) s.pixels->upload(i, train.images[i].rgba.data());
+  for (uint32_t i = 0; i < s.numCameras; ++i) {
+    s.pixels->upload(i, train.images[i].rgba.data());
+    if (release) std::vector<uint8_t>().swap(release->images[i].rgba);
+  }
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();

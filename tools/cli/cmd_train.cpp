@@ -195,7 +195,7 @@ int train(const Options& o, const Globals& g) {
   std::printf("config: %s\n", cfg.describe().c_str());
   std::optional<Trainer> built;
   try {
-    built.emplace(ctx, data, cfg);
+    built.emplace(ctx, std::move(data), cfg);  // the host copy goes as the device's fills
   } catch (const Error& e) {
     const std::string why = e.what();
     if (why.find("OUT_OF_DEVICE_MEMORY") == std::string::npos && why.find("OUT_OF_HOST_MEMORY") == std::string::npos) throw;

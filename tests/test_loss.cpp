@@ -9,6 +9,7 @@
 #include "support/submit_once.h"
 #include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
+#include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
 #include "reference/loss/photometric_loss.h"
 
@@ -249,4 +250,61 @@ TEST_F(Loss, SummaryAndEmptyBatch) {
   });
   EXPECT_EQ(d.download<float>()[0], 9.0f);
   EXPECT_EQ(part.download<float>()[0], 9.0f);
+}
+
+// Training pixels spread over more bindings than one dispatch sees (PhotometricLoss::kPixelBindings):
+// every ray reads its own image wherever that lies, and the passes' sums add up to the loss.
+TEST_F(Loss, PixelsOverManyBindingsMatchReference) {
+  const uint32_t numCameras = 13, n = 700;
+  std::mt19937 gen(21);
+  std::vector<Camera> cams(numCameras);
+  std::vector<uint64_t> counts;
+  for (auto& c : cams) {
+    c.width = 7 + gen() % 5;
+    c.height = 5 + gen() % 4;
+    counts.push_back(uint64_t(c.width) * c.height);
+  }
+  // 35 to 88 pixels per image, 96 per binding: one or two images each, 9 or more bindings, so two
+  // dispatches.
+  auto layout = nerf::planPixelBindings(counts, 96 * 4);
+  ASSERT_GT(layout.bindingPixels.size(), nerf::PhotometricLoss::kPixelBindings);
+  nerf::TrainingPixels pixels(ctx(), layout);
+  std::vector<std::vector<uint32_t>> images(numCameras);
+  for (uint32_t c = 0; c < numCameras; ++c) {
+    for (uint64_t i = 0; i < counts[c]; ++i) images[c].push_back(rgba8(gen() & 0xff, gen() & 0xff, gen() & 0xff, gen() & 0xff));
+    pixels.upload(c, reinterpret_cast<const uint8_t*>(images[c].data()));
+  }
+  std::vector<uint32_t> ids;
+  std::vector<float> pred(4 * n);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (uint32_t r = 0; r < n; ++r) {
+    const uint32_t c = gen() % numCameras;
+    ids.push_back(c);
+    ids.push_back(uint32_t(gen() % counts[c]));
+    for (int k = 0; k < 4; ++k) pred[4 * r + k] = u(gen);
+  }
+  nerf::BackgroundColors bg(ctx());
+  nerf::PhotometricLoss loss(ctx());
+  auto predB = gpu::Buffer::of(ctx(), pred), idB = gpu::Buffer::of(ctx(), ids),
+       camB = gpu::Buffer::of(ctx(), nerf::packCameras(cams, layout.images));
+  gpu::Buffer bgB(ctx(), 16 * n), dB(ctx(), 16 * n), partB(ctx(), 4 * loss.partialCount(n));
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    bg.recordRandom(rec, bgB, n, 8);
+    loss.record(rec, n, predB, idB, pixels.bindings(), camB, bgB, dB, partB);
+  });
+  std::vector<Vec4> p(n);
+  std::vector<Vec3> target(n);
+  for (uint32_t r = 0; r < n; ++r) {
+    auto b = ref::randomBackground(8, r);
+    target[r] = ref::blendTarget<double>(images[ids[2 * r]][ids[2 * r + 1]], {b[0], b[1], b[2]});
+    for (int c = 0; c < 4; ++c) p[r][c] = pred[4 * r + c];
+  }
+  std::vector<Vec4> grad;
+  const double want = ref::photometricLoss<double>(p, target, 1.0, &grad);
+  // Tolerances as in MatchesReferenceWithRandomBackgrounds.
+  const double eAbs = 5e-7, gradFactor = 2.0 / (3.0 * n);
+  auto d = dB.download<float>();
+  for (uint32_t r = 0; r < n; ++r)
+    for (int c = 0; c < 3; ++c) ASSERT_TRUE(test::near(d[4 * r + c], grad[r][c], 4e-7, eAbs * gradFactor)) << r << "," << c;
+  EXPECT_TRUE(test::near(loss.read(partB, n).mse, want, 1e-6, 1e-9));
 }

@@ -2,7 +2,8 @@
 // Posed photos in: nerf_synthetic / instant-ngp / nerfstudio `transforms*.json`, or a COLMAP model
 // (text or binary).
 // Every loader produces cameras in the OpenGL convention of vknerf/camera.h (camera-to-world, the
-// camera looks down -Z, +Y up) and one RGBA8 image per camera, all of one size.
+// camera looks down -Z, +Y up) and one RGBA8 image per camera; images may differ in size (nerfstudio's
+// per-frame `w`/`h`).
 //
 // `path` is one of
 //   - a folder holding transforms_{train,val,test}.json (split files) or transforms.json (one file);
@@ -47,6 +48,7 @@
 //     naming the file, the coefficients and the pixel where it fails. Downscaling keeps the
 //     (dimensionless) coefficients and scales the focal lengths and principal point.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -64,11 +66,15 @@ struct DatasetOptions {
   std::string split = "train";   // "train", "val", "test" or "all"
   uint32_t downscale = 1;        // box-filter the images by this factor (intrinsics follow)
   float holdoutFraction = 0.1f;  // share of frames held out when there are no split files, in [0, 1)
+  uint32_t threads = 0;          // images decoded at once; 0: one per core
+  // Called after each image is decoded with (images done, images in all), from the decoding
+  // threads but never two calls at once.
+  std::function<void(size_t done, size_t total)> progress;
 };
 
 struct Dataset {
   std::vector<Camera> cameras;     // OpenGL convention, c2w row-major
-  std::vector<ImageRGBA8> images;  // same order as cameras; all the same size
+  std::vector<ImageRGBA8> images;  // same order as cameras, each of its camera's size
   std::vector<std::string> names;  // image file paths (for reports)
   Aabb bounds;                     // scene box, in the frame of `cameras`
   std::string boundsSource;        // "json aabb", "aabb_scale", "cameras", "cameras+alpha", "points3D"

@@ -8,6 +8,7 @@
 //   for (int i = 0; i < 1000; ++i) trainer.step();
 //   trainer.save("tabletop.vknerf");
 //   auto view = vknerf::Model::load(ctx, "tabletop.vknerf").render(data.cameras[0]);
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -69,7 +70,9 @@ class Model {
   const TrainConfig& config() const;
   const Aabb& bounds() const;
   // Renders on the device, waits, and reads the image back.
-  RenderedImage render(const Camera& camera) const;
+  // `progress`, when given, is called after each tile of rays with (pixels done, pixels in all).
+  RenderedImage render(const Camera& camera,
+                       const std::function<void(uint64_t done, uint64_t total)>& progress = {}) const;
   // Records the render of `camera` into the caller's command buffer `cmd` (primary, recording, from
   // a pool of the context's queue family), writing `target`; nothing is submitted. Contract (see
   // docs/embedding.md): before the commands, the caller makes earlier writes to the target visible
@@ -89,6 +92,9 @@ class Model {
 class Trainer {
  public:
   Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config);
+  // The same, releasing each image's host pixels as soon as they are on the device, so that the
+  // host never holds the whole set twice (on a CPU device the device's memory is the host's).
+  Trainer(std::shared_ptr<Context> ctx, Dataset&& train, const TrainConfig& config);
   ~Trainer();
 
   // One optimisation step over a random batch of rays (recorded into one command buffer).
@@ -99,6 +105,9 @@ class Trainer {
   std::vector<std::pair<std::string, double>> lastStepTimings() const;
   // What the model spends: parameters, device memory, samples per ray, occupancy (fast model).
   ModelStatistics statistics() const;
+  // Device memory the training images take (RGBA8), and the storage buffers they are spread over.
+  double trainingPixelsDeviceMiB() const;
+  uint32_t trainingPixelBindings() const;
 
   // Checkpoint: config, parameters, Adam state and the step, written atomically.
   void save(const std::string& path) const;
@@ -109,6 +118,7 @@ class Trainer {
   static TrainConfig configOf(const std::string& path);
 
  private:
+  Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config, Dataset* release);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -8,7 +8,7 @@
 struct Camera {
   vec4 intrinsics;  // fx, fy, cx, cy (pixels)
   vec4 c2w[3];      // rows of the 3x4 camera-to-world matrix
-  uvec4 size;       // width, height, first pixel index of this image in the pixel buffer, unused
+  uvec4 size;       // width, height, first pixel of this image in its pixel binding, that binding's index
   vec4 lensK;       // k1, k2, k3, k4
   vec4 lensKP;      // k5, k6, p1, p2
   uvec4 lensModel;  // x: 0 pinhole, 1 OpenCV radial-tangential, 2 OpenCV fisheye; yzw unused

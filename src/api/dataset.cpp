@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <mutex>
 #include <thread>
 
 #include "io/dataset_loaders.h"
 #include "io/image_io.h"
+#include "io/memory_fit.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -134,12 +136,15 @@ SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
               "': no transforms_train.json, transforms.json or COLMAP model (sparse/0/cameras.txt or cameras.bin) in it");
 }
 
-// Loads (and downscales) every frame's image, two or more at a time; rethrows the first failure in
-// frame order so the message does not depend on thread timing.
-std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, uint32_t downscale) {
+// Loads (and downscales) every frame's image, options.threads (default: every core) at a time;
+// rethrows the first failure in frame order so the message does not depend on thread timing.
+std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, const DatasetOptions& options) {
+  const uint32_t downscale = options.downscale;
   std::vector<ImageRGBA8> images(frames.size());
   std::vector<std::exception_ptr> errors(frames.size());
   std::atomic<size_t> next{0};
+  size_t done = 0;
+  std::mutex progressLock;
   auto work = [&] {
     for (size_t i; (i = next++) < frames.size();) {
       try {
@@ -153,9 +158,14 @@ std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, uint32_
       } catch (...) {
         errors[i] = std::current_exception();
       }
+      if (options.progress) {
+        std::lock_guard<std::mutex> hold(progressLock);
+        options.progress(++done, frames.size());
+      }
     }
   };
-  size_t threads = std::min<size_t>(frames.size(), std::max(1u, std::thread::hardware_concurrency()));
+  const size_t cores = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const size_t threads = std::min<size_t>(frames.size(), cores);
   std::vector<std::thread> pool;
   for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();
@@ -178,7 +188,8 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
   if (scene.frames.empty())
     throw Error("dataset '" + pathString + "': split '" + options.split + "' is empty");
 
-  // Image sizes first (headers only), so that a size mismatch is reported before decoding everything.
+  // Image sizes first (headers only), so that a bad file or too little memory is reported before
+  // anything is decoded.
   const uint32_t n = uint32_t(scene.frames.size());
   std::vector<std::pair<uint32_t, uint32_t>> sizes(n);
   for (uint32_t i = 0; i < n; ++i) {
@@ -186,18 +197,24 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
     if (f.image.empty()) throw Error(f.where + ": image not found: " + f.imageTried);
     if (!nerf::readImageSize(f.image.string(), sizes[i].first, sizes[i].second))
       nerf::loadImage(f.image.string());  // throws with stb's reason
-    if (sizes[i] != sizes[0])
-      throw Error("image '" + f.image.string() + "' is " + std::to_string(sizes[i].first) + "x" +
-                  std::to_string(sizes[i].second) + " but '" + scene.frames[0].image.string() + "' is " +
-                  std::to_string(sizes[0].first) + "x" + std::to_string(sizes[0].second) +
-                  "; all images must be the same size");
+  }
+  // The decoded set must fit in host memory, with one full-resolution image per decoding thread.
+  {
+    uint64_t largest = 0;
+    for (const auto& sz : sizes) largest = std::max(largest, nerf::rgba8Bytes(std::span(&sz, 1)));
+    const uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    std::vector<nerf::ImageSize> loaded;
+    for (const auto& [w, h] : sizes) loaded.emplace_back(w / options.downscale, h / options.downscale);
+    nerf::requireFit("loading '" + pathString + "'", loaded, largest * std::min<uint64_t>(threads, n),
+                     "decoding buffers", nerf::availableHostBytes(), "host memory (available)",
+                     options.downscale);
   }
 
   Dataset d;
   std::vector<Camera> fullRes;
   for (uint32_t i = 0; i < n; ++i) fullRes.push_back(completeCamera(scene.frames[i], sizes[i].first, sizes[i].second));
 
-  d.images = loadImages(scene.frames, options.downscale);
+  d.images = loadImages(scene.frames, options);
   for (uint32_t i = 0; i < n; ++i) {
     if (d.images[i].width != sizes[i].first / options.downscale || d.images[i].height != sizes[i].second / options.downscale)
       throw Error("image '" + scene.frames[i].image.string() + "' changed size while loading");

@@ -27,7 +27,7 @@ struct Model::Impl {
   // Last member: destroyed first, while the pipeline and the context still exist.
   mutable std::unique_ptr<nerf::RecordState, nerf::RecordStateDeleter> record;
 
-  RenderedImage render(const Camera& camera) const;
+  RenderedImage render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const;
 };
 
 }  // namespace vknerf

@@ -9,8 +9,10 @@
 #include "gpu/recorder.h"
 #include "io/checkpoint.h"
 #include "io/config_json.h"
+#include "io/memory_fit.h"
 #include "api/model_impl.h"
 #include "nerf/loss/photometric_loss.h"
+#include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
 #include "reference/rng.h"
 #include "vknerf/error.h"
@@ -36,7 +38,7 @@ json configJson(const nerf::Checkpoint& ck, const std::string& path) {
 
 // ---------------------------------------------------------------- Model
 
-RenderedImage Model::Impl::render(const Camera& cam) const {
+RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(uint64_t, uint64_t)>& progress) const {
   if (cam.width == 0 || cam.height == 0) throw Error("render: camera has an empty image size");
   if (!(cam.fx > 0) || !(cam.fy > 0)) throw Error("render: camera focal length must be positive");
   Context& c = *ctx;
@@ -65,6 +67,7 @@ RenderedImage Model::Impl::render(const Camera& cam) const {
       img.opacity[p] = o;
       img.depth[p] = o > 1e-4f ? depth[i] / o : 0.0f;
     }
+    if (progress) progress(first + n, total);
   }
   return img;
 }
@@ -75,7 +78,9 @@ Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 const TrainConfig& Model::config() const { return impl_->config; }
 const Aabb& Model::bounds() const { return impl_->box; }
-RenderedImage Model::render(const Camera& camera) const { return impl_->render(camera); }
+RenderedImage Model::render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const {
+  return impl_->render(camera, progress);
+}
 
 namespace {
 
@@ -137,8 +142,9 @@ struct Trainer::Impl {
   std::shared_ptr<Context> ctx;
   TrainConfig config;
   Aabb box;
-  uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;
-  gpu::Buffer images, cameras;
+  uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;  // the first image's size, for the checkpoint
+  std::unique_ptr<nerf::TrainingPixels> pixels;
+  gpu::Buffer cameras;
   std::unique_ptr<nerf::FieldPipeline> pipe;
   uint32_t lastRays = 0;
   std::unique_ptr<gpu::Recorder> rec;
@@ -147,6 +153,12 @@ struct Trainer::Impl {
 };
 
 Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config)
+    : Trainer(std::move(ctx), train, config, nullptr) {}
+
+Trainer::Trainer(std::shared_ptr<Context> ctx, Dataset&& train, const TrainConfig& config)
+    : Trainer(std::move(ctx), train, config, &train) {}
+
+Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config, Dataset* release)
     : impl_(std::make_unique<Impl>()) {
   if (train.cameras.empty()) throw Error("training set is empty");
   if (train.images.size() != train.cameras.size()) throw Error("training set has " + std::to_string(train.images.size()) +
@@ -158,11 +170,35 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;
   s.imageHeight = train.images[0].height;
-  std::vector<uint8_t> pixels;
-  for (const auto& im : train.images) pixels.insert(pixels.end(), im.rgba.begin(), im.rgba.end());
-  s.images = gpu::Buffer::of(*ctx, pixels);
-  s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras));
+  std::vector<nerf::ImageSize> sizes;
+  std::vector<uint64_t> pixelCounts;
+  for (uint32_t i = 0; i < s.numCameras; ++i) {
+    const ImageRGBA8& im = train.images[i];
+    if (im.width != train.cameras[i].width || im.height != train.cameras[i].height ||
+        im.rgba.size() != size_t(im.width) * im.height * 4)
+      throw Error("training image " + std::to_string(i) + " is " + std::to_string(im.width) + "x" +
+                  std::to_string(im.height) + " with " + std::to_string(im.rgba.size()) + " bytes but its camera is " +
+                  std::to_string(train.cameras[i].width) + "x" + std::to_string(train.cameras[i].height));
+    sizes.emplace_back(im.width, im.height);
+    pixelCounts.push_back(uint64_t(im.width) * im.height);
+  }
+  // The fit is checked before the pixels are allocated: the pixels alone first, then with the
+  // model's buffers, which are measured by building the model (its size follows the configuration,
+  // not the dataset).
+  const uint64_t deviceBytes = nerf::deviceMemoryBytes(*ctx);
+  const std::string device = "the device (" + ctx->deviceName() + ")";
+  nerf::requireFit("training", sizes, 0, "", deviceBytes, device);
+  auto layout = nerf::planPixelBindings(pixelCounts, nerf::pixelBytesPerBinding(*ctx));
   s.pipe = nerf::makeFieldPipeline(*ctx, config, s.box, config.raysPerBatch, true);
+  nerf::requireFit("training", sizes, s.pipe->memory()->bytes(), "model", deviceBytes, device);
+  // On a CPU device the device's memory is the host's: the pixels come out of what is left of it.
+  if (ctx->isCpu()) nerf::requireFit("training", sizes, 0, "", nerf::availableHostBytes(), "host memory (available)");
+  s.pixels = std::make_unique<nerf::TrainingPixels>(*ctx, layout);
+  for (uint32_t i = 0; i < s.numCameras; ++i) {
+    s.pixels->upload(i, train.images[i].rgba.data());
+    if (release) std::vector<uint8_t>().swap(release->images[i].rgba);
+  }
+  s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;
@@ -179,7 +215,7 @@ const Model& Trainer::model() const { return *impl_->model; }
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
-  const auto size = s.pipe->trainStep(*s.rec, {&s.images, &s.cameras, s.numCameras}, s.step);
+  const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras}, s.step);
   const uint32_t R = size.rays;
   ++s.step;
   StepStats st;
@@ -198,6 +234,8 @@ StepStats Trainer::step(bool readLoss) {
 }
 
 ModelStatistics Trainer::statistics() const { return impl_->pipe->statistics(); }
+double Trainer::trainingPixelsDeviceMiB() const { return double(impl_->pixels->bytes()) / double(1 << 20); }
+uint32_t Trainer::trainingPixelBindings() const { return uint32_t(impl_->pixels->bindings().size()); }
 
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -30,9 +31,10 @@ struct StateArray {
   bool numbers = true;  // floats, checked finite on load; false for words of bits stored in float slots
 };
 
-// The training set on the device: packed RGBA8 images and packed cameras (nerf::packCameras).
+// The training set on the device: the pixel bindings (nerf::TrainingPixels) and the cameras packed
+// with each image's place in them (nerf::packCameras).
 struct TrainingData {
-  const gpu::Buffer* images;
+  std::span<const gpu::BufferRange> pixels;
   const gpu::Buffer* cameras;
   uint32_t numCameras;
 };

@@ -7,6 +7,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "progress.h"
 #include "io/image_io.h"
 #include "lib/csv.h"
 #include "lib/metrics.h"
@@ -33,6 +34,7 @@ int run(const Options& o, const Globals& g) {
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;
+  dopt.progress = progressPrinter("decoding images");
   Dataset data = Dataset::load(o.scene, dopt);
   size_t n = data.cameras.size();
   if (o.limit && n > o.limit) n = o.limit;
@@ -40,7 +42,7 @@ int run(const Options& o, const Globals& g) {
   double sumPsnr = 0, sumSsim = 0, sumSeconds = 0;
   for (size_t i = 0; i < n; ++i) {
     auto t0 = std::chrono::steady_clock::now();
-    RenderedImage img = model.render(data.cameras[i]);
+    RenderedImage img = model.render(data.cameras[i], progressPrinter("rendering " + data.names[i] + ": pixels", true));
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto gt = nerf::compositeOver(data.images[i], model.config().background);
     double p = nerf::psnr(img.rgb, gt), q = nerf::ssim(img.rgb, gt, img.width, img.height);

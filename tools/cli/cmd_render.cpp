@@ -9,6 +9,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "progress.h"
 #include "lib/render_output.h"
 #include "lib/video_encoder.h"
 #include "vknerf/camera_path.h"
@@ -98,7 +99,7 @@ int run(const Options& o, const Globals& g) {
   const auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < cams.size(); ++i) {
     auto t0 = std::chrono::steady_clock::now();
-    RenderedImage img = model.render(cams[i]);
+    RenderedImage img = model.render(cams[i], progressPrinter("rendering view " + std::to_string(i) + ": pixels", true));
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     char name[64];
     std::snprintf(name, sizeof name, "%04zu", i);

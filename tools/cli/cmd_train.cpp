@@ -15,6 +15,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "progress.h"
 #include "io/config_json.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
@@ -154,13 +155,26 @@ int run(const Options& o, const Globals& g) {
   return train(opts, g);
 }
 
+// "800x800", or "800x800 to 1920x1080" when the frames differ in size.
+std::string imageSizes(const Dataset& data) {
+  auto pixels = [](const ImageRGBA8& im) { return uint64_t(im.width) * im.height; };
+  const ImageRGBA8 *lo = &data.images[0], *hi = lo;
+  for (const auto& im : data.images) {
+    if (pixels(im) < pixels(*lo)) lo = &im;
+    if (pixels(im) > pixels(*hi)) hi = &im;
+  }
+  auto text = [](const ImageRGBA8& im) { return std::to_string(im.width) + "x" + std::to_string(im.height); };
+  return pixels(*lo) == pixels(*hi) ? text(*lo) : text(*lo) + " to " + text(*hi);
+}
+
 int train(const Options& o, const Globals& g) {
   auto ctx = g.context();
   DatasetOptions dopt;
   dopt.downscale = o.downscale;
+  dopt.progress = progressPrinter("decoding images");
   Dataset data = Dataset::load(o.scene, dopt);
-  std::printf("scene: %zu training images of %ux%u from %s; box [%.2f %.2f %.2f]..[%.2f %.2f %.2f] (%s)\n",
-              data.images.size(), data.images[0].width, data.images[0].height, o.scene.c_str(), data.bounds.min[0],
+  std::printf("scene: %zu training images of %s from %s; box [%.2f %.2f %.2f]..[%.2f %.2f %.2f] (%s)\n",
+              data.images.size(), imageSizes(data).c_str(), o.scene.c_str(), data.bounds.min[0],
               data.bounds.min[1], data.bounds.min[2], data.bounds.max[0], data.bounds.max[1], data.bounds.max[2],
               data.boundsSource.c_str());
   const bool resuming = o.resume && std::filesystem::exists(o.output);
@@ -181,7 +195,7 @@ int train(const Options& o, const Globals& g) {
   std::printf("config: %s\n", cfg.describe().c_str());
   std::optional<Trainer> built;
   try {
-    built.emplace(ctx, data, cfg);
+    built.emplace(ctx, std::move(data), cfg);  // the host copy goes as the device's fills
   } catch (const Error& e) {
     const std::string why = e.what();
     if (why.find("OUT_OF_DEVICE_MEMORY") == std::string::npos && why.find("OUT_OF_HOST_MEMORY") == std::string::npos) throw;
@@ -229,6 +243,9 @@ int train(const Options& o, const Globals& g) {
   }
   if (tty) std::printf("\n");
   for (auto& [name, value] : statisticsRows(trainer.statistics())) std::printf("  %-48s %g\n", name.c_str(), value);
+  std::printf("memory: host peak %.1f MiB; device %.1f MiB (model %.1f MiB + training images %.1f MiB in %u buffers)\n",
+              hostPeakMiB(), trainer.statistics().deviceMiB + trainer.trainingPixelsDeviceMiB(),
+              trainer.statistics().deviceMiB, trainer.trainingPixelsDeviceMiB(), trainer.trainingPixelBindings());
   if (o.profile) {
     std::map<std::string, double> perKernel;
     double total = 0;

@@ -259,7 +259,7 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   rec.begin();
   recordField(rec, *batch, 0, samples, true);
   recordComposite(rec, *batch, 0, rays, config_.background);
-  loss_->record(rec, rays, color_, rays_.pixelIds(), *data.images, *data.cameras, rays_.background(), dColor_,
+  loss_->record(rec, rays, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
                 partials_);
   gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(rays) * 16);
   compositor_.recordBackward(rec, rays, 0, batch->offsets, batch->samples, field_.field, config_.background, &perRay,

@@ -92,7 +92,7 @@ void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const
     Level& l = levels_[li];
     Network& net = li == 0 ? coarse_ : fine();
     FieldBatch& f = l.field;
-    loss_->record(rec, numRays, l.color, rays_.pixelIds(), *data.images, *data.cameras, rays_.background(), l.dColor,
+    loss_->record(rec, numRays, l.color, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), l.dColor,
                   l.partials);
     compositor_.recordBackward(rec, numRays, l.samplesPerRay, noOffsets_, l.samples, f.field, config_.background, &bg,
                                l.dColor, zeroDepthGrad_, f.dField);

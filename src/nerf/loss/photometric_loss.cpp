@@ -1,5 +1,6 @@
 #include "nerf/loss/photometric_loss.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -11,29 +12,42 @@ namespace {
 struct LossPush {
   uint32_t numRays;
   float gradScale;
+  uint32_t firstBinding;
 };
+constexpr uint32_t kOtherBindings = 6;  // pred, pixel ids, cameras, background, dPred, partials
+
+gpu::KernelDesc lossKernel(Context& ctx) {
+  const uint32_t needed = kOtherBindings + PhotometricLoss::kPixelBindings;
+  if (ctx.properties().limits.maxPerStageDescriptorStorageBuffers < needed)
+    throw Error("PhotometricLoss: this device binds " +
+                std::to_string(ctx.properties().limits.maxPerStageDescriptorStorageBuffers) +
+                " storage buffers per shader stage, the loss needs " + std::to_string(needed));
+  return {gpu::shaders::loss_photometric, std::vector<gpu::Binding>(needed, gpu::Binding::Storage), sizeof(LossPush), {}};
+}
 }  // namespace
 
 PhotometricLoss::PhotometricLoss(Context& ctx)
     : ctx_(ctx),
-      kernel_(ctx, {gpu::shaders::loss_photometric,
-                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
-                     gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
-                    sizeof(LossPush),
-                    {}}) {}
+      kernel_(ctx, lossKernel(ctx)) {}
 
 void PhotometricLoss::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred,
-                             const gpu::BufferRange& pixelIds, const gpu::BufferRange& images,
+                             const gpu::BufferRange& pixelIds, std::span<const gpu::BufferRange> pixels,
                              const gpu::BufferRange& cameras, const gpu::BufferRange& background,
                              const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale) {
   if (numRays == 0) return;
-  VkDeviceSize imageBytes = images.range == VK_WHOLE_SIZE ? images.buffer->size() - images.offset : images.range;
-  if (imageBytes > ctx_.properties().limits.maxStorageBufferRange)
-    throw Error("PhotometricLoss: " + std::to_string(imageBytes) + " bytes of training pixels exceed this device's " +
-                "maxStorageBufferRange (" + std::to_string(ctx_.properties().limits.maxStorageBufferRange) + ")");
-  LossPush p{numRays, gradScale};
-  rec.dispatch(kernel_, {pred, pixelIds, images, cameras, background, dPred, partials}, p,
-               partialCount(numRays), 1, 1, "loss_photometric");
+  if (pixels.empty()) throw Error("PhotometricLoss: no training pixels bound");
+  for (const auto& r : pixels)
+    if (gpu::boundBytes(r) > ctx_.properties().limits.maxStorageBufferRange)
+      throw Error("PhotometricLoss: a binding of " + std::to_string(gpu::boundBytes(r)) +
+                  " bytes of training pixels exceeds this device's maxStorageBufferRange (" +
+                  std::to_string(ctx_.properties().limits.maxStorageBufferRange) + ")");
+  for (uint32_t first = 0; first < pixels.size(); first += kPixelBindings) {
+    std::vector<gpu::BufferRange> b = {pred, pixelIds, cameras, background, dPred, partials};
+    // Slots past the last binding repeat one that exists: they are never read.
+    for (uint32_t k = 0; k < kPixelBindings; ++k) b.push_back(pixels[std::min<size_t>(first + k, pixels.size() - 1)]);
+    LossPush p{numRays, gradScale, first};
+    rec.dispatch(kernel_, std::span<const gpu::BufferRange>(b), &p, sizeof p, partialCount(numRays), 1, 1, "loss_photometric");
+  }
 }
 
 LossStats PhotometricLoss::summarize(std::span<const float> partials, uint32_t numRays) {

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "vknerf/error.h"
+
 namespace vknerf::nerf {
 namespace {
 struct Push {
@@ -12,16 +14,20 @@ struct Push {
 constexpr uint32_t kLocal = 64;
 }  // namespace
 
-std::vector<CameraGpu> packCameras(std::span<const Camera> cameras) {
+std::vector<CameraGpu> packCameras(std::span<const Camera> cameras, std::span<const PixelPlacement> placement) {
+  if (!placement.empty() && placement.size() != cameras.size())
+    throw Error("packCameras: " + std::to_string(placement.size()) + " pixel placements for " +
+                std::to_string(cameras.size()) + " cameras");
   std::vector<CameraGpu> out;
   uint32_t first = 0;
   for (size_t i = 0; i < cameras.size(); ++i) {
     const Camera& c = cameras[i];
     checkLens(c, "camera " + std::to_string(i));
     const Lens& l = c.lens;
-    CameraGpu g{{c.fx, c.fy, c.cx, c.cy}, {}, {c.width, c.height, first, 0}, {l.k1, l.k2, l.k3, l.k4},
+    const PixelPlacement at = placement.empty() ? PixelPlacement{0, first} : placement[i];
+    CameraGpu g{{c.fx, c.fy, c.cx, c.cy}, {}, {c.width, c.height, at.firstPixel, at.binding}, {l.k1, l.k2, l.k3, l.k4},
                 {l.k5, l.k6, l.p1, l.p2}, {uint32_t(l.model), 0, 0, 0}};
-    for (int i = 0; i < 12; ++i) g.c2w[i] = c.c2w[i];
+    for (int k = 0; k < 12; ++k) g.c2w[k] = c.c2w[k];
     first += c.width * c.height;
     out.push_back(g);
   }

@@ -14,16 +14,24 @@ namespace vknerf::nerf {
 struct CameraGpu {  // mirrors `struct Camera` in shaders/rays/camera.glsl (std430: vec4 / uvec4 members)
   float intrinsics[4];
   float c2w[12];
-  uint32_t size[4];  // width, height, first pixel of this image in a concatenated pixel buffer, 0
+  uint32_t size[4];  // width, height, first pixel of this image in its pixel binding, that binding's index
   float lensK[4];    // k1, k2, k3, k4
   float lensKP[4];   // k5, k6, p1, p2
   uint32_t lensModel[4];  // LensModel, 0, 0, 0
 };
 static_assert(sizeof(CameraGpu) == 128);
 
-// Throws vknerf::Error (naming "camera <index>") for a lens checkLens() rejects, so that no camera
-// reaches the device with a lens the ray generator cannot invert.
-std::vector<CameraGpu> packCameras(std::span<const Camera> cameras);
+// Where one camera's training image lies on the device: the binding (of the training pixels'
+// several buffers) that holds the whole image, and the index of its first pixel there.
+struct PixelPlacement {
+  uint32_t binding = 0;
+  uint32_t firstPixel = 0;
+};
+
+// Cameras as the shaders read them. Throws vknerf::Error (naming "camera <index>") for a lens
+// checkLens() rejects, so that no camera reaches the device with a lens the ray generator cannot invert. Without `placement`, the images follow one another in binding 0
+// (a render, or a training set small enough for one buffer); otherwise one placement per camera.
+std::vector<CameraGpu> packCameras(std::span<const Camera> cameras, std::span<const PixelPlacement> placement = {});
 
 constexpr VkDeviceSize kRayBytes = 32;
 constexpr VkDeviceSize kPixelIdBytes = 8;

@@ -218,7 +218,7 @@ int train(const Options& o, const Globals& g) {
   auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   StepStats st;
-  double lastPsnr = 0;
+  double lastPsnr = -1;  // none measured yet: the loss is read every --log-every steps
   while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !stopSignal) {
     bool report = (trainer.steps() + 1) % o.logEvery == 0 || trainer.steps() + 1 == last;
     st = trainer.step(report);
@@ -254,8 +254,10 @@ int train(const Options& o, const Globals& g) {
     for (auto& [name, ms] : perKernel) std::printf("  %-24s %8.2f ms  %5.1f%%\n", name.c_str(), ms, 100 * ms / total);
   }
   trainer.save(o.output);
-  std::printf("%s after %u steps (%.1f s, last train PSNR %.2f dB); model saved to %s\n",
-              stopSignal ? "interrupted" : "done", trainer.steps(), elapsed(), lastPsnr, o.output.c_str());
+  char psnr[64] = "no train PSNR measured: fewer steps than --log-every";
+  if (lastPsnr >= 0) std::snprintf(psnr, sizeof psnr, "last train PSNR %.2f dB", lastPsnr);
+  std::printf("%s after %u steps (%.1f s, %s); model saved to %s\n", stopSignal ? "interrupted" : "done",
+              trainer.steps(), elapsed(), psnr, o.output.c_str());
   return stopSignal ? 128 + stopSignal : 0;
 }
 

@@ -139,7 +139,8 @@ def main():
           f"{np.median(ignored):.1f} ignoring the distortion (mean shift {np.mean(shifted):.1f} px), "
           f"{med_unrel:.1f} between unrelated points")
     if not med_same < 0.35 * med_unrel:
-        problems.append(f"points look no more alike in two photos ({med_same:.1f}) than unrelated points ({med_unrel:.1f})")
+        problems.append(f"points look no more alike in two photos ({med_same:.1f}) "
+                        f"than unrelated points ({med_unrel:.1f})")
     if lens["model"] != "pinhole" and np.mean(shifted) > 1 and not np.median(ignored) > med_same:
         problems.append("ignoring the distortion makes the photos agree as well as the full model")
     for line in problems:

@@ -49,6 +49,7 @@ def parse_args():
     p.add_argument("--oversample", type=float, default=1.5, help="wide render's focal length / the output's")
     p.add_argument("--samples", type=int, default=12, help="Cycles samples per wide pixel (no denoiser)")
     p.add_argument("--points-per-view", type=int, default=80, help="surface points seeded from each view")
+    p.add_argument("--aabb-scale", type=int, default=4, help="instant-ngp's aabb_scale written to transforms.json")
     p.add_argument("--seed", type=int, default=11)
     p.add_argument("--threads", type=int, default=2)
     return p.parse_args(argv)
@@ -265,6 +266,8 @@ def main():
     cycles = bpy.context.scene.cycles
     cycles.max_bounces, cycles.diffuse_bounces, cycles.glossy_bounces = 4, 2, 3
     cycles.transmission_bounces = cycles.volume_bounces = cycles.transparent_max_bounces = 0
+    # Only the camera moves between views: keep the scene's BVH and shaders instead of rebuilding them.
+    bpy.context.scene.render.use_persistent_data = True
     cam = parts.add_camera()
     set_blender_camera(cam, wide)
     poses = hand_held_poses(rng, args.views)
@@ -276,16 +279,17 @@ def main():
         cam.matrix_world = pose
         name = f"view_{i:04d}.png"
         parts.render_still(os.path.abspath(os.path.join(folder, name)))
-        views.append({"wide_image": name, "transform_matrix": [[round(pose[r][c], 9) for c in range(4)] for r in range(4)]})
+        matrix = [[round(pose[r][c], 9) for c in range(4)] for r in range(4)]
+        views.append({"wide_image": name, "transform_matrix": matrix})
         print(f"make_capture: view {i + 1}/{len(poses)} rendered, {time.time() - start:.0f} s so far", flush=True)
     render_s = time.time() - start
     bpy.context.view_layer.update()
     points = surface_points(rng, poses, out_cam, lens, args.points_per_view)
     with open(os.path.join(folder, "render.json"), "w") as f:
-        json.dump({"camera": out_cam, "lens": lens, "wide_camera": wide, "aabb_scale": 4, "views": views,
-                   "points": points, "render_seconds": round(render_s, 1)}, f, indent=1)
-    print(f"make_capture: {len(poses)} wide views of {wide['w']}x{wide['h']} at {args.samples} spp in {render_s:.0f} s "
-          f"({render_s / len(poses):.1f} s each), {len(points)} surface points, in {folder}")
+        json.dump({"camera": out_cam, "lens": lens, "wide_camera": wide, "aabb_scale": args.aabb_scale,
+                   "views": views, "points": points, "render_seconds": round(render_s, 1)}, f, indent=1)
+    print(f"make_capture: {len(poses)} wide views of {wide['w']}x{wide['h']} at {args.samples} spp in "
+          f"{render_s:.0f} s ({render_s / len(poses):.1f} s each), {len(points)} surface points, in {folder}")
 
 
 main()

@@ -11,6 +11,7 @@
 # Usage: /usr/bin/python3 tools/warp_capture.py /work/data/capture [--pinhole /work/data/capture-pinhole]
 import argparse
 import json
+import math
 import os
 import sys
 
@@ -26,8 +27,20 @@ HOLDOUT_FRACTION = 0.1  # vknerf's DatasetOptions.holdoutFraction default
 
 
 def held_out(n, fraction=HOLDOUT_FRACTION):
-    held = min(n, max(1, round(fraction * n))) if fraction > 0 else 0
+    # Rounds halves up, as vknerf's std::lround does (Python's round would take 4 of 45, not 5).
+    held = min(n, max(1, math.floor(fraction * n + 0.5))) if fraction > 0 else 0
     return {int((j + 0.5) * n / held) for j in range(held)}
+
+
+def rigid(matrix):
+    # Blender's matrices are single precision (orthonormal to ~1e-7); snapping the rotation to the nearest
+    # orthonormal one (1e-7 rad, far below a pixel) lets transforms.json and COLMAP's quaternions carry
+    # exactly the same pose.
+    m = np.array(matrix, float)
+    u, _, vt = np.linalg.svd(m[:3, :3])
+    m[:3, :3] = u @ vt
+    m[3] = [0, 0, 0, 1]
+    return [[round(float(v), 10) for v in row] for row in m]
 
 
 def header(cam, lens, aabb_scale):
@@ -114,6 +127,8 @@ def main():
     wide_dir = os.path.join(args.capture, "wide")
     with open(os.path.join(wide_dir, "render.json")) as f:
         meta = json.load(f)
+    for view in meta["views"]:
+        view["transform_matrix"] = rigid(view["transform_matrix"])
     cam, lens, wide = meta["camera"], meta["lens"], meta["wide_camera"]
     variants = [(args.capture, lens)] + ([(args.pinhole, {"model": "pinhole"})] if args.pinhole else [])
     for out, variant_lens in variants:

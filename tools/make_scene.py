@@ -10,17 +10,18 @@ import json
 import math
 import os
 import random
-import struct
 import sys
 
-import _cycles  # Blender's Cycles module: tells which optional features this build has
 import bpy
 from mathutils import Matrix, Vector
 
-# Top of the plate; everything stands on it, so content spans z in [-0.5, 0.7]. With the plate radius of
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+from scenegen import blender_parts as parts  # noqa: E402  (needs the path above)
+from scenegen.transforms_json import write_transforms  # noqa: E402
+
+# The plate's top is at parts.FLOOR = -0.4, so content spans z in [-0.5, 0.7]. With the plate radius of
 # 1.05 this keeps every view inside the frame (>= 7 px margin) at radius 4 and camera_angle_x 0.691 for
 # elevations from -15 to 72 degrees, while the cameras aim at the origin.
-FLOOR = -0.4
 
 
 def parse_args():
@@ -37,98 +38,6 @@ def parse_args():
     return p.parse_args(argv)
 
 
-# ---------------------------------------------------------------- materials
-
-def principled(name, color=None, metallic=0.0, roughness=0.5):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    if color is not None:
-        bsdf.inputs["Base Color"].default_value = (*color, 1.0)
-    bsdf.inputs["Metallic"].default_value = metallic
-    bsdf.inputs["Roughness"].default_value = roughness
-    return mat, bsdf
-
-
-def checker_material():
-    mat, bsdf = principled("plate_checker", roughness=0.6)
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    coord = nodes.new("ShaderNodeTexCoord")
-    checker = nodes.new("ShaderNodeTexChecker")
-    checker.inputs["Color1"].default_value = (0.85, 0.82, 0.72, 1.0)  # cream
-    checker.inputs["Color2"].default_value = (0.05, 0.22, 0.25, 1.0)  # dark teal
-    # Object coordinates are in scene units: scale 5 gives 0.2-unit squares, ~10 across the disc, ~6 px at 100x100.
-    checker.inputs["Scale"].default_value = 5.0
-    links.new(coord.outputs["Object"], checker.inputs["Vector"])
-    links.new(checker.outputs["Color"], bsdf.inputs["Base Color"])
-    return mat
-
-
-def noise_material():
-    mat, bsdf = principled("cube_noise", roughness=0.45)
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    coord = nodes.new("ShaderNodeTexCoord")
-    noise = nodes.new("ShaderNodeTexNoise")
-    noise.inputs["Scale"].default_value = 6.0
-    noise.inputs["Detail"].default_value = 4.0
-    ramp = nodes.new("ShaderNodeValToRGB")
-    ramp.color_ramp.elements[0].position = 0.35
-    ramp.color_ramp.elements[0].color = (0.55, 0.03, 0.02, 1.0)  # brick red
-    ramp.color_ramp.elements[1].position = 0.65
-    ramp.color_ramp.elements[1].color = (1.0, 0.55, 0.08, 1.0)  # orange
-    links.new(coord.outputs["Object"], noise.inputs["Vector"])
-    links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
-    links.new(ramp.outputs["Color"], bsdf.inputs["Base Color"])
-    return mat
-
-
-# ---------------------------------------------------------------- objects
-
-def add(obj_op, material, name, **kwargs):
-    obj_op(**kwargs)
-    obj = bpy.context.active_object
-    obj.name = name
-    obj.data.materials.append(material)
-    return obj
-
-
-def smooth(obj):
-    for poly in obj.data.polygons:
-        poly.use_smooth = True
-
-
-def build_scene():
-    mesh = bpy.ops.mesh
-    # Plate: a flat checkered disc, the only "floor"; it ends inside the box so the background stays empty.
-    add(mesh.primitive_cylinder_add, checker_material(), "plate",
-        vertices=96, radius=1.05, depth=0.1, location=(0, 0, FLOOR - 0.05))
-
-    gold, _ = principled("gold", color=(1.0, 0.71, 0.29), metallic=1.0, roughness=0.12)
-    sphere = add(mesh.primitive_uv_sphere_add, gold, "glossy_sphere",
-                 segments=64, ring_count=32, radius=0.42, location=(0.43, 0.34, FLOOR + 0.42))
-    smooth(sphere)
-
-    add(mesh.primitive_cube_add, noise_material(), "noise_cube",
-        size=0.6, location=(-0.47, 0.3, FLOOR + 0.3), rotation=(0, 0, math.radians(30)))
-
-    # Thin structures, 1-2 pixels wide at 100x100 from radius 4: an upright ring and three rods.
-    blue, _ = principled("blue", color=(0.05, 0.15, 0.8), roughness=0.35)
-    ring = add(mesh.primitive_torus_add, blue, "thin_ring",
-               major_segments=96, minor_segments=12, major_radius=0.4, minor_radius=0.03,
-               location=(0.085, -0.51, FLOOR + 0.43), rotation=(math.radians(90), 0, math.radians(15)))
-    smooth(ring)
-
-    green, _ = principled("green", color=(0.1, 0.6, 0.12), roughness=0.4)
-    for i, (x, y, h) in enumerate([(-0.55, -0.34, 1.1), (-0.72, -0.53, 0.8), (-0.41, -0.6, 0.95)]):
-        rod = add(mesh.primitive_cylinder_add, green, f"rod_{i}",
-                  vertices=16, radius=0.022, depth=h, location=(x, y, FLOOR + h / 2))
-        smooth(rod)
-
-    purple, _ = principled("purple", color=(0.45, 0.08, 0.6), roughness=0.5)
-    add(mesh.primitive_cone_add, purple, "cone",
-        vertices=48, radius1=0.22, depth=0.5, location=(0.72, -0.3, FLOOR + 0.25))
-
-
 def build_lights():
     world = bpy.data.worlds.new("neutral")
     world.use_nodes = True
@@ -136,13 +45,7 @@ def build_lights():
     bg.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)  # neutral grey sky; hidden by the transparent film
     bg.inputs["Strength"].default_value = 0.6
     bpy.context.scene.world = world
-
-    sun_data = bpy.data.lights.new("sun", type="SUN")
-    sun_data.energy = 3.0
-    sun_data.angle = math.radians(5)  # slightly soft shadows
-    sun = bpy.data.objects.new("sun", sun_data)
-    sun.rotation_euler = (math.radians(40), math.radians(10), math.radians(35))
-    bpy.context.scene.collection.objects.link(sun)
+    parts.add_sun()
 
 
 def content_aabb(pad=0.05):
@@ -165,37 +68,11 @@ def content_aabb(pad=0.05):
 # ---------------------------------------------------------------- cameras and rendering
 
 def setup_render(args):
-    scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = args.samples
-    scene.cycles.use_adaptive_sampling = False  # a fixed sample count keeps the noise level uniform
-    scene.cycles.seed = args.seed
-    scene.cycles.use_animated_seed = False
-    # Debian's Blender 3.4 is built without OpenImageDenoise; use it only where the build has it.
-    scene.cycles.use_denoising = bool(getattr(_cycles, "with_openimagedenoise", False))
-    if scene.cycles.use_denoising:
-        scene.cycles.denoiser = "OPENIMAGEDENOISE"
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = args.threads
-    scene.render.resolution_x = scene.render.resolution_y = args.size
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.render.image_settings.file_format = "PNG"
-    scene.render.image_settings.color_mode = "RGBA"
-    scene.render.image_settings.color_depth = "8"
-    scene.render.image_settings.compression = 100
-    # Standard sRGB, no Filmic tone curve: a NeRF learns the display colours, plain sRGB is what loaders assume.
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-
-    cam_data = bpy.data.cameras.new("camera")
-    cam_data.lens_unit = "FOV"
-    cam_data.sensor_fit = "HORIZONTAL"
-    cam_data.angle = 0.6911112070083618  # nerf_synthetic's camera_angle_x (a 50 mm lens on a 36 mm sensor)
-    cam = bpy.data.objects.new("camera", cam_data)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    parts.setup_cycles(args.samples, args.seed, args.threads, args.size, args.size, transparent=True)
+    cam = parts.add_camera()
+    cam.data.lens_unit = "FOV"
+    cam.data.sensor_fit = "HORIZONTAL"
+    cam.data.angle = 0.6911112070083618  # nerf_synthetic's camera_angle_x (a 50 mm lens on a 36 mm sensor)
     return cam
 
 
@@ -221,56 +98,26 @@ def look_at_origin(position):
     return Matrix.Translation(position) @ rot
 
 
-def strip_png_text(path):
-    # Blender writes the date and render timings into tEXt chunks; dropping them (CRCs are per chunk, so the
-    # rest stays valid) makes a re-render reproduce the committed files byte for byte.
-    with open(path, "rb") as f:
-        data = f.read()
-    out, pos = [data[:8]], 8
-    while pos < len(data):
-        length = struct.unpack(">I", data[pos:pos + 4])[0]
-        end = pos + 12 + length
-        if data[pos + 4:pos + 8] not in (b"tEXt", b"zTXt", b"iTXt"):
-            out.append(data[pos:end])
-        pos = end
-    with open(path, "wb") as f:
-        f.write(b"".join(out))
-
-
 def render_split(cam, args, split, positions, aabb):
-    scene = bpy.context.scene
     os.makedirs(os.path.join(args.out, split), exist_ok=True)
     frames = []
     for i, pos in enumerate(positions):
         cam.matrix_world = look_at_origin(pos)
-        bpy.context.view_layer.update()
-        scene.render.filepath = os.path.abspath(os.path.join(args.out, split, f"r_{i}.png"))
-        bpy.ops.render.render(write_still=True)
-        strip_png_text(scene.render.filepath)
+        parts.render_still(os.path.abspath(os.path.join(args.out, split, f"r_{i}.png")))
         m = cam.matrix_world
         frames.append({
             "file_path": f"./{split}/r_{i}",
             "transform_matrix": [[round(m[r][c], 8) for c in range(4)] for r in range(4)],
         })
-    # Same keys as nerf_synthetic plus "aabb"; written by hand so each matrix row stays on one line.
-    lines = ["{", f'  "camera_angle_x": {json.dumps(cam.data.angle_x)},', f'  "aabb": {json.dumps(aabb)},',
-             '  "frames": [']
-    for i, fr in enumerate(frames):
-        rows = ",\n        ".join(json.dumps(r) for r in fr["transform_matrix"])
-        comma = "," if i + 1 < len(frames) else ""
-        lines += ["    {", f'      "file_path": {json.dumps(fr["file_path"])},',
-                  f'      "transform_matrix": [\n        {rows}\n      ]', "    }" + comma]
-    lines += ["  ]", "}", ""]
-    text = "\n".join(lines)
-    json.loads(text)  # fail here, not in a loader, if the hand-written JSON were malformed
-    with open(os.path.join(args.out, f"transforms_{split}.json"), "w") as f:
-        f.write(text)
+    # Same keys as nerf_synthetic plus "aabb".
+    write_transforms(os.path.join(args.out, f"transforms_{split}.json"),
+                     {"camera_angle_x": cam.data.angle_x, "aabb": aabb}, frames)
 
 
 def main():
     args = parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    build_scene()
+    parts.build_tabletop()
     build_lights()
     cam = setup_render(args)
     aabb = content_aabb()

@@ -7,16 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT="${1:-assets/tabletop}"
 shift || true
-need=()
-command -v blender >/dev/null 2>&1 || need+=(blender)
-/usr/bin/python3 -c "import numpy, PIL" 2>/dev/null || need+=(python3-numpy python3-pil)
-if [ ${#need[@]} -gt 0 ]; then
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update
-  $SUDO apt-get install -y --no-install-recommends "${need[@]}"
-fi
+source tools/scenegen/need_blender.sh
 rm -rf "$OUT/train" "$OUT/test"
 # --factory-startup: ignore any user preferences or startup file, so every machine renders the same scene.
 blender -b --factory-startup -P tools/make_scene.py -- --out "$OUT" "$@"

@@ -50,6 +50,21 @@ Format formatOf(const uint8_t* data, size_t size) {
   return Format::Other;
 }
 
+// Null when every PNG chunk's claimed length fits in the bytes that follow it, else why not.
+// stb_image 2.27 grows its IDAT buffer to a chunk's claimed length before reading the chunk, so a
+// 10 KB file claiming a 1 GiB chunk made it allocate 2 GiB (found by fuzz/image_fuzzer.cpp).
+const char* pngChunksOverrun(const uint8_t* data, size_t size) {
+  size_t at = 8;  // after the signature; each chunk is length (4, big-endian), type (4), data, CRC (4)
+  while (at + 8 <= size) {
+    const uint64_t length = uint64_t(data[at]) << 24 | uint64_t(data[at + 1]) << 16 | uint64_t(data[at + 2]) << 8 |
+                            uint64_t(data[at + 3]);
+    if (length + 12 > size - at) return "corrupt PNG (a chunk claims more bytes than the file holds)";
+    if (std::equal(data + at + 4, data + at + 8, "IEND")) return nullptr;
+    at += 12 + length;
+  }
+  return nullptr;  // a file cut short between chunks: stb reports it
+}
+
 // The image size from the file's header; false when the format or the header is not readable.
 bool headerSize(const uint8_t* data, size_t size, uint32_t& width, uint32_t& height) {
   switch (formatOf(data, size)) {
@@ -87,6 +102,8 @@ ImageRGBA8 decodeImage(const uint8_t* data, size_t size, const std::string& name
   if (size > size_t(INT32_MAX)) throw Error("cannot read image '" + name + "': larger than 2 GiB");
   const Format format = formatOf(data, size);
   if (format == Format::Other) throw Error("cannot read image '" + name + "': not a PNG or JPEG file");
+  if (const char* why = format == Format::Png ? pngChunksOverrun(data, size) : nullptr)
+    throw Error("cannot read image '" + name + "': " + why);
   uint32_t w = 0, h = 0;
   if (headerSize(data, size, w, h) && uint64_t(w) * uint64_t(h) > kMaxPixels)
     throw Error("cannot read image '" + name + "': " + std::to_string(w) + "x" + std::to_string(h) +

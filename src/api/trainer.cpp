@@ -24,6 +24,14 @@ namespace {
 
 TrainConfig fromJson(const json& j, const std::string& file) { return nerf::trainConfigFromJson(j, file); }
 
+// instant-ngp's cascades for an aabb_scale: enough doublings of the inner cube to reach the box.
+uint32_t cascadesFor(float aabbScale) {
+  uint32_t c = 1;
+  constexpr uint32_t kMaxCascades = 8;  // as TrainConfig::validate allows
+  while (c < kMaxCascades && std::ldexp(1.0f, int(c - 1)) < aabbScale) ++c;
+  return c;
+}
+
 json configJson(const nerf::Checkpoint& ck, const std::string& path) {
   try {
     return json::parse(ck.config);
@@ -154,6 +162,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   auto& s = *impl_;
   s.ctx = ctx;
   s.config = config;
+  if (s.config.isFast() && s.config.fastModel().cascades == 0) s.config.fastModel().cascades = cascadesFor(train.aabbScale);
   s.box = train.bounds;
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;
@@ -162,11 +171,11 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   for (const auto& im : train.images) pixels.insert(pixels.end(), im.rgba.begin(), im.rgba.end());
   s.images = gpu::Buffer::of(*ctx, pixels);
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras));
-  s.pipe = nerf::makeFieldPipeline(*ctx, config, s.box, config.raysPerBatch, true);
+  s.pipe = nerf::makeFieldPipeline(*ctx, s.config, s.box, s.config.raysPerBatch, true);
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;
-  m->config = config;
+  m->config = s.config;
   m->box = s.box;
   m->pipe = s.pipe.get();
   s.model.reset(new Model(std::move(m)));

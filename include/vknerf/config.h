@@ -35,6 +35,7 @@ struct FastModel {
   // half the side about its centre, all at gridResolution; more than one marches with cone steps
   // that grow with distance. 0: from the dataset (1 + ceil(log2(aabb_scale)), 1 without one).
   uint32_t cascades = 0;
+  float coneAngle = 1.0f / 256.0f;    // with cascades: step = clamp(t coneAngle, smallest, outermost cell)
   uint32_t marchSteps = 512;          // march step = the inner cascade's diagonal / marchSteps
   uint32_t maxSamplesPerRay = 512;
 

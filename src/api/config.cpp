@@ -98,7 +98,8 @@ std::string TrainConfig::describe() const {
     os << "fast: hash grid L=" << m->hashLevels << " F=" << m->hashFeatures << " T=" << m->hashLog2Size
        << " N=" << m->hashBaseResolution << " b=" << m->hashGrowth << ", MLP " << m->depth << "x" << m->width
        << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
-       << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades, " << m->marchSteps
+       << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
+       << "), " << m->marchSteps
        << " steps per diagonal, ~" << m->samplesPerBatch << " samples/step";
   } else {
     const VanillaModel& v = std::get<VanillaModel>(model);

@@ -147,6 +147,7 @@ struct Trainer::Impl {
   Aabb box;
   uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;
   gpu::Buffer images, cameras;
+  bool transparentPixels = false;  // some training pixel has alpha < 255
   std::unique_ptr<nerf::FieldPipeline> pipe;
   uint32_t lastRays = 0;
   std::unique_ptr<gpu::Recorder> rec;
@@ -169,6 +170,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.imageHeight = train.images[0].height;
   std::vector<uint8_t> pixels;
   for (const auto& im : train.images) pixels.insert(pixels.end(), im.rgba.begin(), im.rgba.end());
+  for (size_t i = 3; i < pixels.size() && !s.transparentPixels; i += 4) s.transparentPixels = pixels[i] != 255;
   s.images = gpu::Buffer::of(*ctx, pixels);
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras));
   s.pipe = nerf::makeFieldPipeline(*ctx, s.config, s.box, s.config.raysPerBatch, true);
@@ -188,7 +190,7 @@ const Model& Trainer::model() const { return *impl_->model; }
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
-  const auto size = s.pipe->trainStep(*s.rec, {&s.images, &s.cameras, s.numCameras}, s.step);
+  const auto size = s.pipe->trainStep(*s.rec, {&s.images, &s.cameras, s.numCameras, s.transparentPixels}, s.step);
   const uint32_t R = size.rays;
   ++s.step;
   StepStats st;

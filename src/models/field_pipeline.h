@@ -35,6 +35,9 @@ struct TrainingData {
   const gpu::Buffer* images;
   const gpu::Buffer* cameras;
   uint32_t numCameras;
+  // Some pixel has alpha < 255. Only then does a random background teach something (that the
+  // transparent space is empty); behind opaque photos it is noise, and the constant one is used.
+  bool transparentPixels = true;
 };
 
 class FieldPipeline {

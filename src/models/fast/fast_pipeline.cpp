@@ -15,7 +15,6 @@ constexpr float kOccupancyDecay = 0.95f;       // instant-ngp's EMA factor per u
 constexpr float kOccupancyThickness = 0.01f;   // a cell is empty when one step through it is < 1% opaque
 constexpr uint32_t kMaxOccupancyPoints = 1u << 18;
 constexpr uint32_t kRayAlign = 64;             // sub-batches start at multiples of this (binding offsets)
-constexpr float kConeAngle = 1.0f / 256.0f;    // instant-ngp's for scenes larger than the inner cube
 
 float diagonal(const Aabb& b) {
   float s = 0;
@@ -39,7 +38,7 @@ FastModel checked(FastModel m) {
 // Cascades march with cone steps from the inner cube's step up to the outermost cell's diagonal.
 ConeSteps coneStepsFor(const FastModel& m, const Aabb& box) {
   if (m.cascades <= 1) return {};
-  return {kConeAngle, diagonal(box) / float(m.gridResolution)};
+  return {m.coneAngle, diagonal(box) / float(m.gridResolution)};
 }
 
 // A capacity that always holds kRayAlign whole rays, so every sub-batch makes progress: twice a

@@ -35,10 +35,11 @@ FastModel checked(FastModel m) {
   return m;
 }
 
-// Cascades march with cone steps from the inner cube's step up to the outermost cell's diagonal.
-ConeSteps coneStepsFor(const FastModel& m, const Aabb& box) {
+// Cascades march with cone steps from the inner cube's step dt up to the outermost cell's diagonal
+// (or dt, for a render asking for coarser steps than that).
+ConeSteps coneStepsFor(const FastModel& m, const Aabb& box, float dt) {
   if (m.cascades <= 1) return {};
-  return {m.coneAngle, diagonal(box) / float(m.gridResolution)};
+  return {m.coneAngle, std::max(dt, diagonal(box) / float(m.gridResolution))};
 }
 
 // A capacity that always holds kRayAlign whole rays, so every sub-batch makes progress: twice a
@@ -84,7 +85,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       dt_(diagonal(RayMarcher::innerCube(box, model_.cascades)) /
           float(overrides.marchSteps ? overrides.marchSteps : model_.marchSteps)),
       trainedDt_(diagonal(RayMarcher::innerCube(box, model_.cascades)) / float(model_.marchSteps)),
-      cone_(coneStepsFor(model_, box)),
+      cone_(coneStepsFor(model_, box, dt_)),
       hash_(ctx, hashGridConfigFor(model_)),
       sh_(ctx, model_.shDegree),
       mlp_(ctx, MlpConfig{.depth = model_.depth,

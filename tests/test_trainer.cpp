@@ -110,3 +110,25 @@ TEST_F(TrainerTest, EmptyDatasetIsAnError) {
   Dataset empty;
   EXPECT_THROW(Trainer(sharedContext(), empty, tinyConfig()), Error);
 }
+
+TEST_F(TrainerTest, FastModelNestsCascadesForAabbScale) {
+  // aabb_scale 8: 1 + log2(8) = 4 cascades, resolved by the trainer and kept in the checkpoint;
+  // a scene without one keeps one grid.
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.raysPerBatch = 1024;
+  Dataset unbounded = scene();
+  unbounded.aabbScale = 8;
+  Trainer t(sharedContext(), unbounded, c);
+  t.step();
+  auto s = t.statistics();
+  ASSERT_EQ(s.occupiedFractionPerCascade.size(), 4u);
+  ASSERT_TRUE(s.meanSamplesPerRay.has_value());
+  EXPECT_GT(*s.meanSamplesPerRay, 0.0);
+  const test::TempDir tmp("trainer");
+  t.save(tmp.file("cascades.vknerf"));
+  EXPECT_EQ(Trainer::configOf(tmp.file("cascades.vknerf")).fastModel().cascades, 4u);
+  Trainer one(sharedContext(), scene(), c);
+  EXPECT_EQ(one.statistics().occupiedFractionPerCascade.size(), 1u);
+}

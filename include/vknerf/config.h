@@ -30,8 +30,13 @@ struct FastModel {
   uint32_t shDegree = 4;              // direction encoding: shDegree^2 coefficients
   uint32_t width = 64, depth = 1;     // instant-ngp: one hidden layer for density, the colour layer after it
   DensityActivation density = DensityActivation::TruncExp;
-  uint32_t gridResolution = 64;       // occupancy cells per axis over the scene box
-  uint32_t marchSteps = 512;          // march step = box diagonal / marchSteps
+  uint32_t gridResolution = 64;       // occupancy cells per axis of each cascade
+  // Nested occupancy cascades (instant-ngp): the outermost covers the scene box, each one inside it
+  // half the side about its centre, all at gridResolution; more than one marches with cone steps
+  // that grow with distance. 0: from the dataset (1 + ceil(log2(aabb_scale)), 1 without one).
+  uint32_t cascades = 0;
+  float coneAngle = 1.0f / 256.0f;    // with cascades: step = clamp(t coneAngle, smallest, outermost cell)
+  uint32_t marchSteps = 512;          // march step = the inner cascade's diagonal / marchSteps
   uint32_t maxSamplesPerRay = 512;
 
   // Training

@@ -25,7 +25,8 @@
 //     [[min xyz], [max xyz]] in that frame ("json aabb"); instant-ngp's "aabb_scale" / "scale" /
 //     "offset": ngp maps p -> p * scale + offset (defaults 0.33, 0.5) and keeps the cube of side
 //     aabb_scale (default 1, at most 128) centred at 0.5, which maps back to the box
-//     ((0.5 -+ aabb_scale / 2) - offset) / scale ("aabb_scale"); else the cameras (below).
+//     ((0.5 -+ aabb_scale / 2) - offset) / scale ("aabb_scale", with Dataset::aabbScale); else the
+//     cameras (below).
 //   - COLMAP: world-to-camera (OpenCV: x right, y down, z forward) becomes camera-to-world in the
 //     OpenGL convention by negating the camera's y and z axes. The scene is then translated and
 //     uniformly scaled (never rotated) so that its box, the 1st-99th percentiles of points3D per
@@ -78,6 +79,9 @@ struct Dataset {
   std::vector<std::string> names;  // image file paths (for reports)
   Aabb bounds;                     // scene box, in the frame of `cameras`
   std::string boundsSource;        // "json aabb", "aabb_scale", "cameras", "cameras+alpha", "points3D"
+  // instant-ngp's aabb_scale ("aabb_scale" bounds): the box's side over that of the inner cube the
+  // cameras look into; 1 otherwise. The fast model nests 1 + ceil(log2(aabbScale)) occupancy cascades.
+  float aabbScale = 1;
 
   static Dataset load(const std::string& path, const DatasetOptions& options = {});  // throws vknerf::Error
 };

@@ -49,7 +49,9 @@ struct ModelStatistics {
   uint64_t samplesPerStep = 0;      // field evaluations in the last step
   // Fast model only.
   std::optional<double> occupiedFraction;     // occupancy-grid cells marked occupied
+  std::vector<double> occupiedFractionPerCascade;  // the same per cascade, innermost first
   std::optional<double> occupiedBoxFraction;  // the occupied cells' bounding box over the scene box (volume)
+  std::optional<double> meanSamplesPerRay;       // marched per ray, over all steps
   std::optional<double> keptByEarlyTermination;  // samples kept by early termination, over all steps
 };
 

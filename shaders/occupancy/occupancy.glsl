@@ -64,6 +64,9 @@ layout(push_constant) uniform Push {
   uint seed;
   uint jitter;      // first lattice point at u = rng01(seed, ray, 0) steps, else at t_near
   uint capacity;    // samples the output buffers hold (march_write.comp)
+  uint cascades;    // 1: the lattice march over one grid; more: the cascaded cone march below
+  float coneAngle;  // cascaded march: dt(t) = clamp(t coneAngle, dt, dtMax)
+  float dtMax;
 } pc;
 
 struct MarchRay {
@@ -131,6 +134,71 @@ vec2 marchSample(MarchRay m, uint k) {
   float t = latticeT(m.tNear, m.u, m.dt, k);
   precise float rest = m.tFar - t;
   return vec2(t, min(m.dt, rest));
+}
+
+// ---- Cascaded march with cone stepping (ref::marchRayCascaded): boxMin and gridScale describe
+// the inner cube, cascade c is 2^c times its side around the same centre, each an R^3 grid ----
+
+float coneStep(float t) { return clamp(t * pc.coneAngle, pc.boxMin.w, pc.dtMax); }
+
+// 2^c exactly (exp2 need not be).
+float powerOfTwo(uint c) { return float(1u << c); }
+
+// Smallest cascade holding grid point g (cascade 0's coordinates), the outermost for anything beyond.
+uint cascadeOf(vec3 g, uint r) {
+  float half_ = float(r) * 0.5;
+  vec3 q = abs(g - half_) / half_;
+  float m = max(max(max(0.0, q.x), q.y), q.z);
+  uint c = 0u;
+  while (c + 1u < pc.cascades && m > powerOfTwo(c)) ++c;
+  return c;
+}
+
+// Whether the cell of g in cascade c is occupied, and the t at which the ray leaves that cell.
+bool cascadeCellOccupied(MarchRay m, vec3 g, uint c, float t, out float tExit) {
+  float half_ = float(m.r) * 0.5, s = 1.0 / powerOfTwo(c), scale = powerOfTwo(c);
+  precise vec3 local = (g - half_) * s + half_;
+  uvec3 cell = cellOf(local, m.r);
+  uint index = c * m.r * m.r * m.r + cellIndex(cell, m.r);
+  tExit = kMaxFloat;
+  for (int a = 0; a < 3; ++a) {
+    if (m.gd[a] != 0.0) {
+      float bound = m.gd[a] > 0.0 ? float(cell[a] + 1u) : float(cell[a]);
+      precise float exitA = ((bound - half_) * scale + half_ - m.go[a]) / m.gd[a];
+      tExit = min(tExit, exitA);
+    }
+  }
+  return bitSet(occupancyBits[index >> 5u], index);
+}
+
+// First t of the march: t_near, plus u steps when jittered.
+float coneStart(MarchRay m) {
+  precise float t = m.tNear + m.u * coneStep(m.tNear);
+  return t;
+}
+
+// From t (updated in place) to the next occupied point before t_far: true with its step dt, or
+// false when the ray is done. Empty cells are jumped over in whole steps of the current dt.
+bool coneNextSample(MarchRay m, inout float t, out float dt) {
+  dt = 0.0;
+  if (!(m.tNear >= 0.0)) return false;
+  for (uint i = 0u; i < kMaxMarchSteps && t < m.tFar; ++i) {
+    dt = coneStep(t);
+    vec3 g = gridPoint(m.go, m.gd, t);
+    float tExit;
+    if (cascadeCellOccupied(m, g, cascadeOf(g, m.r), t, tExit)) return true;
+    precise float steps = max(1.0, ceil((tExit - t) / dt));
+    precise float next = t + steps * dt;
+    if (!(next > t)) return false;  // a step no longer moves t
+    t = next;
+  }
+  return false;
+}
+
+// After a sample at t: the next point of the march, or +inf when a step no longer moves t.
+float coneAdvance(float t, float dt) {
+  precise float next = t + dt;
+  return next > t ? next : kMaxFloat;
 }
 
 #endif  // OCCUPANCY_MARCH

@@ -1,6 +1,6 @@
 #version 450
 // Occupancy update, step 1: one jittered point per chosen cell, for the caller to evaluate the
-// density field at. Point j goes to cell j (every cell) or to cell rngUint(seed, j, 3) % R^3 (a
+// density field at. Point j goes to cell j (every cell) or to cell rngUint(seed, j, 3) % (cascades R^3) (a
 // random subset, as instant-ngp does after warm-up), at offsets rng01(seed, j, axis) inside it.
 // Positions are in the normalised box [-1, 1]^3 the field expects, w = 0.
 #extension GL_GOOGLE_include_directive : require
@@ -16,16 +16,20 @@ layout(push_constant) uniform Push {
   uint count;
   uint seed;
   uint randomCells;
+  uint cascades;  // cell = cascade * R^3 + local cell; cascade c spans 2^(c - cascades + 1) of the box
 } pc;
 
 void main() {
   uint j = flatIndex(256u);
   if (j >= pc.count) return;
   uint r = pc.resolution;
-  uint cell = pc.randomCells != 0u ? rngUint(pc.seed, j, 3u) % (r * r * r) : j;
-  uvec3 c = uvec3(cell % r, (cell / r) % r, cell / (r * r));
+  uint perCascade = r * r * r;
+  uint cell = pc.randomCells != 0u ? rngUint(pc.seed, j, 3u) % (perCascade * pc.cascades) : j;
+  uint local = cell % perCascade;
+  uvec3 c = uvec3(local % r, (local / r) % r, local / (r * r));
   vec3 u = vec3(rng01(pc.seed, j, 0u), rng01(pc.seed, j, 1u), rng01(pc.seed, j, 2u));
-  precise vec3 p = (vec3(c) + u) * (2.0 / float(r)) - 1.0;
+  float scale = 1.0 / float(1u << (pc.cascades - 1u - cell / perCascade));  // 2^(cascade - cascades + 1), exact
+  precise vec3 p = ((vec3(c) + u) * (2.0 / float(r)) - 1.0) * scale;
   positions[j] = vec4(p, 0.0);
   cells[j] = cell;
 }

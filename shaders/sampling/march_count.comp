@@ -13,6 +13,13 @@ void main() {
   uint ray = marchRayIndex();
   if (ray >= pc.numRays) return;
   MarchRay m = marchRay(ray);
+  if (pc.cascades > 1u) {
+    uint n = 0u;
+    float t = coneStart(m), dt;
+    for (; n < pc.maxSamples && coneNextSample(m, t, dt); ++n) t = coneAdvance(t, dt);
+    counts[ray] = n;
+    return;
+  }
   // Whole runs of lattice points per cell: the count costs one iteration per cell crossed.
   uint kEnd = marchEnd(m), n = 0u;
   for (uint k = 0u; k < kEnd && n < pc.maxSamples;) {

@@ -17,6 +17,15 @@ void main() {
   uint s = offsets[ray], end = offsets[ray + 1u];
   if (s >= end) return;
   MarchRay m = marchRay(ray);
+  if (pc.cascades > 1u) {
+    float t = coneStart(m), dt;
+    for (; s < end && coneNextSample(m, t, dt); ++s) {
+      samples[s] = vec2(t, min(dt, m.tFar - t));
+      sampleRay[s] = ray;
+      t = coneAdvance(t, dt);
+    }
+    return;
+  }
   uint kEnd = marchEnd(m);
   for (uint k = 0u; k < kEnd && s < end;) {
     bool occupied;

@@ -235,6 +235,7 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
   if (scene.hasBox) {
     d.bounds = scene.box;
     d.boundsSource = scene.boxSource;
+    d.aabbScale = scene.aabbScale;
   } else {
     // Every camera of the scene (all splits) places the box, so that the splits agree on it.
     std::vector<Camera> all = fullRes;

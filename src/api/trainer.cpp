@@ -26,6 +26,14 @@ namespace {
 
 TrainConfig fromJson(const json& j, const std::string& file) { return nerf::trainConfigFromJson(j, file); }
 
+// instant-ngp's cascades for an aabb_scale: enough doublings of the inner cube to reach the box.
+uint32_t cascadesFor(float aabbScale) {
+  uint32_t c = 1;
+  constexpr uint32_t kMaxCascades = 8;  // as TrainConfig::validate allows
+  while (c < kMaxCascades && std::ldexp(1.0f, int(c - 1)) < aabbScale) ++c;
+  return c;
+}
+
 json configJson(const nerf::Checkpoint& ck, const std::string& path) {
   try {
     return json::parse(ck.config);
@@ -145,6 +153,7 @@ struct Trainer::Impl {
   uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;  // the first image's size, for the checkpoint
   std::unique_ptr<nerf::TrainingPixels> pixels;
   gpu::Buffer cameras;
+  bool transparentPixels = false;  // some training pixel has alpha < 255
   std::unique_ptr<nerf::FieldPipeline> pipe;
   uint32_t lastRays = 0;
   std::unique_ptr<gpu::Recorder> rec;
@@ -166,6 +175,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   auto& s = *impl_;
   s.ctx = ctx;
   s.config = config;
+  if (s.config.isFast() && s.config.fastModel().cascades == 0) s.config.fastModel().cascades = cascadesFor(train.aabbScale);
   s.box = train.bounds;
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;
@@ -179,6 +189,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
       throw Error("training image " + std::to_string(i) + " is " + std::to_string(im.width) + "x" +
                   std::to_string(im.height) + " with " + std::to_string(im.rgba.size()) + " bytes but its camera is " +
                   std::to_string(train.cameras[i].width) + "x" + std::to_string(train.cameras[i].height));
+    for (size_t k = 3; k < im.rgba.size() && !s.transparentPixels; k += 4) s.transparentPixels = im.rgba[k] != 255;
     sizes.emplace_back(im.width, im.height);
     pixelCounts.push_back(uint64_t(im.width) * im.height);
   }
@@ -189,7 +200,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   const std::string device = "the device (" + ctx->deviceName() + ")";
   nerf::requireFit("training", sizes, 0, "", deviceBytes, device);
   auto layout = nerf::planPixelBindings(pixelCounts, nerf::pixelBytesPerBinding(*ctx));
-  s.pipe = nerf::makeFieldPipeline(*ctx, config, s.box, config.raysPerBatch, true);
+  s.pipe = nerf::makeFieldPipeline(*ctx, s.config, s.box, s.config.raysPerBatch, true);
   nerf::requireFit("training", sizes, s.pipe->memory()->bytes(), "model", deviceBytes, device);
   // On a CPU device the device's memory is the host's: the pixels come out of what is left of it.
   if (ctx->isCpu()) nerf::requireFit("training", sizes, 0, "", nerf::availableHostBytes(), "host memory (available)");
@@ -202,7 +213,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;
-  m->config = config;
+  m->config = s.config;
   m->box = s.box;
   m->pipe = s.pipe.get();
   s.model.reset(new Model(std::move(m)));
@@ -215,7 +226,7 @@ const Model& Trainer::model() const { return *impl_->model; }
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
-  const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras}, s.step);
+  const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras, s.transparentPixels}, s.step);
   const uint32_t R = size.rays;
   ++s.step;
   StepStats st;

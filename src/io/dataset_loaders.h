@@ -37,6 +37,7 @@ struct SceneSpec {
   bool hasBox = false;            // the files state the box
   Aabb box;
   std::string boxSource;
+  float aabbScale = 1;            // instant-ngp's aabb_scale, when the files give one
 };
 
 // Readers. `target` is what Dataset::load was given, already classified.

@@ -187,7 +187,7 @@ std::vector<FrameSpec> readFrames(const JsonFile& f) {
 // "aabb", or instant-ngp's cube: ngp maps a point p of this file's frame to p * scale + offset (then
 // cycles the axes, which leaves a cube a cube) and bounds the scene by the cube of side aabb_scale
 // (at most 128, as ngp clamps it) centred at (0.5, 0.5, 0.5).
-bool readBox(const JsonFile& f, Aabb& box, std::string& source) {
+bool readBox(const JsonFile& f, Aabb& box, std::string& source, float& cubeSide) {
   const json& r = f.root;
   if (auto it = r.find("aabb"); it != r.end()) {
     const json& a = *it;
@@ -211,6 +211,7 @@ bool readBox(const JsonFile& f, Aabb& box, std::string& source) {
   if (!(side > 0)) fieldError(f, "aabb_scale", "must be positive");
   if (!(s > 0)) fieldError(f, "scale", "must be positive");
   side = std::min(side, 128.0);
+  cubeSide = float(side);
   double offset[3] = {0.5, 0.5, 0.5};
   if (offsetIt != r.end()) {
     const json& o = *offsetIt;
@@ -235,7 +236,7 @@ std::optional<std::string> splitOfFileName(const fs::path& p) {
 }
 
 void takeBox(const JsonFile& f, SceneSpec& scene) {
-  if (!scene.hasBox) scene.hasBox = readBox(f, scene.box, scene.boxSource);
+  if (!scene.hasBox) scene.hasBox = readBox(f, scene.box, scene.boxSource, scene.aabbScale);
 }
 
 // Split files beside the requested ones: their cameras only help place the scene box, so a flaw in

@@ -37,6 +37,9 @@ struct TrainingData {
   std::span<const gpu::BufferRange> pixels;
   const gpu::Buffer* cameras;
   uint32_t numCameras;
+  // Some pixel has alpha < 255. Only then does a random background teach something (that the
+  // transparent space is empty); behind opaque photos it is noise, and the constant one is used.
+  bool transparentPixels = true;
 };
 
 class FieldPipeline {

@@ -38,6 +38,8 @@ struct Options {
   std::string scene, output, config = "vanilla";
   uint32_t width = 0, depth = 0, coarse = 0, fine = 0;
   uint32_t hashLevels = 0, hashLog2Size = 0, hashMaxResolution = 0, grid = 0, marchSteps = 0, samplesPerStep = 0;
+  uint32_t cascades = 0;
+  float coneAngle = 0;
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
   double seconds = 0;
   bool resume = false, profile = false, noEarlyTermination = false;
@@ -61,7 +63,7 @@ std::string flagsForTheOtherModel(const Options& o, const TrainConfig& cfg) {
   }
   const std::pair<bool, const char*> fastOnly[] = {
       {o.hashLevels != 0, "--hash-levels"}, {o.hashLog2Size != 0, "--hash-log2-size"},
-      {o.hashMaxResolution != 0, "--hash-max-resolution"}, {o.grid != 0, "--grid"},
+      {o.hashMaxResolution != 0, "--hash-max-resolution"}, {o.grid != 0, "--grid"}, {o.cascades != 0, "--cascades"}, {o.coneAngle != 0, "--cone-angle"},
       {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
       {o.noEarlyTermination, "--no-early-termination"}};
   for (auto [given, flag] : fastOnly)
@@ -89,6 +91,8 @@ void applyFlags(const Options& o, TrainConfig& cfg) {
       f.hashGrowth = f.hashLevels > 1 ? float(std::pow(finest / f.hashBaseResolution, 1.0 / (f.hashLevels - 1))) : 1.0f;
     }
     if (o.grid) f.gridResolution = o.grid;
+    if (o.cascades) f.cascades = o.cascades;
+    if (o.coneAngle) f.coneAngle = o.coneAngle;
     if (o.marchSteps) f.marchSteps = o.marchSteps, f.maxSamplesPerRay = o.marchSteps;
     if (o.samplesPerStep) f.samplesPerBatch = o.samplesPerStep;
     if (o.noEarlyTermination) f.earlyTermination = false;
@@ -115,7 +119,7 @@ void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
       {"--rays", "/rays_per_batch"}, {"--seed", "/seed"}, {"--width", "/model/width"}, {"--depth", "/model/depth"},
       {"--coarse", "/model/coarse_samples"}, {"--fine", "/model/fine_samples"},
       {"--hash-levels", "/model/hash_levels"}, {"--hash-log2-size", "/model/hash_log2_size"},
-      {"--hash-max-resolution", "/model/hash_growth"}, {"--grid", "/model/grid_resolution"},
+      {"--hash-max-resolution", "/model/hash_growth"}, {"--grid", "/model/grid_resolution"}, {"--cascades", "/model/cascades"}, {"--cone-angle", "/model/cone_angle"},
       {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
       {"--no-early-termination", "/early_termination"}};
   for (auto [flag, key] : keys) {
@@ -203,6 +207,11 @@ int train(const Options& o, const Globals& g) {
                 " rays per batch; lower --rays" + (cfg.isFast() ? " or --samples-per-step" : "") + " or raise --downscale");
   }
   Trainer& trainer = *built;
+  if (cfg.isFast()) {
+    const ModelStatistics start = trainer.statistics();
+    std::printf("model: %zu occupancy cascade(s) over the box (aabb_scale %g), device buffers %.1f MiB\n",
+                std::max<size_t>(1, start.occupiedFractionPerCascade.size()), double(data.aabbScale), start.deviceMiB);
+  }
   if (resuming) {
     trainer.resume(o.output);
     std::printf("resumed %s at step %u\n", o.output.c_str(), trainer.steps());
@@ -279,6 +288,8 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--hash-log2-size", o->hashLog2Size, "fast: log2 of the hash table entries per level")->check(CLI::Range(2u, 24u));
                      app.add_option("--hash-max-resolution", o->hashMaxResolution, "fast: finest grid level's cells per axis")->check(CLI::Range(2u, 65536u));
                      app.add_option("--grid", o->grid, "fast: occupancy grid cells per axis")->check(CLI::Range(1u, 256u));
+                     app.add_option("--cascades", o->cascades, "fast: nested occupancy cascades (default: from the scene's aabb_scale)")->check(CLI::Range(1u, 8u));
+                     app.add_option("--cone-angle", o->coneAngle, "fast, with cascades: step = t * angle beyond the inner cube")->check(CLI::Range(1e-6f, 1.0f));
                      app.add_option("--march-steps", o->marchSteps, "fast: march steps per scene-box diagonal")->check(CLI::Range(1u, 65536u));
                      app.add_option("--samples-per-step", o->samplesPerStep, "fast: samples a training step aims for")->check(CLI::Range(256u, 1u << 26));
                      app.add_flag("--no-early-termination", o->noEarlyTermination, "fast: train on every marched sample, also behind opaque surfaces");

@@ -35,7 +35,7 @@ RayBatch::RayBatch(Context& ctx, uint32_t capacity)
 void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count,
                               const Aabb& box, const TrainConfig& config) {
   generation_.recordRandom(rec, count, *data.cameras, data.numCameras, seed, box, kNearPlane, rays_, pixelIds_);
-  if (config.randomBackground)
+  if (config.randomBackground && data.transparentPixels)
     backgrounds_.recordRandom(rec, background_, count, seed);
   else
     backgrounds_.recordConstant(rec, background_, count, config.background);

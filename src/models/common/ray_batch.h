@@ -21,7 +21,8 @@ class RayBatch {
   RayBatch(Context& ctx, uint32_t capacity);
 
   // `count` rays through random training pixels (seed: stepSeed), with random backgrounds when
-  // config.randomBackground (empty space then learns zero density), else config.background.
+  // config.randomBackground and the photos have transparent pixels (empty space then learns zero
+  // density), else config.background.
   void recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count, const Aabb& box,
                       const TrainConfig& config);
   // Rays through pixels [first, first + count) of camera `camera`, over a constant background.

@@ -28,9 +28,18 @@ FastModel withOverrides(FastModel m, const RenderSettings& overrides) {
   return m;
 }
 
-const FastModel& checked(const FastModel& m) {
+// One cascade unless the configuration asks for more (0, "from the dataset", is resolved by the trainer).
+FastModel checked(FastModel m) {
   if (m.marchSteps == 0 || m.maxSamplesPerRay == 0) throw Error("fast model: march steps and samples per ray must be > 0");
+  m.cascades = std::max(m.cascades, 1u);
   return m;
+}
+
+// Cascades march with cone steps from the inner cube's step dt up to the outermost cell's diagonal
+// (or dt, for a render asking for coarser steps than that).
+ConeSteps coneStepsFor(const FastModel& m, const Aabb& box, float dt) {
+  if (m.cascades <= 1) return {};
+  return {m.coneAngle, std::max(dt, diagonal(box) / float(m.gridResolution))};
 }
 
 // A capacity that always holds kRayAlign whole rays, so every sub-batch makes progress: twice a
@@ -73,8 +82,10 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       rayCapacity_(std::max(rayCapacity, kRayAlign)),
       sampleCapacity_(sampleCapacityFor(model_, rayCapacity_, training)),
       training_(training),
-      dt_(diagonal(box) / float(overrides.marchSteps ? overrides.marchSteps : model_.marchSteps)),
-      trainedDt_(diagonal(box) / float(model_.marchSteps)),
+      dt_(diagonal(RayMarcher::innerCube(box, model_.cascades)) /
+          float(overrides.marchSteps ? overrides.marchSteps : model_.marchSteps)),
+      trainedDt_(diagonal(RayMarcher::innerCube(box, model_.cascades)) / float(model_.marchSteps)),
+      cone_(coneStepsFor(model_, box, dt_)),
       hash_(ctx, hashGridConfigFor(model_)),
       sh_(ctx, model_.shDegree),
       mlp_(ctx, MlpConfig{.depth = model_.depth,
@@ -87,7 +98,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       table_(ctx, "encoding", hash_.initialParameters(config.seed),
              training ? std::optional(tableAdamOf(config)) : std::nullopt),
       network_(ctx, "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),
-      grid_(ctx, model_.gridResolution),
+      grid_(ctx, model_.gridResolution, model_.cascades),
       rays_(ctx, rayCapacity_),
       marcher_(ctx, rayCapacity_),
       points_(ctx),
@@ -128,7 +139,8 @@ void FastPipeline::recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t 
   marcher_.record(
       rec, numRays,
       gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VkDeviceSize(numRays) * kRayBytes), grid_,
-      box_, dt_, maxSamples, seed, jitter, marched_.offsets, marched_.samples, marched_.sampleRay, marched_.totals);
+      box_, dt_, maxSamples, seed, jitter, marched_.offsets, marched_.samples, marched_.sampleRay, marched_.totals,
+      cone_);
 }
 
 std::pair<uint32_t, uint32_t> FastPipeline::wholeRays(uint32_t numRays) {
@@ -239,6 +251,7 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   auto [rays, samples] = wholeRays(R);
   const uint32_t marchedCount = samples;
   marchedSamples_ += samples;
+  marchedRays_ += rays;
 
   const Packed* batch = &marched_;
   if (termination_) {
@@ -293,11 +306,11 @@ std::vector<StateArray> FastPipeline::state() {
 }
 
 ModelStatistics FastPipeline::modelStatistics() {
-  // The box the occupied cells span: what the scene needs of the box it was given.
+  // The box the occupied cells span: what the scene needs of the box it was given (one cascade).
   auto bits = grid_.bits().download<uint32_t>(grid_.numWords());
   const uint32_t res = grid_.resolution();
   uint32_t lo[3] = {res, res, res}, hi[3] = {0, 0, 0};
-  for (uint32_t i = 0; i < grid_.numCells(); ++i) {
+  for (uint32_t i = 0; i < grid_.numCells() && grid_.cascades() == 1; ++i) {
     if (!((bits[i >> 5] >> (i & 31)) & 1u)) continue;
     const uint32_t c[3] = {i % res, (i / res) % res, i / (res * res)};
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k]), hi[k] = std::max(hi[k], c[k] + 1);
@@ -311,7 +324,9 @@ ModelStatistics FastPipeline::modelStatistics() {
   s.raysPerStep = lastRays_;
   s.samplesPerStep = lastSamples_;
   s.occupiedFraction = grid_.occupiedFraction();
-  s.occupiedBoxFraction = boxFraction;
+  s.occupiedFractionPerCascade = grid_.occupiedFractionPerCascade();
+  if (grid_.cascades() == 1) s.occupiedBoxFraction = boxFraction;
+  if (marchedRays_) s.meanSamplesPerRay = double(marchedSamples_) / double(marchedRays_);
   s.keptByEarlyTermination = marchedSamples_ ? double(keptSamples_) / double(marchedSamples_) : 1.0;
   return s;
 }

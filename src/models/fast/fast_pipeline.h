@@ -76,7 +76,8 @@ class FastPipeline final : public FieldPipeline {
   Aabb box_;
   uint32_t rayCapacity_, sampleCapacity_;
   bool training_;
-  float dt_, trainedDt_;  // march step now, and in training (the occupancy threshold's)
+  float dt_, trainedDt_;  // march step now, and in training (the occupancy threshold's): the smallest
+  ConeSteps cone_;        // how steps grow with distance (cascades only)
   HashEncoding hash_;
   ShEncoding sh_;
   NerfMlp mlp_;
@@ -96,7 +97,7 @@ class FastPipeline final : public FieldPipeline {
   std::optional<Packed> kept_;  // early termination (training): the samples in front of T < 1e-4
   FieldBatch field_;
   gpu::Buffer weights_, dPos_;
-  uint64_t marchedSamples_ = 0, keptSamples_ = 0;
+  uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;
   // occupancy update (training): jittered points in cells and the field there
   uint32_t occPoints_ = 0;
   FieldBatch occField_;

@@ -9,7 +9,7 @@ namespace vknerf::nerf {
 namespace {
 
 struct PointsPush {
-  uint32_t resolution, count, seed, randomCells;
+  uint32_t resolution, count, seed, randomCells, cascades;
 };
 struct SplatPush {
   uint32_t count, stride, component;
@@ -28,18 +28,24 @@ void requireBytes(const char* what, const gpu::BufferRange& r, uint64_t needed) 
   gpu::requireBytes("OccupancyGrid", what, r, needed);
 }
 
-uint32_t checkedResolution(uint32_t r) {
-  // 256^3 floats is 64 MiB, inside lavapipe's 128 MiB storage-buffer range.
+uint32_t checkedCells(uint32_t r, uint32_t cascades) {
+  // 2^24 floats is 64 MiB, inside lavapipe's 128 MiB storage-buffer range.
   if (r < 1 || r > 256) throw Error("OccupancyGrid: resolution " + std::to_string(r) + " is outside [1, 256]");
-  return r;
+  if (cascades < 1 || cascades > OccupancyGrid::kMaxCascades)
+    throw Error("OccupancyGrid: " + std::to_string(cascades) + " cascades are outside [1, " + std::to_string(OccupancyGrid::kMaxCascades) + "]");
+  if (uint64_t(r) * r * r * cascades > (1u << 24))
+    throw Error("OccupancyGrid: " + std::to_string(cascades) + " cascades of " + std::to_string(r) +
+                "^3 cells exceed 2^24 cells");
+  return r * r * r * cascades;
 }
 
 }  // namespace
 
-OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution)
+OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution, uint32_t cascades)
     : ctx_(ctx),
-      resolution_(checkedResolution(resolution)),
-      numCells_(resolution * resolution * resolution),
+      resolution_(resolution),
+      cascades_(cascades),
+      numCells_(checkedCells(resolution, cascades)),
       density_(ctx, VkDeviceSize(numCells_) * 4),
       bits_(ctx, VkDeviceSize(numWords()) * 4),
       fresh_(ctx, VkDeviceSize(numCells_) * 4),
@@ -60,7 +66,7 @@ void OccupancyGrid::recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const
                                         const gpu::BufferRange& cells) {
   requireBytes("positions", positions, uint64_t(numCells_) * 16);
   requireBytes("cells", cells, uint64_t(numCells_) * 4);
-  PointsPush p{resolution_, numCells_, seed, 0};
+  PointsPush p{resolution_, numCells_, seed, 0, cascades_};
   rec.dispatchFlat(points_, {positions, cells}, p, numCells_, kPointsLocal, "occupancy_points");
 }
 
@@ -68,7 +74,7 @@ void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, ui
                                            const gpu::BufferRange& positions, const gpu::BufferRange& cells) {
   requireBytes("positions", positions, uint64_t(count) * 16);
   requireBytes("cells", cells, uint64_t(count) * 4);
-  PointsPush p{resolution_, count, seed, 1};
+  PointsPush p{resolution_, count, seed, 1, cascades_};
   rec.dispatchFlat(points_, {positions, cells}, p, count, kPointsLocal, "occupancy_points");
 }
 
@@ -104,6 +110,16 @@ float OccupancyGrid::occupiedFraction() {
   rec.end();
   rec.submitAndWait();
   return float(double(counter_.download<uint32_t>(1)[0]) / numCells_);
+}
+
+std::vector<double> OccupancyGrid::occupiedFractionPerCascade() {
+  const auto bits = bits_.download<uint32_t>(numWords());
+  const uint32_t perCascade = numCells_ / cascades_;
+  std::vector<double> out(cascades_, 0.0);
+  for (uint32_t i = 0; i < numCells_; ++i)
+    if ((bits[i >> 5] >> (i & 31u)) & 1u) out[i / perCascade] += 1.0;
+  for (double& f : out) f /= perCascade;
+  return out;
 }
 
 }  // namespace vknerf::nerf

@@ -1,18 +1,21 @@
 #pragma once
 // Occupancy grid for empty-space skipping (shaders/occupancy_*.comp, shaders/occupancy.glsl).
-// R^3 cells over the scene box. Layouts:
-//   density  float[R^3]: running maximum of the field density sigma per cell (instant-ngp's EMA)
-//   bits     uint[ceil(R^3 / 32)]: cell i = x + R (y + R z) is occupied when bit (i & 31) of word
-//            i >> 5 is set; bits past the last cell are meaningless and never read
+// C nested cascades of R^3 cells: cascade C - 1 covers the scene box, each one inside it half the
+// side around the same centre (instant-ngp's cascades; C = 1 is one grid over the box). Layouts:
+//   density  float[C R^3]: running maximum of the field density sigma per cell (instant-ngp's EMA)
+//   bits     uint[ceil(C R^3 / 32)]: cell i = c R^3 + x + R (y + R z) of cascade c is occupied when
+//            bit (i & 31) of word i >> 5 is set; bits past the last cell are meaningless and never read
 // An update is three steps around the caller's field evaluation:
 //   1. recordAllCellPoints / recordRandomCellPoints: vec4 positions (normalised box [-1, 1]^3,
-//      w = 0) and uint cell indices of the points to evaluate;
+//      w = 0; cascade c's cells span [-2^(c-C+1), 2^(c-C+1)]^3 of it) and uint cell indices of the
+//      points to evaluate;
 //   2. the caller writes float density[] (sigma, activated) for those points;
 //   3. recordUpdate: d = max(d * decay, max of the new densities in the cell) for every cell, then
 //      bits = d > threshold.
 // The threshold is a density; densityThreshold(tau, dt) gives the density at which one march step
 // dt has optical thickness sigma * dt = tau (instant-ngp: tau = 0.01, alpha ~ 1%).
 #include <cstdint>
+#include <vector>
 
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
@@ -22,11 +25,15 @@ namespace vknerf::nerf {
 
 class OccupancyGrid {
  public:
-  // resolution R in [1, 256]; density starts at 0 and every cell empty: call recordMarkAllOccupied
-  // before the first march so that nothing is skipped until the field has been measured.
-  OccupancyGrid(Context& ctx, uint32_t resolution = 128);
+  static constexpr uint32_t kMaxCascades = 8;
+
+  // resolution R in [1, 256], cascades C in [1, kMaxCascades], C R^3 at most 2^24; density starts
+  // at 0 and every cell empty: call recordMarkAllOccupied before the first march so that nothing is
+  // skipped until the field has been measured.
+  OccupancyGrid(Context& ctx, uint32_t resolution = 128, uint32_t cascades = 1);
 
   uint32_t resolution() const { return resolution_; }
+  uint32_t cascades() const { return cascades_; }
   uint32_t numCells() const { return numCells_; }
   uint32_t numWords() const { return (numCells_ + 31u) / 32u; }
   const gpu::Buffer& density() const { return density_; }
@@ -42,7 +49,7 @@ class OccupancyGrid {
   // numCells() points, point j in cell j: positions vec4[numCells()], cells uint[numCells()].
   void recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const gpu::BufferRange& positions,
                            const gpu::BufferRange& cells);
-  // `count` points in cells drawn uniformly at random (with repetition), cell rngUint(seed, j, 3) % R^3.
+  // `count` points in cells drawn uniformly at random (with repetition), cell rngUint(seed, j, 3) % numCells().
   void recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, uint32_t count, const gpu::BufferRange& positions,
                               const gpu::BufferRange& cells);
   // EMA and bits from the densities measured at `count` points of `cells`: point j's density is
@@ -55,10 +62,12 @@ class OccupancyGrid {
   void recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter);
   // Occupied cells / all cells, after everything submitted so far (records, submits, waits).
   float occupiedFraction();
+  // The same per cascade, innermost first (reads the bits on the host).
+  std::vector<double> occupiedFractionPerCascade();
 
  private:
   Context& ctx_;
-  uint32_t resolution_, numCells_;
+  uint32_t resolution_, cascades_, numCells_;
   gpu::Buffer density_, bits_, fresh_, counter_;
   gpu::Kernel points_, splat_, ema_, count_;
 };

@@ -14,7 +14,8 @@ namespace {
 struct MarchPush {
   float boxMin[4];     // w = dt
   float gridScale[4];
-  uint32_t numRays, resolution, maxSamples, seed, jitter, capacity;
+  uint32_t numRays, resolution, maxSamples, seed, jitter, capacity, cascades;
+  float coneAngle, dtMax;
 };
 
 constexpr uint32_t kMarchLocal = 32;  // march_count.comp, march_write.comp
@@ -39,10 +40,21 @@ float RayMarcher::defaultStep(const Aabb& box) {
   return float(std::sqrt(s) / 1024.0);
 }
 
+Aabb RayMarcher::innerCube(const Aabb& box, uint32_t cascades) {
+  const float shrink = std::ldexp(1.0f, -int(cascades - 1));
+  Aabb inner;
+  for (int k = 0; k < 3; ++k) {
+    const float centre = 0.5f * (box.min[k] + box.max[k]), half = 0.5f * (box.max[k] - box.min[k]) * shrink;
+    inner.min[k] = centre - half;
+    inner.max[k] = centre + half;
+  }
+  return inner;
+}
+
 void RayMarcher::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const OccupancyGrid& grid,
                         const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
                         const gpu::BufferRange& offsets, const gpu::BufferRange& samples,
-                        const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals) {
+                        const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, const ConeSteps& cone) {
   if (numRays > maxRays_)
     throw Error("RayMarcher: " + std::to_string(numRays) + " rays exceed the capacity " + std::to_string(maxRays_));
   if (!(std::isfinite(dt) && dt > 0.0f)) throw Error("RayMarcher: step " + std::to_string(dt) + " must be finite and > 0");
@@ -56,11 +68,16 @@ void RayMarcher::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferR
   PackedLayout::requireOutputs("RayMarcher", numRays, offsets, totals);
   uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(samples) / kSampleBytes, gpu::boundBytes(sampleRay) / 4, 0xffffffffull});
 
-  uint32_t r = grid.resolution();
-  MarchPush p{{box.min[0], box.min[1], box.min[2], dt},
-              {float(r) / (box.max[0] - box.min[0]), float(r) / (box.max[1] - box.min[1]),
-               float(r) / (box.max[2] - box.min[2]), 0},
-              numRays, r, maxSamplesPerRay, seed, jitter ? 1u : 0u, uint32_t(capacity)};
+  const uint32_t r = grid.resolution(), cascades = grid.cascades();
+  if (cascades > 1 && !(std::isfinite(cone.coneAngle) && cone.coneAngle >= 0.0f && cone.dtMax >= dt && std::isfinite(cone.dtMax)))
+    throw Error("RayMarcher: cone angle " + std::to_string(cone.coneAngle) + " must be finite and >= 0, and the largest step " +
+                std::to_string(cone.dtMax) + " finite and >= the step " + std::to_string(dt));
+  // The grid coordinates are cascade 0's: the inner cube's (the box itself for one cascade).
+  const Aabb g = cascades > 1 ? innerCube(box, cascades) : box;
+  MarchPush p{{g.min[0], g.min[1], g.min[2], dt},
+              {float(r) / (g.max[0] - g.min[0]), float(r) / (g.max[1] - g.min[1]), float(r) / (g.max[2] - g.min[2]), 0},
+              numRays, r, maxSamplesPerRay, seed, jitter ? 1u : 0u, uint32_t(capacity), cascades,
+              cone.coneAngle, cone.dtMax};
   rec.dispatchFlat(count_, {rays, grid.bits(), layout_.counts()}, p, numRays, kMarchLocal, "march_count");
   layout_.recordOffsetsAndTotals(rec, numRays, uint32_t(capacity), offsets, totals);
   if (capacity > 0)

@@ -6,6 +6,9 @@
 // (jitter, training) or 0 (rendering). Each sample is vec2(t_k, min(dt, t_far - t_k)): it stands
 // for [t_k, t_k + dt], cut at t_far. Empty cells are skipped in one jump, giving exactly the
 // samples of the one-step-at-a-time march (src/reference/occupancy.h, ref::marchRay).
+// A grid of several cascades (unbounded scenes) is marched with instant-ngp's cone steps instead:
+// dt(t) = clamp(t coneAngle, dt, dtMax), empty cells of every cascade jumped over in whole steps
+// (ref::marchRayCascaded); each sample is then (t, min(dt(t), t_far - t)).
 // Output layouts:
 //   offsets     uint[numRays + 1]: ray r owns samples [off[r], off[r+1]); off[numRays] = total
 //               (the packed layout of nerf::Compositor with samplesPerRay = 0)
@@ -25,6 +28,11 @@
 
 namespace vknerf::nerf {
 
+// Step sizes of a cascaded march: the step grows with t up to dtMax (dtMax >= the march's dt).
+struct ConeSteps {
+  float coneAngle = 0, dtMax = 0;
+};
+
 class RayMarcher {
  public:
   RayMarcher(Context& ctx, uint32_t maxRays);
@@ -34,11 +42,16 @@ class RayMarcher {
 
   // rays: 2 x vec4 per ray (o, t_near), (d, t_far), misses (-1, -1). Throws vknerf::Error for
   // numRays > maxRays, dt not finite and > 0, maxSamplesPerRay == 0, numRays * maxSamplesPerRay
-  // over 32 bits, an empty box, or buffers too small for numRays (offsets, totals).
+  // over 32 bits, an empty box, or buffers too small for numRays (offsets, totals); with cascades,
+  // a cone angle not finite and >= 0 or dtMax < dt. `box` is the whole scene box (the outermost
+  // cascade's); `cone` is used only when the grid has more than one cascade.
   void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const OccupancyGrid& grid,
               const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
               const gpu::BufferRange& offsets, const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
-              const gpu::BufferRange& totals);
+              const gpu::BufferRange& totals, const ConeSteps& cone = {});
+
+  // The inner cube of a grid of `cascades` over `box`: the box shrunk by 2^(cascades - 1) about its centre.
+  static Aabb innerCube(const Aabb& box, uint32_t cascades);
 
  private:
   uint32_t maxRays_;

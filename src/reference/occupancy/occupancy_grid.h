@@ -37,15 +37,20 @@ struct CellPoint {
 };
 
 // Point j of an update: cell j, or a random cell; jittered inside it by rng01(seed, j, axis).
-template <class T> std::array<T, 3> cellPointPosition(uint32_t cell, uint32_t r, uint32_t seed, uint32_t j) {
-  uint32_t c[3] = {cell % r, (cell / r) % r, cell / (r * r)};
+// With C nested cascades, cell = cascade * R^3 + local cell, and cascade c spans
+// [-2^(c - C + 1), 2^(c - C + 1)]^3 of the normalised box (the outermost one is the whole box).
+template <class T>
+std::array<T, 3> cellPointPosition(uint32_t cell, uint32_t r, uint32_t seed, uint32_t j, uint32_t cascades = 1) {
+  const uint32_t cells = r * r * r, cascade = cell / cells, local = cell % cells;
+  uint32_t c[3] = {local % r, (local / r) % r, local / (r * r)};
+  const T scale = T(std::ldexp(1.0f, int(cascade) - int(cascades - 1)));
   std::array<T, 3> p;
-  for (int k = 0; k < 3; ++k) p[k] = (T(c[k]) + T(rng01(seed, j, uint32_t(k)))) * (T(2) / T(r)) - T(1);
+  for (int k = 0; k < 3; ++k) p[k] = ((T(c[k]) + T(rng01(seed, j, uint32_t(k)))) * (T(2) / T(r)) - T(1)) * scale;
   return p;
 }
 
-inline uint32_t cellPointCell(uint32_t r, uint32_t seed, uint32_t j, bool randomCells) {
-  return randomCells ? rngUint(seed, j, 3u) % (r * r * r) : j;
+inline uint32_t cellPointCell(uint32_t r, uint32_t seed, uint32_t j, bool randomCells, uint32_t cascades = 1) {
+  return randomCells ? rngUint(seed, j, 3u) % (r * r * r * cascades) : j;
 }
 
 template <class T> T sanitizeDensity(T sigma) { return sigma >= T(0) ? std::min(sigma, T(FLT_MAX)) : T(0); }
@@ -110,6 +115,91 @@ std::vector<MarchSample<T>> marchRay(const std::array<T, 3>& o, const std::array
     if (!bitSet(bits, cellIndex(c[0], c[1], c[2], p.resolution))) continue;
     out.push_back({t, std::min(dt, tFar - t)});
     if (out.size() == p.maxSamples) break;
+  }
+  return out;
+}
+
+// ---- Cascaded march with cone stepping (unbounded scenes) ----
+//
+// C nested cubes around the box centre, cascade c twice the side of cascade c - 1, each an R^3 grid;
+// cascade 0 is the inner cube, cascade C - 1 the whole box. Grid coordinates g are cascade 0's
+// (gridScale and boxMin describe the inner cube): a point belongs to the smallest cascade holding
+// it, m = max_a |g_a - R/2| / (R/2) <= 2^c (the outermost for anything beyond), and its cell there is
+// floor((g - R/2) 2^-c + R/2), clamped. Cell index: c R^3 + x + R (y + R z).
+//
+// Steps follow instant-ngp's cone: dt(t) = clamp(t * coneAngle, dtMin, dtMax), a step that grows
+// with distance once past t = dtMin / coneAngle. The march starts at t_near + u dt(t_near) (u: the
+// jitter) and from a sample at t goes to t + dt(t). In an empty cell it jumps by whole steps of the
+// current dt to the first point past the cell's exit: n = max(1, ceil((t_exit - t) / dt(t))).
+
+struct ConeMarchParams {
+  MarchParams base;       // boxMin, gridScale: the inner cube's; dt: dtMin
+  uint32_t cascades = 1;
+  float coneAngle = 0, dtMax = 0;
+};
+
+template <class T> T coneStep(T t, const ConeMarchParams& p) {
+  return std::clamp(t * T(p.coneAngle), T(p.base.dt), T(p.dtMax));
+}
+
+// Cascade of a point in cascade 0's grid coordinates.
+template <class T> uint32_t cascadeOf(const std::array<T, 3>& g, uint32_t r, uint32_t cascades) {
+  const T half = T(r) * T(0.5);
+  T m = T(0);
+  for (int a = 0; a < 3; ++a) m = std::max(m, std::abs(g[a] - half) / half);
+  uint32_t c = 0;
+  while (c + 1 < cascades && m > T(std::ldexp(1.0f, int(c)))) ++c;
+  return c;
+}
+
+// Cell of a point in cascade c, clamped into its grid.
+template <class T> std::array<uint32_t, 3> cascadeCell(const std::array<T, 3>& g, uint32_t r, uint32_t c) {
+  const T half = T(r) * T(0.5), s = T(std::ldexp(1.0f, -int(c))), top = T(r - 1);
+  std::array<uint32_t, 3> cell;
+  for (int a = 0; a < 3; ++a) cell[a] = uint32_t(std::clamp(std::floor((g[a] - half) * s + half), T(0), top));
+  return cell;
+}
+
+// Samples of one ray, (t, min(dt(t), t_far - t)), in order, at most maxSamples; none for a miss.
+template <class T>
+std::vector<MarchSample<T>> marchRayCascaded(const std::array<T, 3>& o, const std::array<T, 3>& d, T tNear, T tFar,
+                                             uint32_t ray, const ConeMarchParams& p, const std::vector<uint32_t>& bits) {
+  std::vector<MarchSample<T>> out;
+  const MarchParams& b = p.base;
+  if (!(tNear >= T(0)) || b.maxSamples == 0) return out;
+  std::array<T, 3> go, gd;
+  for (int k = 0; k < 3; ++k) {
+    go[k] = (o[k] - T(b.boxMin[k])) * T(b.gridScale[k]);
+    gd[k] = d[k] * T(b.gridScale[k]);
+  }
+  const uint32_t r = b.resolution, cells = r * r * r;
+  const T half = T(r) * T(0.5);
+  T t = tNear;
+  if (b.jitter) t = t + T(rng01(b.seed, ray, 0u)) * coneStep(t, p);
+  for (uint32_t i = 0; i < kMaxMarchSteps && t < tFar; ++i) {
+    const T dt = coneStep(t, p);
+    std::array<T, 3> g;
+    for (int a = 0; a < 3; ++a) g[a] = go[a] + t * gd[a];
+    const uint32_t c = cascadeOf(g, r, p.cascades);
+    const auto cell = cascadeCell(g, r, c);
+    T next;
+    if (bitSet(bits, c * cells + cellIndex(cell[0], cell[1], cell[2], r))) {
+      out.push_back({t, std::min(dt, tFar - t)});
+      if (out.size() == b.maxSamples) break;
+      next = t + dt;
+    } else {
+      const T scale = T(std::ldexp(1.0f, int(c)));
+      T tExit = T(FLT_MAX);
+      for (int a = 0; a < 3; ++a) {
+        if (gd[a] == T(0)) continue;
+        const T bound = gd[a] > T(0) ? T(cell[a] + 1u) : T(cell[a]);
+        tExit = std::min(tExit, ((bound - half) * scale + half - go[a]) / gd[a]);
+      }
+      const T steps = std::max(T(1), std::ceil((tExit - t) / dt));
+      next = t + steps * dt;
+    }
+    if (!(next > t)) break;  // t so large that a step no longer moves it
+    t = next;
   }
   return out;
 }

@@ -10,7 +10,6 @@
 //   auto view = vknerf::Model::load(ctx, "tabletop.vknerf").render(data.cameras[0]);
 #include <memory>
 #include <optional>
-#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -89,7 +88,7 @@ class Model {
 
   // The field at `points` (xyz each, world coordinates) seen along `directions` (xyz each, one per
   // point, normalised here), evaluated on the device in batches. Not while a render is in flight.
-  FieldSamples queryField(std::span<const float> points, std::span<const float> directions) const;
+  FieldSamples queryField(const std::vector<float>& points, const std::vector<float>& directions) const;
   // The surface where the density crosses settings.threshold: the density sampled on a grid over
   // the box on the device, marching cubes there, each vertex coloured by the field seen from
   // outside (along the negative vertex normal). Throws vknerf::Error for an empty box or a

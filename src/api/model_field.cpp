@@ -62,7 +62,7 @@ uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(std::isfinite(v)
 
 }  // namespace
 
-FieldSamples Model::queryField(std::span<const float> points, std::span<const float> directions) const {
+FieldSamples Model::queryField(const std::vector<float>& points, const std::vector<float>& directions) const {
   Impl& m = *impl_;
   if (points.size() % 3 || directions.size() != points.size())
     throw Error("queryField: give xyz per point and one xyz direction per point");

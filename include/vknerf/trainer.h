@@ -19,6 +19,7 @@
 #include "vknerf/config.h"
 #include "vknerf/context.h"
 #include "vknerf/dataset.h"
+#include "vknerf/mesh.h"
 #include "vknerf/render_target.h"
 
 namespace vknerf {
@@ -55,6 +56,12 @@ struct ModelStatistics {
   std::optional<double> keptByEarlyTermination;  // samples kept by early termination, over all steps
 };
 
+// The field at a batch of points (Model::queryField).
+struct FieldSamples {
+  std::vector<float> density;  // sigma per point, after the model's density activation
+  std::vector<float> rgb;      // 3 per point: the colour seen along the point's direction
+};
+
 // Sampling when rendering a loaded model; 0 keeps what the model was trained with.
 struct RenderSettings {
   uint32_t coarseSamples = 0, fineSamples = 0;  // vanilla: stratified + importance samples per ray
@@ -83,6 +90,15 @@ class Model {
   // model's scratch buffers are reused by every recording: one render of a model may be in flight
   // at a time, and the model must outlive the commands' execution.
   void recordRender(VkCommandBuffer cmd, const Camera& camera, const RenderTarget& target) const;
+
+  // The field at `points` (xyz each, world coordinates) seen along `directions` (xyz each, one per
+  // point, normalised here), evaluated on the device in batches. Not while a render is in flight.
+  FieldSamples queryField(const std::vector<float>& points, const std::vector<float>& directions) const;
+  // The surface where the density crosses settings.threshold: the density sampled on a grid over
+  // the box on the device, marching cubes there, each vertex coloured by the field seen from
+  // outside (along the negative vertex normal). Throws vknerf::Error for an empty box or a
+  // resolution below 2 or beyond what the device's buffers hold.
+  Mesh extractMesh(const MeshSettings& settings = {}) const;
 
  private:
   friend class Trainer;

@@ -19,6 +19,8 @@
 
 namespace vknerf::nerf {
 
+struct FieldBatch;
+
 // Rays start this far in front of the camera (or at the scene box, whichever is further).
 constexpr float kNearPlane = 0.05f;
 
@@ -60,6 +62,13 @@ class FieldPipeline {
   }
   virtual const gpu::Buffer& color() const = 0;
   virtual const gpu::Buffer& depth() const = 0;
+
+  // The field at points chosen by the caller (an exporter): queryBatch()'s positions (vec4, the
+  // scene box mapped onto [-1, 1]^3) and directions (vec4, unit) for `count` <= its capacity points
+  // give its field (vec4 rgb, sigma) as a render evaluates it. The batch is the render's own: not
+  // while a render is in flight.
+  virtual FieldBatch& queryBatch() = 0;
+  virtual void recordQuery(gpu::Recorder& rec, uint32_t count) = 0;
 
   // One optimisation step (`step` counts from 0), recorded into `rec`, submitted, waited for. Returns
   // the rays whose loss partials lossPartials() holds and the field evaluations the step made.

@@ -211,6 +211,12 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
   }
 }
 
+void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count) {
+  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0);
+  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0);
+  mlp_.recordForward(rec, count, network_.params(), f.posFeatures, f.dirFeatures, f.field, nullptr);
+}
+
 void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   const uint32_t seed = ref::pcgHash(config_.seed * 31u + step + 0x5bd1e995u);
   FieldBatch& f = occField_;
@@ -232,9 +238,7 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   for (float d : density) sum += std::isfinite(d) ? d : 0.0f;
   const float threshold = std::min(OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_),
                                    float(sum / double(density.size())));
-  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0);
-  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0);
-  mlp_.recordForward(rec, count, network_.params(), f.posFeatures, f.dirFeatures, f.field, nullptr);
+  recordFieldAt(rec, f, count);
   grid_.recordUpdate(rec, occCells_, f.field, count, kOccupancyDecay, threshold, 4, 3);
 }
 

@@ -42,6 +42,9 @@ class FastPipeline final : public FieldPipeline {
   const gpu::Buffer& lossPartials() const override { return partials_; }
   std::vector<StateArray> state() override;
 
+  FieldBatch& queryBatch() override { return field_; }
+  void recordQuery(gpu::Recorder& rec, uint32_t count) override { recordFieldAt(rec, field_, count); }
+
   float marchStep() const { return dt_; }
   OccupancyGrid& occupancy() { return grid_; }
   size_t parameterCount() const { return table_.count() + network_.count(); }
@@ -69,6 +72,8 @@ class FastPipeline final : public FieldPipeline {
                    bool limitToTotal = false);
   void recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
                        const std::array<float, 3>& bg);
+  // The field at the first `count` positions and directions of `f`, nothing kept for backward.
+  void recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count);
   void recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step);
 
   TrainConfig config_;

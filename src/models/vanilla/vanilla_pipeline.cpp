@@ -62,14 +62,23 @@ VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const 
   if (training) loss_.emplace(ctx);
 }
 
-void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, uint32_t numRays, bool keep) {
-  const uint32_t n = numRays * l.samplesPerRay;
-  FieldBatch& f = l.field;
-  points_.record(rec, numRays, rays_.rays(), l.samples, l.samplesPerRay, box_, f.positions, f.directions);
+void VanillaPipeline::recordNetwork(gpu::Recorder& rec, FieldBatch& f, Network& net, uint32_t n, bool keep) {
   posEncoding_.recordForward(rec, n, f.positions, f.posFeatures, net.mlp.posStride(), 0);
   dirEncoding_.recordForward(rec, n, f.directions, f.dirFeatures, net.mlp.dirStride(), 0);
   net.mlp.recordForward(rec, n, net.parameters.params(), f.posFeatures, f.dirFeatures, f.field,
                         keep ? f.workspace.get() : nullptr);
+}
+
+// The fine level's network, as the render's second pass queries it.
+void VanillaPipeline::recordQuery(gpu::Recorder& rec, uint32_t count) {
+  recordNetwork(rec, levels_[1].field, fine(), count, false);
+}
+
+void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, uint32_t numRays, bool keep) {
+  const uint32_t n = numRays * l.samplesPerRay;
+  FieldBatch& f = l.field;
+  points_.record(rec, numRays, rays_.rays(), l.samples, l.samplesPerRay, box_, f.positions, f.directions);
+  recordNetwork(rec, f, net, n, keep);
   gpu::BufferRange bg(rays_.background());
   compositor_.recordForward(rec, numRays, l.samplesPerRay, noOffsets_, l.samples, f.field, config_.background, &bg,
                             l.color, l.depth, l.weights);

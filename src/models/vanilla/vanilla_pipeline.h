@@ -52,6 +52,8 @@ class VanillaPipeline final : public FieldPipeline {
   const gpu::Buffer& depth() const override { return levels_[1].depth; }
   const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
   std::vector<StateArray> state() override;
+  FieldBatch& queryBatch() override { return levels_[1].field; }
+  void recordQuery(gpu::Recorder& rec, uint32_t count) override;
 
  private:
   void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
@@ -63,6 +65,8 @@ class VanillaPipeline final : public FieldPipeline {
   // Coarse and fine passes for `numRays` rays of rays_.
   void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t seed, bool jitter);
   void recordLevel(gpu::Recorder& rec, Level& level, Network& net, uint32_t numRays, bool keep);
+  // Encodings and `net` at the first `count` positions and directions of `f`.
+  void recordNetwork(gpu::Recorder& rec, FieldBatch& f, Network& net, uint32_t count, bool keep);
   // Loss against the training pixels and backward through both levels; then Adam.
   void recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, uint32_t step);
 

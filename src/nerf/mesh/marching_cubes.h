@@ -1,0 +1,43 @@
+#pragma once
+// Marching cubes on the device (shaders/mesh/mc_*.comp; CPU twin src/reference/mesh/): a density
+// grid in a device buffer becomes a welded, indexed triangle mesh, read back to the host.
+//   pass 1: a flag per grid edge that crosses the threshold, a triangle count per cell (the case
+//           table as a storage buffer), each scanned (gpu::PrefixSum) in chunks;
+//   pass 2: a vertex per crossed edge at its scanned rank, a cell's triangles at its scanned offset,
+//           naming the vertices by their edges' ranks, so neighbouring cells share them.
+// The scans run in chunks within one dispatch's reach; the chunks' totals come back to the host
+// (one submission per chunk) and return as per-chunk bases. Output sizes are known only after
+// pass 1, so extraction submits and waits.
+#include <cstdint>
+
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+#include "gpu/prefix_sum.h"
+#include "reference/mesh/marching_cubes.h"
+#include "vknerf/context.h"
+
+namespace vknerf::nerf {
+
+class MarchingCubes {
+ public:
+  // chunkLimit: elements per scanned chunk, at most what one dispatch covers (tests lower it to
+  // cover several chunks cheaply); 0: the most.
+  explicit MarchingCubes(Context& ctx, uint32_t chunkLimit = 0);
+
+  // The surface where `density` (one float per sample of `layout`) crosses `threshold`, inside on
+  // the side of higher density, triangles counter-clockwise seen from outside.
+  ref::TriangleMesh extract(const gpu::Buffer& density, const ref::GridLayout& layout, float threshold);
+
+  // Samples per grid a device can take: the grid and its edge ranks within one binding, the edge
+  // ids within 32 bits.
+  static uint64_t maxPoints(Context& ctx);
+
+ private:
+  Context& ctx_;
+  uint32_t chunk_;
+  gpu::PrefixSum scan_;
+  gpu::Buffer table_, flags_;
+  gpu::Kernel countEdges_, countCells_, writeVertices_, writeTriangles_;
+};
+
+}  // namespace vknerf::nerf

@@ -1,0 +1,129 @@
+// Mesh export: the PLY writer read back, Model::extractMesh on a tiny model, and
+// `vknerf export mesh` with its usage errors.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+
+#include "reference/mesh/marching_cubes.h"
+#include "support/cli_run.h"
+#include "support/gpu_test.h"
+#include "support/mesh_checks.h"
+#include "support/temp_dir.h"
+#include "vknerf/error.h"
+#include "vknerf/mesh.h"
+#include "vknerf/trainer.h"
+
+using namespace vknerf;
+
+namespace {
+
+// A binary little-endian PLY with vertices (float xyz, uchar rgb) and faces (uchar count, int ids),
+// parsed strictly: the header must be exactly the one vknerf writes, the body exactly its size.
+Mesh readPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t end = bytes.find("end_header\n");
+  if (end == std::string::npos) throw std::runtime_error("no end_header");
+  std::istringstream header(bytes.substr(0, end));
+  std::string line, words;
+  size_t vertices = 0, faces = 0;
+  while (std::getline(header, line)) {
+    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
+    if (line.rfind("element face ", 0) == 0) faces = std::stoul(line.substr(13));
+    if (line.rfind("comment", 0) != 0 && line.rfind("element", 0) != 0) words += line + "|";
+  }
+  EXPECT_EQ(words,
+            "ply|format binary_little_endian 1.0|property float x|property float y|property float z|"
+            "property uchar red|property uchar green|property uchar blue|property list uchar int vertex_indices|");
+  const char* p = bytes.data() + end + 11;
+  if (size_t(bytes.data() + bytes.size() - p) != vertices * 15 + faces * 13) throw std::runtime_error("body size");
+  Mesh m;
+  m.positions.resize(vertices * 3);
+  m.colors.resize(vertices * 3);
+  m.triangles.resize(faces * 3);
+  for (size_t v = 0; v < vertices; ++v, p += 15) {
+    std::memcpy(&m.positions[3 * v], p, 12);
+    std::memcpy(&m.colors[3 * v], p + 12, 3);
+  }
+  for (size_t f = 0; f < faces; ++f, p += 13) {
+    if (p[0] != 3) throw std::runtime_error("a face is not a triangle");
+    std::memcpy(&m.triangles[3 * f], p + 1, 12);
+  }
+  return m;
+}
+
+TEST(Ply, RoundTripsAMesh) {
+  auto grid = test::sampledGrid(9, [](double x, double y, double z) { return test::ballDensity(x, y, z, 0.6); });
+  auto surface = ref::marchingCubes(grid, 1.0f);
+  Mesh mesh{surface.positions, {}, surface.triangles};
+  for (size_t i = 0; i < mesh.positions.size(); ++i) mesh.colors.push_back(uint8_t(i * 37));
+  test::TempDir dir("ply");
+  writePly(dir.file("ball.ply"), mesh);
+  Mesh back = readPly(dir.file("ball.ply"));
+  EXPECT_EQ(back.positions, mesh.positions);
+  EXPECT_EQ(back.colors, mesh.colors);
+  EXPECT_EQ(back.triangles, mesh.triangles);
+}
+
+TEST(Ply, RejectsAnIndexPastTheVertices) {
+  Mesh mesh{{0, 0, 0}, {1, 2, 3}, {0, 0, 1}};
+  test::TempDir dir("ply");
+  EXPECT_THROW(writePly(dir.file("bad.ply"), mesh), Error);
+}
+
+class MeshExport : public test::GpuTest {};
+
+// A model trained for a couple of steps: its surface at a low threshold exists, and whatever it is,
+// the mesh is indexed within its vertices, coloured, and inside the box asked for.
+TEST_F(MeshExport, TinyModelGivesAValidColouredMesh) {
+  Dataset data = Dataset::load(test::scene(), {.downscale = 10});
+  TrainConfig config = TrainConfig::vanilla(ctx());
+  Trainer trainer(test::sharedContext(), data, config);
+  for (int i = 0; i < 2; ++i) trainer.step();
+  const Model& model = trainer.model();
+  MeshSettings s;
+  s.resolution = 12;
+  s.box = Aabb{{-0.5f, -0.5f, -0.25f}, {0.5f, 0.5f, 0.25f}};
+  auto density = model.queryField(std::vector<float>{0, 0, 0}, std::vector<float>{0, 0, 1}).density;
+  ASSERT_EQ(density.size(), 1u);
+  s.threshold = density[0];  // a density the field takes: usually some surface around the centre
+  Mesh mesh = model.extractMesh(s);
+  EXPECT_EQ(mesh.colors.size(), mesh.positions.size());
+  for (uint32_t i : mesh.triangles) ASSERT_LT(i, mesh.positions.size() / 3);
+  for (size_t v = 0; v < mesh.positions.size(); v += 3)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(mesh.positions[v + k], s.box->min[k] - 1e-5f);
+      EXPECT_LE(mesh.positions[v + k], s.box->max[k] + 1e-5f);
+    }
+}
+
+TEST_F(MeshExport, BadSettingsAreErrors) {
+  Dataset data = Dataset::load(test::scene(), {.downscale = 10});
+  Trainer trainer(test::sharedContext(), data, TrainConfig::vanilla(ctx()));
+  EXPECT_THROW(trainer.model().extractMesh({.resolution = 1}), Error);
+  EXPECT_THROW(trainer.model().extractMesh({.box = Aabb{{0, 0, 0}, {1, -1, 1}}}), Error);
+  EXPECT_THROW(trainer.model().queryField(std::vector<float>{0, 0}, std::vector<float>{0, 0}), Error);
+}
+
+TEST(MeshExportCli, WritesAPlyAndRejectsBadFlags) {
+  using test::runCli;
+  const std::string model = test::temp("tiny.vknerf"), ply = test::temp("tiny.ply");
+  ASSERT_EQ(runCli("train " + test::scene() + " --steps 2 --downscale 10 -o " + model).code, 0);
+  auto r = runCli("export mesh " + model + " -o " + ply + " --resolution 10 --threshold 0.001");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("density threshold 0.001"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("faces in"), std::string::npos) << r.output;
+  Mesh back = readPly(ply);
+  for (uint32_t i : back.triangles) ASSERT_LT(i, back.positions.size() / 3);
+  EXPECT_EQ(runCli("export mesh " + model + " -o " + ply + " --resolution 0").code, 2);
+  EXPECT_EQ(runCli("export mesh " + model + " -o " + ply + " --bbox 1 0 0 0 1 1").code, 2);
+  EXPECT_EQ(runCli("export mesh " + model + " -o " + ply + " --bbox 0 0 0").code, 2);
+  EXPECT_EQ(runCli("export mesh " + model).code, 2);  // no -o
+  EXPECT_EQ(runCli("export mesh /no/such.vknerf -o " + ply).code, 1);
+}
+
+}  // namespace

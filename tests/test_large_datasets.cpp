@@ -11,6 +11,7 @@
 #include "support/error_message.h"
 #include "support/gpu_test.h"
 #include "support/temp_dir.h"
+#include "support/tiny_config.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
 
@@ -19,19 +20,7 @@ using namespace vknerf::test;
 
 namespace {
 
-TrainConfig tinyConfig() {
-  TrainConfig c;
-  VanillaModel& m = c.vanillaModel();
-  m.width = 32;
-  m.depth = 2;
-  m.skipLayer = 1;
-  m.posLevels = 4;
-  m.dirLevels = 2;
-  m.coarseSamples = 8;
-  m.fineSamples = 8;
-  c.raysPerBatch = 256;
-  return c;
-}
+TrainConfig tinyConfig() { return test::tinyVanillaConfig(); }
 
 const Dataset& tabletop() {
   static Dataset d = [] {

@@ -4,6 +4,7 @@
 
 #include "support/gpu_test.h"
 #include "support/temp_dir.h"
+#include "support/tiny_config.h"
 #include "io/checkpoint.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
@@ -14,16 +15,7 @@ namespace {
 
 // A small configuration (same recipe, tiny sizes) so each step costs milliseconds.
 TrainConfig tinyConfig() {
-  TrainConfig c;
-  VanillaModel& m = c.vanillaModel();
-  m.width = 32;
-  m.depth = 2;
-  m.skipLayer = 1;
-  m.posLevels = 4;
-  m.dirLevels = 2;
-  m.coarseSamples = 8;
-  m.fineSamples = 8;
-  c.raysPerBatch = 256;
+  TrainConfig c = test::tinyVanillaConfig();
   c.learningRate = 5e-3f;
   c.learningRateFinal = 5e-4f;
   c.decaySteps = 1000;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "api/model_impl.h"
+#include "api/unit_byte.h"
 #include "gpu/recorder.h"
 #include "models/common/field_batch.h"
 #include "nerf/mesh/density_grid.h"
@@ -57,8 +58,6 @@ std::vector<float> vertexNormals(const ref::TriangleMesh& m) {
   }
   return n;
 }
-
-uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f)); }
 
 }  // namespace
 
@@ -139,7 +138,7 @@ Mesh Model::extractMesh(const MeshSettings& s) const {
   for (float& v : view) v = -v;
   const FieldSamples seen = queryField(mesh.positions, view);
   mesh.colors.resize(seen.rgb.size());
-  std::transform(seen.rgb.begin(), seen.rgb.end(), mesh.colors.begin(), toByte);
+  std::transform(seen.rgb.begin(), seen.rgb.end(), mesh.colors.begin(), detail::unitToByte);
   return mesh;
 }
 

@@ -17,6 +17,9 @@ struct Mesh {
   std::vector<float> positions;     // xyz per vertex, world coordinates
   std::vector<uint8_t> colors;      // rgb per vertex
   std::vector<uint32_t> triangles;  // 3 vertex ids per triangle, counter-clockwise seen from outside
+  // What extraction cost: the density samples queried (MeshSettings::occupiedOnly skips some of the
+  // grid's), and the grid's samples in all.
+  uint64_t densityQueries = 0, gridSamples = 0;
 };
 
 struct MeshSettings {
@@ -28,6 +31,11 @@ struct MeshSettings {
   float threshold = kDefaultThreshold;
   static constexpr float kDefaultThreshold = 50.0f;
   std::optional<Aabb> box;  // the region sampled; none: the model's scene box
+  // Sample the density only near the cells the model's occupancy grid marks occupied (the fast
+  // model; the vanilla model has none and samples the whole box), the rest of the grid taken as
+  // empty: the same surface wherever a render can see one, for a fraction of the field queries.
+  // Needs a positive threshold. false: the whole box.
+  bool occupiedOnly = true;
 };
 
 // The mesh as binary little-endian PLY (vertices: float x y z, uchar red green blue; faces: uchar

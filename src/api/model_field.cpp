@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "api/model_impl.h"
@@ -11,6 +12,7 @@
 #include "models/common/field_batch.h"
 #include "nerf/mesh/density_grid.h"
 #include "nerf/mesh/marching_cubes.h"
+#include "nerf/mesh/sample_blocks.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -108,20 +110,31 @@ Mesh Model::extractMesh(const MeshSettings& s) const {
                 " samples exceed what the device's buffers hold; lower the resolution");
   const uint32_t points = uint32_t(g.points());
 
+  // The blocks of the grid to sample: near the occupied cells where the model has an occupancy
+  // grid (elsewhere a render never looks, and the grid keeps 0, below any positive threshold).
+  std::optional<nerf::OccupancyBits> occupancy;
+  if (s.occupiedOnly && s.threshold > 0) occupancy = m.pipe->occupancyBits();
+  const nerf::SampleBlocks blocks =
+      occupancy ? nerf::occupiedSampleBlocks(g, m.box, *occupancy) : nerf::allSampleBlocks(g);
+  gpu::Buffer blockIds(ctx, std::max<VkDeviceSize>(4, blocks.ids.size() * 4), "the sampled blocks of the density grid");
+  blockIds.upload(blocks.ids);
+  nerf::DensityGridSampler sampler(ctx, g, blocks, blockIds);
+  if (sampler.slots() > UINT32_MAX) throw Error("mesh: the grid has too many samples; lower the resolution");
+
   // The density grid, batch by batch through the pipeline's query batch. The direction is any unit
   // vector: the density does not depend on it.
   gpu::Buffer grid(ctx, VkDeviceSize(points) * 4, "the density grid");
   nerf::FieldBatch& f = m.pipe->queryBatch();
-  const uint32_t batch = batchFor(f);
+  const uint32_t batch = batchFor(f), slots = uint32_t(sampler.slots());
   std::vector<float> up(size_t(batch) * 4, 0.0f);
   for (size_t i = 0; i < batch; ++i) up[4 * i + 2] = 1.0f;
   f.directions.upload(up);
-  nerf::DensityGridSampler sampler(ctx);
   gpu::Recorder rec(ctx);
-  for (uint32_t first = 0; first < points; first += batch) {
-    const uint32_t n = std::min(batch, points - first);
+  if (occupancy) grid.zero();  // the float 0.0 where no block is sampled
+  for (uint32_t first = 0; first < slots; first += batch) {
+    const uint32_t n = std::min(batch, slots - first);
     rec.begin();
-    sampler.recordPositions(rec, g, m.box, first, n, f.positions);
+    sampler.recordPositions(rec, m.box, first, n, f.positions);
     m.pipe->recordQuery(rec, n);
     sampler.recordDensities(rec, f.field, first, n, grid);
     rec.end();
@@ -131,6 +144,8 @@ Mesh Model::extractMesh(const MeshSettings& s) const {
   nerf::MarchingCubes mc(ctx);
   ref::TriangleMesh surface = mc.extract(grid, g, s.threshold);
   Mesh mesh;
+  mesh.densityQueries = slots;
+  mesh.gridSamples = points;
   mesh.positions = std::move(surface.positions);
   mesh.triangles = std::move(surface.triangles);
   // Colour: the field seen from outside, looking along the negative normal.

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "gpu/buffer.h"
 #include "gpu/memory_account.h"
 #include "gpu/recorder.h"
+#include "nerf/occupancy/occupancy_grid.h"
 #include "vknerf/camera.h"
 #include "vknerf/config.h"
 #include "vknerf/trainer.h"
@@ -69,6 +71,9 @@ class FieldPipeline {
   // while a render is in flight.
   virtual FieldBatch& queryBatch() = 0;
   virtual void recordQuery(gpu::Recorder& rec, uint32_t count) = 0;
+  // Where a render marches at all: the occupancy grid's bits (fast model), for an exporter that
+  // samples the field only there; none for a model that marches everywhere (vanilla).
+  virtual std::optional<OccupancyBits> occupancyBits() const { return std::nullopt; }
 
   // One optimisation step (`step` counts from 0), recorded into `rec`, submitted, waited for. Returns
   // the rays whose loss partials lossPartials() holds and the field evaluations the step made.

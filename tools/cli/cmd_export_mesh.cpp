@@ -1,5 +1,6 @@
-// `vknerf export mesh MODEL -o mesh.ply [--resolution N] [--threshold T] [--bbox x0 y0 z0 x1 y1 z1]`:
-// the trained field's surface by marching cubes on the device, vertex-coloured, as binary PLY.
+// `vknerf export mesh MODEL -o mesh.ply [--resolution N] [--threshold T] [--bbox x0 y0 z0 x1 y1 z1]
+// [--whole-box]`: the trained field's surface by marching cubes on the device, vertex-coloured, as
+// binary PLY; the fast model's density is sampled only near its occupied cells unless --whole-box.
 #include <chrono>
 #include <cstdio>
 #include <vector>
@@ -37,6 +38,9 @@ int run(Options o, const Globals& g) {
   writePly(o.output, mesh);
   std::printf("%zu vertices, %zu faces in %.1f s; written to %s\n", mesh.positions.size() / 3, mesh.triangles.size() / 3,
               seconds, o.output.c_str());
+  std::printf("density sampled at %.1f%% of the %llu grid points%s\n",
+              100.0 * double(mesh.densityQueries) / double(mesh.gridSamples), (unsigned long long)mesh.gridSamples,
+              mesh.densityQueries < mesh.gridSamples ? " (near the occupied cells)" : "");
   if (mesh.triangles.empty()) std::printf("no surface at this threshold: try a lower --threshold\n");
   return 0;
 }
@@ -49,6 +53,8 @@ Registration exportMesh("export mesh", "Export the trained field's surface as a 
   app.add_option("--resolution", o->mesh.resolution, "Density samples along the box's longest side (default 256)");
   app.add_option("--threshold", o->mesh.threshold, "Density of the surface (default " +
                  std::to_string(MeshSettings::kDefaultThreshold) + ")")->check(FiniteNumber);
+  app.add_flag("--whole-box", [o](int64_t) { o->mesh.occupiedOnly = false; },
+               "Sample the density over the whole box, not only near the occupancy grid's occupied cells (fast model)");
   app.add_option("--bbox", o->bbox, "Region to mesh: x0 y0 z0 x1 y1 z1 (default: the model's scene box)")
       ->expected(6)->check(FiniteNumber);
   return [o, &g] { return run(*o, g); };

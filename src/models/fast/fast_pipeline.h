@@ -47,6 +47,7 @@ class FastPipeline final : public FieldPipeline {
 
   float marchStep() const { return dt_; }
   OccupancyGrid& occupancy() { return grid_; }
+  std::optional<OccupancyBits> occupancyBits() const override { return grid_.hostBits(); }
   size_t parameterCount() const { return table_.count() + network_.count(); }
 
  private:

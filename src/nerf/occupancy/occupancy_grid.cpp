@@ -112,12 +112,16 @@ float OccupancyGrid::occupiedFraction() {
   return float(double(counter_.download<uint32_t>(1)[0]) / numCells_);
 }
 
+OccupancyBits OccupancyGrid::hostBits() const {
+  return {resolution_, cascades_, bits_.download<uint32_t>(numWords())};
+}
+
 std::vector<double> OccupancyGrid::occupiedFractionPerCascade() {
-  const auto bits = bits_.download<uint32_t>(numWords());
+  const OccupancyBits bits = hostBits();
   const uint32_t perCascade = numCells_ / cascades_;
   std::vector<double> out(cascades_, 0.0);
   for (uint32_t i = 0; i < numCells_; ++i)
-    if ((bits[i >> 5] >> (i & 31u)) & 1u) out[i / perCascade] += 1.0;
+    if (bits.occupied(i)) out[i / perCascade] += 1.0;
   for (double& f : out) f /= perCascade;
   return out;
 }

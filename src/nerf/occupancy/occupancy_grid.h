@@ -23,6 +23,14 @@
 
 namespace vknerf::nerf {
 
+// The occupancy bits on the host, in the grid's layout (above): what an exporter reads to sample
+// the field only where a render would.
+struct OccupancyBits {
+  uint32_t resolution = 0, cascades = 0;
+  std::vector<uint32_t> words;
+  bool occupied(uint32_t cell) const { return (words[cell >> 5] >> (cell & 31u)) & 1u; }
+};
+
 class OccupancyGrid {
  public:
   static constexpr uint32_t kMaxCascades = 8;
@@ -64,6 +72,8 @@ class OccupancyGrid {
   float occupiedFraction();
   // The same per cascade, innermost first (reads the bits on the host).
   std::vector<double> occupiedFractionPerCascade();
+  // The bits after everything submitted so far.
+  OccupancyBits hostBits() const;
 
  private:
   Context& ctx_;

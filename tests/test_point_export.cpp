@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -20,6 +21,7 @@ using namespace vknerf;
 namespace {
 
 constexpr float kRadius = 0.8f;
+constexpr std::array<float, 3> kWhite{1, 1, 1};
 
 // What a render of the ball |x| < kRadius would give, exactly: the depth of the ray's first hit,
 // opacity 1 there (0.4 on every third hit pixel, to be thresholded away) and 0 on misses; a colour
@@ -60,7 +62,7 @@ TEST(VisiblePoints, LieOnTheSurfaceTheViewSees) {
   Camera cam = pinholeFromFov(40, 30, 50, lookAt({0.5f, -2.5f, 1.2f}, {0, 0, 0}, {0, 0, 1}));
   const RenderedImage img = ballView(cam);
   PointCloud cloud;
-  appendVisiblePoints(cloud, cam, img, 0.5f);
+  appendVisiblePoints(cloud, cam, img, 0.5f, kWhite);
   ASSERT_EQ(cloud.positions.size() / 3, countAbove(img, 0.5f));
   ASSERT_GT(cloud.positions.size(), 300u);
   EXPECT_EQ(cloud.colors.size(), cloud.positions.size());
@@ -69,7 +71,7 @@ TEST(VisiblePoints, LieOnTheSurfaceTheViewSees) {
   cam.c2w = lookAt({-2.0f, 1.0f, -1.0f}, {0, 0, 0}, {0, 0, 1});
   const RenderedImage other = ballView(cam);
   const size_t first = cloud.positions.size() / 3;
-  appendVisiblePoints(cloud, cam, other, 0.3f);
+  appendVisiblePoints(cloud, cam, other, 0.3f, kWhite);
   EXPECT_EQ(cloud.positions.size() / 3 - first, countAbove(other, 0.3f));
   expectOnTheBall(cloud, 1e-5f);
 }
@@ -80,16 +82,29 @@ TEST(VisiblePoints, FollowTheLensRays) {
   cam.lens.k1 = -0.2f;
   cam.lens.p1 = 0.01f;
   PointCloud cloud;
-  appendVisiblePoints(cloud, cam, ballView(cam), 0.5f);
+  appendVisiblePoints(cloud, cam, ballView(cam), 0.5f, kWhite);
   ASSERT_GT(cloud.positions.size(), 0u);
   expectOnTheBall(cloud, 1e-5f);
+}
+
+// A pixel 60% opaque over a background: the point carries the field's colour, not the blend.
+TEST(VisiblePoints, TakeTheBackgroundBackOut) {
+  const Camera cam = pinholeFromFov(1, 1, 50);
+  const std::array<float, 3> field{0.2f, 0.6f, 1.0f}, background{1.0f, 0.5f, 0.0f};
+  RenderedImage img{1, 1, {}, {2.0f}, {0.6f}};
+  for (int k = 0; k < 3; ++k) img.rgb.push_back(0.6f * field[k] + 0.4f * background[k]);
+  PointCloud cloud;
+  appendVisiblePoints(cloud, cam, img, 0.5f, background);
+  ASSERT_EQ(cloud.colors.size(), 3u);
+  // unitToByte rounds to the nearest of 255 steps: within one step of the field's colour.
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(cloud.colors[k], field[k] * 255.0f, 1.0f) << "channel " << k;
 }
 
 TEST(VisiblePoints, RejectAnImageOfAnotherSize) {
   Camera cam = pinholeFromFov(8, 8, 50);
   RenderedImage img = ballView(pinholeFromFov(8, 6, 50));
   PointCloud cloud;
-  EXPECT_THROW(appendVisiblePoints(cloud, cam, img, 0.5f), Error);
+  EXPECT_THROW(appendVisiblePoints(cloud, cam, img, 0.5f, kWhite), Error);
 }
 
 TEST(Ply, RoundTripsAPointCloud) {
@@ -121,7 +136,7 @@ TEST_F(PointExport, TinyModelGivesAPointPerOpaquePixel) {
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const float threshold = sorted[sorted.size() / 2];  // about half the pixels, whatever the field
   PointCloud cloud;
-  appendVisiblePoints(cloud, cam, img, threshold);
+  appendVisiblePoints(cloud, cam, img, threshold, trainer.model().config().background);
   ASSERT_EQ(cloud.positions.size() / 3, countAbove(img, threshold));
   size_t p = 0;
   for (size_t i = 0; i < img.opacity.size(); ++i) {

@@ -10,7 +10,8 @@
 
 namespace vknerf {
 
-void appendVisiblePoints(PointCloud& cloud, const Camera& camera, const RenderedImage& image, float minOpacity) {
+void appendVisiblePoints(PointCloud& cloud, const Camera& camera, const RenderedImage& image, float minOpacity,
+                         const std::array<float, 3>& background) {
   const size_t pixels = size_t(image.width) * image.height;
   if (image.width != camera.width || image.height != camera.height || image.opacity.size() != pixels ||
       image.depth.size() != pixels || image.rgb.size() != 3 * pixels)
@@ -22,9 +23,10 @@ void appendVisiblePoints(PointCloud& cloud, const Camera& camera, const Rendered
       if (!(image.opacity[i] > minOpacity)) continue;
       // depth is the expected distance along the unit direction from the camera's centre.
       const ref::Ray<float> ray = ref::cameraRay<float>(camera, x, y);
+      const float a = image.opacity[i];  // > minOpacity >= 0
       for (int k = 0; k < 3; ++k) {
         cloud.positions.push_back(ray.o[k] + image.depth[i] * ray.d[k]);
-        cloud.colors.push_back(detail::unitToByte(image.rgb[3 * i + k]));
+        cloud.colors.push_back(detail::unitToByte((image.rgb[3 * i + k] - (1 - a) * background[k]) / a));
       }
     }
 }

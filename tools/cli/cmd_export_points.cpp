@@ -1,6 +1,6 @@
 // `vknerf export points MODEL --scene SCENE -o points.ply [--split S] [--downscale N] [--min-opacity A]
 // [--max-points N]`: every training view rendered, each pixel the field makes opaque enough placed
-// at its expected depth with its rendered colour, as a binary PLY point cloud. A checkpoint keeps
+// at its expected depth with the field's colour there, as a binary PLY point cloud. A checkpoint keeps
 // the field, not the cameras: the scene names them.
 #include <chrono>
 #include <cstdio>
@@ -54,7 +54,7 @@ int run(const Options& o, const Globals& g) {
     const size_t before = cloud.positions.size() / 3;
     const RenderedImage img =
         model.render(data.cameras[i], progressPrinter("view " + std::to_string(i) + ": pixels", true));
-    appendVisiblePoints(cloud, data.cameras[i], img, o.minOpacity);
+    appendVisiblePoints(cloud, data.cameras[i], img, o.minOpacity, model.config().background);
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("view %zu/%zu: %zu points (%zu in all), %.1f s elapsed\n", i + 1, data.cameras.size(),
                 cloud.positions.size() / 3 - before, cloud.positions.size() / 3, elapsed);

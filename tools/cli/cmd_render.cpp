@@ -147,7 +147,8 @@ int run(const Options& o, const Globals& g) {
 Registration render("render", "Render RGB, depth and opacity images from a trained model", [](CLI::App& app, const Globals& g) {
   auto o = std::make_shared<Options>();
   app.add_option("model", o->model, "Model checkpoint (from vknerf train)")->required();
-  app.add_option("scene", o->scene, "Scene whose cameras to render (see --split)");
+  app.add_option("scene", o->scene,
+                 "Scene whose cameras to render (see --split); with an instant-ngp --path, the scene the path was made on");
   app.add_option("-o,--output", o->outDir, "Output folder for the frames (RGB, depth and opacity images)");
   app.add_option("--path", o->path,
                  "Render a camera path instead: nerfstudio's camera path JSON, or instant-ngp's base_cam.json "

@@ -1,4 +1,5 @@
-// nerfstudio's camera path JSON (vknerf/camera_path.h). Its poses are camera-to-world in the OpenGL
+// Camera paths (vknerf/camera_path.h): the format told apart by content, and nerfstudio's reader
+// (instant-ngp's is io/ngp_camera_path.cpp). nerfstudio's poses are camera-to-world in the OpenGL
 // convention, as vknerf's, and its fov is vertical, in degrees (ns-render turns it into the focal
 // length (H / 2) / tan(fov / 2)).
 #include "vknerf/camera_path.h"
@@ -8,6 +9,7 @@
 
 #include "io/dataset_loaders.h"
 #include "io/json_file.h"
+#include "io/ngp_camera_path.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -36,10 +38,7 @@ uint32_t pixels(const JsonFile& f, const char* key) {
   return uint32_t(v);
 }
 
-}  // namespace
-
-CameraPath loadCameraPath(const std::string& path) {
-  const JsonFile f = nerf::detail::readJson(path, "camera path");
+CameraPath readNerfstudioCameraPath(const JsonFile& f) {
   if (auto t = f.root.find("camera_type"); t != f.root.end() && !t->is_null()) {
     if (!t->is_string() || t->get<std::string>() != "perspective")
       fieldError(f, "camera_type", "must be \"perspective\" (fisheye and equirectangular paths are not rendered)");
@@ -67,6 +66,16 @@ CameraPath loadCameraPath(const std::string& path) {
     out.cameras.push_back(nerf::detail::completeCamera(spec, width, height));
   }
   return out;
+}
+
+}  // namespace
+
+CameraPath loadCameraPath(const std::string& path, const CameraPathOptions& options) {
+  const JsonFile f = nerf::detail::readJson(path, "camera path");
+  if (!f.root.contains("camera_path") && f.root.contains("path")) return nerf::detail::readNgpCameraPath(f, options);
+  if (!f.root.contains("camera_path"))
+    fieldError(f, "camera_path", "is missing (nor is there instant-ngp's keyframe list 'path')");
+  return readNerfstudioCameraPath(f);
 }
 
 }  // namespace vknerf

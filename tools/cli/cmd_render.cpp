@@ -1,6 +1,7 @@
 // `vknerf render MODEL SCENE|--orbit N|--path PATH.json [-o DIR] [--video OUT.mp4]`: RGB, depth
-// (colour-mapped PNG and raw PFM) and opacity for a split's cameras, an orbit or a camera path,
-// frames numbered, and/or an H.264 video of the RGB frames (through ffmpeg).
+// (colour-mapped PNG and raw PFM) and opacity for a split's cameras, an orbit or a camera path
+// (nerfstudio's, or instant-ngp's base_cam.json sampled at --fps for --seconds at --width x
+// --height), frames numbered, and/or an H.264 video of the RGB frames (through ffmpeg).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,7 +27,10 @@ struct Options {
   std::string model, scene, outDir, split = "test", path, video;
   uint32_t orbit = 0, downscale = 1, size = 100, limit = 0;
   float elevationDegrees = 30, radius = 0;
-  double fps = 0;  // 0: the path's, else 24
+  double fps = 0;  // 0: the path's, else 24; instant-ngp paths: 60
+  // instant-ngp paths only (nerfstudio's state their own); unset: run.py's defaults.
+  std::optional<double> seconds;
+  std::optional<uint32_t> width, height;
 };
 
 // n cameras on a circle around the box centre, looking at it, +Z up (nerf_synthetic's world).
@@ -59,7 +63,21 @@ int run(const Options& o, const Globals& g) {
   double fps = o.fps > 0 ? o.fps : 24;
   std::vector<Camera> pathCameras;
   if (!o.path.empty()) {
-    CameraPath path = loadCameraPath(o.path);
+    CameraPathOptions popt;
+    if (o.fps > 0) popt.fps = o.fps;
+    if (o.seconds) popt.seconds = *o.seconds;
+    if (o.width) popt.width = *o.width;
+    if (o.height) popt.height = *o.height;
+    popt.scene = o.scene;
+    CameraPath path = loadCameraPath(o.path, popt);
+    if (path.format == CameraPath::Format::nerfstudio && (o.seconds || o.width || o.height))
+      throw UsageError("render: " + o.path +
+                       " is a nerfstudio camera path, which lists its frames and their size; --seconds, --width and "
+                       "--height are for instant-ngp paths (base_cam.json)");
+    if (path.format == CameraPath::Format::instantNgp)
+      std::printf("%s: instant-ngp camera path, %zu frames at %g frames/s; its frame: %s%s\n", o.path.c_str(),
+                  path.cameras.size(), path.fps, path.frameNote.c_str(),
+                  o.scene.empty() ? " (give the SCENE it was made on for that scene's scale and offset)" : "");
     pathCameras = std::move(path.cameras);
     if (o.fps <= 0) fps = path.fps;
   }
@@ -129,11 +147,21 @@ int run(const Options& o, const Globals& g) {
 Registration render("render", "Render RGB, depth and opacity images from a trained model", [](CLI::App& app, const Globals& g) {
   auto o = std::make_shared<Options>();
   app.add_option("model", o->model, "Model checkpoint (from vknerf train)")->required();
-  app.add_option("scene", o->scene, "Scene whose cameras to render (see --split)");
+  app.add_option("scene", o->scene,
+                 "Scene whose cameras to render (see --split); with an instant-ngp --path, the scene the path was made on");
   app.add_option("-o,--output", o->outDir, "Output folder for the frames (RGB, depth and opacity images)");
-  app.add_option("--path", o->path, "Render the cameras of a nerfstudio camera path (JSON) instead");
+  app.add_option("--path", o->path,
+                 "Render a camera path instead: nerfstudio's camera path JSON, or instant-ngp's base_cam.json "
+                 "(its keyframes sampled at --fps for --seconds, at --width x --height; with SCENE, that scene's "
+                 "transforms.json gives instant-ngp's scale and offset, else its defaults 0.33 and 0.5)");
   app.add_option("--video", o->video, "Also (or only) write the RGB frames as an H.264 MP4 video (needs ffmpeg)");
-  app.add_option("--fps", o->fps, "Video frame rate (default: the camera path's, else 24)")->check(CLI::Range(0.001, 1000.0));
+  app.add_option("--fps", o->fps,
+                 "Video frame rate (default: the camera path's, else 24); for an instant-ngp path also the rate its "
+                 "keyframes are sampled at (default 60)")
+      ->check(CLI::Range(0.001, 1000.0));
+  app.add_option("--seconds", o->seconds, "instant-ngp path: its duration (default 1)")->check(CLI::Range(0.001, 100000.0));
+  app.add_option("--width", o->width, "instant-ngp path: frame width (default 1920)")->check(CLI::Range(1u, 16384u));
+  app.add_option("--height", o->height, "instant-ngp path: frame height (default 1080)")->check(CLI::Range(1u, 16384u));
   app.add_option("--split", o->split, "Split of SCENE to render")->check(CLI::IsMember({"train", "val", "test", "all"}));
   app.add_option("--orbit", o->orbit, "Render N views on a circle around the scene instead")->check(CLI::Range(1u, 10000u));
   app.add_option("--elevation", o->elevationDegrees, "Orbit elevation in degrees")->check(FiniteNumber);

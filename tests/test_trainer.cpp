@@ -124,3 +124,24 @@ TEST_F(TrainerTest, FastModelNestsCascadesForAabbScale) {
   Trainer one(sharedContext(), scene(), c);
   EXPECT_EQ(one.statistics().occupiedFractionPerCascade.size(), 1u);
 }
+
+TEST_F(TrainerTest, StepProfileAttributesTheWholeStep) {
+  Trainer t(sharedContext(), scene(), tinyConfig());
+  t.step();
+  t.step(true);
+  const StepProfile p = t.lastStepProfile();
+  ASSERT_FALSE(p.submissions.empty());
+  double sum = p.hostAfterMs, kernels = 0;
+  size_t named = 0;
+  for (const auto& s : p.submissions) {
+    sum += s.hostBeforeMs + s.waitMs;
+    for (const auto& [name, ms] : s.kernels) kernels += ms, named += ms >= 0 && !name.empty();
+    EXPECT_GE(s.hostBeforeMs, 0.0);
+    EXPECT_GE(s.waitMs, 0.0);
+  }
+  // Host time and waits tile the step: they add up to its wall time (timer reads between them aside).
+  EXPECT_GT(p.wallMs, 0.0);
+  EXPECT_NEAR(sum, p.wallMs, 0.05 * p.wallMs + 0.05);
+  EXPECT_EQ(named, t.lastStepTimings().size());
+  if (named) EXPECT_GT(kernels, 0.0);  // devices without compute timestamps time no kernel
+}

@@ -40,6 +40,21 @@ struct StepStats {
   uint64_t samples = 0;  // field evaluations (points through the MLP) in this step
 };
 
+// Where one training step's wall time went (Trainer::lastStepProfile): each submission of work to
+// the device with the host time before it and the time the host waited for it, and the device
+// time of its kernels (GPU timestamps; the rest of a wait is dispatch overhead and untimed gaps).
+// The host times of all submissions, their waits and hostAfterMs add up to wallMs.
+struct StepProfile {
+  struct Submission {
+    double hostBeforeMs = 0;  // host work before it: recording, reading back counts
+    double waitMs = 0;        // from submission until the host saw it finish
+    std::vector<std::pair<std::string, double>> kernels;  // milliseconds per kernel, in recording order
+  };
+  std::vector<Submission> submissions;
+  double hostAfterMs = 0;  // after the last wait: reading the loss, bookkeeping
+  double wallMs = 0;
+};
+
 // What a model spends and how its samples fall (Trainer::statistics).
 struct ModelStatistics {
   uint64_t mlpParameters = 0;       // every network's weights and biases
@@ -121,6 +136,8 @@ class Trainer {
   const Model& model() const;
   // Device milliseconds per kernel of the last step (GPU timestamps), in recording order.
   std::vector<std::pair<std::string, double>> lastStepTimings() const;
+  // The whole last step: its submissions, the host time between them, and its wall time.
+  StepProfile lastStepProfile() const;
   // What the model spends: parameters, device memory, samples per ray, occupancy (fast model).
   ModelStatistics statistics() const;
   // Device memory the training images take (RGBA8), and the storage buffers they are spread over.

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -156,6 +157,8 @@ struct Trainer::Impl {
   bool transparentPixels = false;  // some training pixel has alpha < 255
   std::unique_ptr<nerf::FieldPipeline> pipe;
   uint32_t lastRays = 0;
+  std::chrono::steady_clock::time_point stepStart;
+  double lastStepHostAfterMs = 0, lastStepWallMs = 0;  // the rest is in rec's submission log
   std::unique_ptr<gpu::Recorder> rec;
   std::unique_ptr<Model> model;
   uint32_t step = 0;
@@ -221,11 +224,25 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
 
 Trainer::~Trainer() = default;
 uint32_t Trainer::steps() const { return impl_->step; }
-std::vector<std::pair<std::string, double>> Trainer::lastStepTimings() const { return impl_->rec->timings(); }
+std::vector<std::pair<std::string, double>> Trainer::lastStepTimings() const {
+  std::vector<std::pair<std::string, double>> all;
+  for (const auto& sub : impl_->rec->submissions()) all.insert(all.end(), sub.kernels.begin(), sub.kernels.end());
+  return all;
+}
+
+StepProfile Trainer::lastStepProfile() const {
+  StepProfile p;
+  for (const auto& sub : impl_->rec->submissions()) p.submissions.push_back({sub.hostBeforeMs, sub.waitMs, sub.kernels});
+  p.hostAfterMs = impl_->lastStepHostAfterMs;
+  p.wallMs = impl_->lastStepWallMs;
+  return p;
+}
 const Model& Trainer::model() const { return *impl_->model; }
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
+  s.rec->startLog();
+  s.stepStart = std::chrono::steady_clock::now();
   const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras, s.transparentPixels}, s.step);
   const uint32_t R = size.rays;
   ++s.step;
@@ -241,6 +258,8 @@ StepStats Trainer::step(bool readLoss) {
     st.psnr = stats.psnr;
     if (!std::isfinite(st.loss)) throw Error("training diverged: loss is " + std::to_string(st.loss) + " at step " + std::to_string(s.step));
   }
+  s.lastStepHostAfterMs = s.rec->msSinceLastWait();
+  s.lastStepWallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s.stepStart).count();
   return st;
 }
 

@@ -156,8 +156,23 @@ void Recorder::submitAndWait() {
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd_;
   check(vkResetFences(ctx_.device(), 1, &fence_), "vkResetFences");
+  const auto submitted = std::chrono::steady_clock::now();
   check(vkQueueSubmit(ctx_.queue(), 1, &si, fence_), "vkQueueSubmit");
   check(vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  const auto waited = std::chrono::steady_clock::now();
+  using Ms = std::chrono::duration<double, std::milli>;
+  if (logging_) log_.push_back({Ms(submitted - lastWait_).count(), Ms(waited - submitted).count(), timings()});
+  lastWait_ = waited;
+}
+
+void Recorder::startLog() {
+  log_.clear();
+  logging_ = true;
+  lastWait_ = std::chrono::steady_clock::now();
+}
+
+double Recorder::msSinceLastWait() const {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - lastWait_).count();
 }
 
 std::vector<std::pair<std::string, double>> Recorder::timings() const {

@@ -4,6 +4,7 @@
 // (re-submittable: a training step is recorded once and replayed) or records into a caller's.
 #include <vulkan/vulkan.h>
 
+#include <chrono>
 #include <functional>
 #include <initializer_list>
 #include <span>
@@ -16,6 +17,14 @@
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {
+
+// One submission of an owned command buffer as the host saw it (Recorder::submissions): the host
+// time before it (since the log started, or since the previous submission's wait returned), the
+// time from vkQueueSubmit to its fence, and the device time of its labelled dispatches.
+struct SubmissionTiming {
+  double hostBeforeMs = 0, waitMs = 0;
+  std::vector<std::pair<std::string, double>> kernels;
+};
 
 class Recorder {
  public:
@@ -78,6 +87,14 @@ class Recorder {
   // Milliseconds per labelled dispatch of the last submission, in recording order.
   std::vector<std::pair<std::string, double>> timings() const;
 
+  // The submissions since startLog(), so that a whole step (several submissions and the host work
+  // between them) can be attributed; kernels are timed when timestamps are enabled. Nothing is
+  // logged before the first startLog(); each call clears the log.
+  void startLog();
+  const std::vector<SubmissionTiming>& submissions() const { return log_; }
+  // Host milliseconds since the last submission's wait returned (or since startLog()).
+  double msSinceLastWait() const;
+
  private:
   void barrierIfNeeded(bool indirectNext = false);
   void recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
@@ -91,6 +108,9 @@ class Recorder {
   bool pending_ = false;  // a command was recorded since the last barrier
   uint32_t maxTimestamps_ = 0;
   std::vector<std::string> labels_;
+  std::vector<SubmissionTiming> log_;
+  bool logging_ = false;
+  std::chrono::steady_clock::time_point lastWait_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace vknerf::gpu

@@ -6,7 +6,6 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <optional>
 
 #include <fstream>
@@ -16,6 +15,7 @@
 #include "checks.h"
 #include "command.h"
 #include "progress.h"
+#include "step_profile_report.h"
 #include "io/config_json.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
@@ -255,13 +255,7 @@ int train(const Options& o, const Globals& g) {
   std::printf("memory: host peak %.1f MiB; device %.1f MiB (model %.1f MiB + training images %.1f MiB in %u buffers)\n",
               hostPeakMiB(), trainer.statistics().deviceMiB + trainer.trainingPixelsDeviceMiB(),
               trainer.statistics().deviceMiB, trainer.trainingPixelsDeviceMiB(), trainer.trainingPixelBindings());
-  if (o.profile) {
-    std::map<std::string, double> perKernel;
-    double total = 0;
-    for (auto& [name, ms] : trainer.lastStepTimings()) perKernel[name] += ms, total += ms;
-    std::printf("device time of the last step: %.1f ms\n", total);
-    for (auto& [name, ms] : perKernel) std::printf("  %-24s %8.2f ms  %5.1f%%\n", name.c_str(), ms, 100 * ms / total);
-  }
+  if (o.profile) printStepProfile(trainer.lastStepProfile());
   trainer.save(o.output);
   char psnr[64] = "no train PSNR measured: fewer steps than --log-every";
   if (lastPsnr >= 0) std::snprintf(psnr, sizeof psnr, "last train PSNR %.2f dB", lastPsnr);
@@ -296,7 +290,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");
-                     app.add_flag("--profile", o->profile, "Print the device time per kernel of the last step");
+                     app.add_flag("--profile", o->profile, "Print where the last step's time went: each submission's kernels, the host time between them");
                      app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config is kept; flags must agree with it)");
                      return [o, &g, &app] {
                        o->configGiven = app.count("--config") > 0;

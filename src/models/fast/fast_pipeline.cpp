@@ -230,16 +230,12 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
     grid_.recordRandomCellPoints(rec, seed, count, f.positions, occCells_);
   }
   // instant-ngp's threshold: the density at which one step is 1% opaque, or the grid's mean density
-  // when that is lower, so that a young field whose densities are all small is not declared empty
-  // everywhere (nothing would be sampled, and nothing learnt). The mean is the last update's; the
-  // grid is host-visible or small, and this runs every K steps.
-  auto density = grid_.density().download<float>(grid_.numCells());
-  double sum = 0;
-  for (float d : density) sum += std::isfinite(d) ? d : 0.0f;
-  const float threshold = std::min(OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_),
-                                   float(sum / double(density.size())));
+  // (before this update, computed on the device) when that is lower, so that a young field whose
+  // densities are all small is not declared empty everywhere (nothing would be sampled, and nothing
+  // learnt).
+  const float threshold = OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
   recordFieldAt(rec, f, count);
-  grid_.recordUpdate(rec, occCells_, f.field, count, kOccupancyDecay, threshold, 4, 3);
+  grid_.recordUpdate(rec, occCells_, f.field, count, kOccupancyDecay, threshold, 4, 3, true);
 }
 
 FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {

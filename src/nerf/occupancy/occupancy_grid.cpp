@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "vknerf/error.h"
 
@@ -17,6 +18,10 @@ struct SplatPush {
 struct EmaPush {
   uint32_t numCells;
   float decay, threshold;
+  uint32_t capAtMean;
+};
+struct MeanPush {
+  uint32_t numCells;
 };
 struct CountPush {
   uint32_t numCells;
@@ -50,14 +55,16 @@ OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution, uint32_t cascade
       bits_(ctx, VkDeviceSize(numWords()) * 4),
       fresh_(ctx, VkDeviceSize(numCells_) * 4),
       counter_(ctx, 4),
+      mean_(ctx, 4),
       points_(ctx, {gpu::shaders::occupancy_points, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(PointsPush), {}}),
       splat_(ctx, {gpu::shaders::occupancy_splat, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                    sizeof(SplatPush), {}}),
-      ema_(ctx, {gpu::shaders::occupancy_ema, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
-                 sizeof(EmaPush), {}}),
+      ema_(ctx, {gpu::shaders::occupancy_ema, std::vector<gpu::Binding>(4, gpu::Binding::Storage), sizeof(EmaPush), {}}),
+      meanKernel_(ctx, {gpu::shaders::occupancy_mean, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(MeanPush), {}}),
       count_(ctx, {gpu::shaders::occupancy_count, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(CountPush), {}}) {
   density_.zero();
   bits_.zero();
+  mean_.zero();
 }
 
 void OccupancyGrid::recordMarkAllOccupied(gpu::Recorder& rec) { rec.fill(bits_, 0xffffffffu); }
@@ -80,7 +87,7 @@ void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, ui
 
 void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density,
                                  uint32_t count, float decay, float threshold, uint32_t densityStride,
-                                 uint32_t densityComponent) {
+                                 uint32_t densityComponent, bool capAtMeanDensity) {
   if (densityStride == 0 || densityComponent >= densityStride)
     throw Error("OccupancyGrid: density component " + std::to_string(densityComponent) + " of stride " +
                 std::to_string(densityStride));
@@ -89,11 +96,17 @@ void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cel
     throw Error("OccupancyGrid: threshold " + std::to_string(threshold) + " must be finite and >= 0");
   requireBytes("cells", cells, uint64_t(count) * 4);
   requireBytes("density", density, uint64_t(count) * densityStride * 4);
+  if (capAtMeanDensity) recordMeanDensity(rec);
   rec.fill(fresh_, 0u);
   SplatPush sp{count, densityStride, densityComponent};
   rec.dispatchFlat(splat_, {cells, density, fresh_}, sp, count, kSplatLocal, "occupancy_splat");
-  EmaPush ep{numCells_, decay, threshold};
-  rec.dispatchFlat(ema_, {density_, fresh_, bits_}, ep, numWords(), kEmaLocal, "occupancy_ema");
+  EmaPush ep{numCells_, decay, threshold, capAtMeanDensity ? 1u : 0u};
+  rec.dispatchFlat(ema_, {density_, fresh_, bits_, mean_}, ep, numWords(), kEmaLocal, "occupancy_ema");
+}
+
+void OccupancyGrid::recordMeanDensity(gpu::Recorder& rec) {
+  MeanPush p{numCells_};
+  rec.dispatch(meanKernel_, {density_, mean_}, p, 1, 1, 1, "occupancy_mean");
 }
 
 void OccupancyGrid::recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter) {

@@ -63,8 +63,14 @@ class OccupancyGrid {
   // EMA and bits from the densities measured at `count` points of `cells`: point j's density is
   // density[j * densityStride + densityComponent] (stride 4, component 3: sigma of a field vec4).
   // NaN and negative densities count as 0, +inf as FLT_MAX. decay in [0, 1], threshold >= 0.
+  // capAtMeanDensity: the threshold is min(threshold, the grid's mean density before this update),
+  // computed on the device (recordMeanDensity), so the update needs no read-back.
   void recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density, uint32_t count,
-                    float decay, float threshold, uint32_t densityStride = 1, uint32_t densityComponent = 0);
+                    float decay, float threshold, uint32_t densityStride = 1, uint32_t densityComponent = 0,
+                    bool capAtMeanDensity = false);
+  // The mean over all cells of the density (non-finite values as 0), one float into meanDensity().
+  void recordMeanDensity(gpu::Recorder& rec);
+  const gpu::Buffer& meanDensity() const { return mean_; }
 
   // Number of occupied cells into counter (one uint, overwritten).
   void recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter);
@@ -78,8 +84,8 @@ class OccupancyGrid {
  private:
   Context& ctx_;
   uint32_t resolution_, cascades_, numCells_;
-  gpu::Buffer density_, bits_, fresh_, counter_;
-  gpu::Kernel points_, splat_, ema_, count_;
+  gpu::Buffer density_, bits_, fresh_, counter_, mean_;
+  gpu::Kernel points_, splat_, ema_, meanKernel_, count_;
 };
 
 }  // namespace vknerf::nerf

@@ -210,6 +210,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
     if (release) std::vector<uint8_t>().swap(release->images[i].rgba);
   }
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
+  s.pipe->markUnseenEmpty(train.cameras);
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;

@@ -235,7 +235,7 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   // grid is host-visible or small, and this runs every K steps.
   auto density = grid_.density().download<float>(grid_.numCells());
   double sum = 0;
-  for (float d : density) sum += std::isfinite(d) ? d : 0.0f;
+  for (float d : density) sum += std::isfinite(d) ? std::max(d, 0.0f) : 0.0f;  // -1: a cell no camera sees
   const float threshold = std::min(OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_),
                                    float(sum / double(density.size())));
   recordFieldAt(rec, f, count);

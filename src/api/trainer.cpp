@@ -10,6 +10,7 @@
 #include "io/checkpoint.h"
 #include "io/config_json.h"
 #include "io/memory_fit.h"
+#include "api/fast_capacity.h"
 #include "api/model_impl.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/loss/pixel_bindings.h"
@@ -159,6 +160,7 @@ struct Trainer::Impl {
   std::unique_ptr<gpu::Recorder> rec;
   std::unique_ptr<Model> model;
   uint32_t step = 0;
+  std::string capacityNote;
 };
 
 Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config)
@@ -176,6 +178,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.ctx = ctx;
   s.config = config;
   if (s.config.isFast() && s.config.fastModel().cascades == 0) s.config.fastModel().cascades = cascadesFor(train.aabbScale);
+  if (s.config.isFast()) s.capacityNote = nerf::resolveFastCapacity(s.config.fastModel(), train);
   s.box = train.bounds;
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;
@@ -248,6 +251,7 @@ StepStats Trainer::step(bool readLoss) {
 ModelStatistics Trainer::statistics() const { return impl_->pipe->statistics(); }
 double Trainer::trainingPixelsDeviceMiB() const { return double(impl_->pixels->bytes()) / double(1 << 20); }
 uint32_t Trainer::trainingPixelBindings() const { return uint32_t(impl_->pixels->bindings().size()); }
+const std::string& Trainer::capacityNote() const { return impl_->capacityNote; }
 
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;

@@ -59,6 +59,8 @@ AdamConfig tableAdamOf(const TrainConfig& config) {
 }  // namespace
 
 HashGridConfig hashGridConfigFor(const FastModel& m) {
+  if (m.hashLog2Size == 0 || m.hashGrowth == 0)
+    throw Error("fast model: the hash table size or finest resolution is left to the dataset (0); a Trainer sets it");
   HashGridConfig c;
   c.levels = m.hashLevels;
   c.featuresPerLevel = m.hashFeatures;

@@ -12,7 +12,7 @@ namespace {
 
 constexpr double kCellsPerFootprint = 2.0;  // Nyquist
 constexpr uint32_t kMinFinest = 64, kMaxFinest = 4096;
-constexpr uint32_t kMinLog2Size = 15, kMaxLog2Size = 19;
+constexpr uint32_t kMinLog2Size = 15, kMaxLog2Size = 19, kMaxLog2SizeCpu = 15;
 constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen share
 
 double median(std::vector<double> v) {
@@ -48,7 +48,7 @@ uint32_t ceilPow2(double v) {
 
 }  // namespace
 
-std::string resolveFastCapacity(FastModel& m, const Dataset& train) {
+std::string resolveFastCapacity(FastModel& m, const Dataset& train, bool cpuDevice) {
   if (m.hashGrowth != 0 && m.hashLog2Size != 0) return "";
   const Aabb& b = train.bounds;
   double extent = 0;
@@ -83,9 +83,10 @@ std::string resolveFastCapacity(FastModel& m, const Dataset& train) {
     const double seen = seenShare(train);
     const double byPixels = std::floor(std::log2(std::max(1.0, pixels / (double(m.hashLevels) * m.hashFeatures))));
     const double byCells = std::ceil(std::log2(std::max(1.0, seen * finest * finest * finest)));
-    m.hashLog2Size = uint32_t(std::clamp(std::min(byPixels, byCells), double(kMinLog2Size), double(kMaxLog2Size)));
-    std::snprintf(why, sizeof why, ", 2^%u entries per level (%.2f M training pixels, a parameter each at most: 2^%.0f; %.0f%% of the box in view: 2^%.0f finest cells)",
-                  m.hashLog2Size, pixels / 1e6, byPixels, 100.0 * seen, byCells);
+    const uint32_t most = cpuDevice ? kMaxLog2SizeCpu : kMaxLog2Size;
+    m.hashLog2Size = uint32_t(std::clamp(std::min(byPixels, byCells), double(kMinLog2Size), double(most)));
+    std::snprintf(why, sizeof why, ", 2^%u entries per level (%.2f M training pixels, a parameter each at most: 2^%.0f; %.0f%% of the box in view: 2^%.0f finest cells; at most 2^%u%s)",
+                  m.hashLog2Size, pixels / 1e6, byPixels, 100.0 * seen, byCells, most, cpuDevice ? " on a CPU" : "");
   } else {
     std::snprintf(why, sizeof why, ", 2^%u entries per level (as configured)", m.hashLog2Size);
   }

@@ -18,6 +18,6 @@
 namespace vknerf::nerf {
 
 // Fills what `model` leaves open from `train`; returns one line saying what was chosen and why.
-std::string resolveFastCapacity(FastModel& model, const Dataset& train);
+std::string resolveFastCapacity(FastModel& model, const Dataset& train, bool cpuDevice);
 
 }  // namespace vknerf::nerf

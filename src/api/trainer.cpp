@@ -178,7 +178,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.ctx = ctx;
   s.config = config;
   if (s.config.isFast() && s.config.fastModel().cascades == 0) s.config.fastModel().cascades = cascadesFor(train.aabbScale);
-  if (s.config.isFast()) s.capacityNote = nerf::resolveFastCapacity(s.config.fastModel(), train);
+  if (s.config.isFast()) s.capacityNote = nerf::resolveFastCapacity(s.config.fastModel(), train, ctx->isCpu());
   s.box = train.bounds;
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;

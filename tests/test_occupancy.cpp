@@ -235,9 +235,10 @@ TEST_F(Occupancy, DeviceMeanDensityCapsTheThreshold) {
   std::vector<float> density(grid.numCells());
   for (float& d : density) d = 0.05f * uni(rng) * uni(rng);
   density[7] = std::numeric_limits<float>::quiet_NaN();  // a non-finite density counts as 0
+  density[9] = -1.0f;                                    // so does a cell no camera sees
   grid.density().upload(density);
   double sum = 0;
-  for (float d : density) sum += std::isfinite(d) ? d : 0.0f;
+  for (float d : density) sum += std::isfinite(d) ? std::max(d, 0.0f) : 0.0f;
   const double mean = sum / density.size();
 
   const float threshold = 1.0f;  // far above every density: the mean decides

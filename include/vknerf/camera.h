@@ -67,6 +67,12 @@ std::array<float, 16> orbitPose(const std::array<float, 3>& centre, float radius
 
 // A pinhole camera of width x height pixels with square pixels and its principal point at the image
 // centre, its focal length given by the horizontal field of view or in pixels.
+// ---- Rays ----
+// Unit direction, in the camera's own frame (the OpenGL convention above: x right, y up, looking down
+// -z), of the ray through pixel position (x, y) (pixel edges at integers, rows downwards), through
+// the lens: the inverse the ray generator applies.
+std::array<float, 3> pixelDirection(const Camera& camera, float x, float y);
+
 Camera pinholeFromFov(uint32_t width, uint32_t height, float fovXDegrees,
                       const std::array<float, 16>& c2w = kIdentityPose);
 Camera pinholeFromFocal(uint32_t width, uint32_t height, float focalPixels,

@@ -25,8 +25,10 @@ struct VanillaModel {
 // Multiresolution hash grid -> trunk of `depth` x `width` (sigma and a feature) -> with SH(d) ->
 // colour layer; samples marched through an occupancy grid.
 struct FastModel {
+  // hashLog2Size (table entries per level) and hashGrowth (per-level resolution factor b, which sets
+  // the finest resolution N b^(L-1)): 0 = from the dataset, as the Trainer sizes them (TrainConfig::fast).
   uint32_t hashLevels = 16, hashFeatures = 2, hashLog2Size = 19, hashBaseResolution = 16;
-  float hashGrowth = 1.5f;            // per-level resolution factor b
+  float hashGrowth = 1.5f;
   uint32_t shDegree = 4;              // direction encoding: shDegree^2 coefficients
   uint32_t width = 64, depth = 1;     // instant-ngp: one hidden layer for density, the colour layer after it
   DensityActivation density = DensityActivation::TruncExp;

@@ -143,6 +143,9 @@ class Trainer {
   // Device memory the training images take (RGBA8), and the storage buffers they are spread over.
   double trainingPixelsDeviceMiB() const;
   uint32_t trainingPixelBindings() const;
+  // How the fast model's capacity left open in the configuration (hash table size, finest
+  // resolution: 0) was chosen from the training data, one line; "" when nothing was left open.
+  const std::string& capacityNote() const;
 
   // Checkpoint: config, parameters, Adam state and the step, written atomically.
   void save(const std::string& path) const;

@@ -27,10 +27,11 @@ bool bitSet(uint word, uint index) { return ((word >> (index & 31u)) & 1u) != 0u
 // float, so that neither poisons the running maximum for good.
 float sanitizeDensity(float sigma) { return sigma >= 0.0 ? min(sigma, kMaxFloat) : 0.0; }
 
-// instant-ngp's update: decay the running value, but never below what was just measured.
+// instant-ngp's update: decay the running value, but never below what was just measured. A
+// negative value marks a cell no training camera sees (occupancy_mark_unseen.comp): it stays.
 float emaDensity(float old, float decay, float fresh) {
   precise float decayed = old * decay;
-  return max(decayed, fresh);
+  return old < 0.0 ? old : max(decayed, fresh);
 }
 
 // Lattice point k of a ray: t_k = t_near + (u + k) dt, computed from k (never accumulated) so that

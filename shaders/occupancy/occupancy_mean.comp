@@ -2,7 +2,8 @@
 // The grid's mean density (instant-ngp caps the occupancy threshold at it, so that a young field
 // whose densities are all small is not declared empty everywhere), on the device so that an update
 // needs no read-back. One workgroup: each lane sums a strided share, then a tree in shared memory;
-// no atomics, so the result is the same bits every time. Non-finite densities count as 0.
+// no atomics, so the result is the same bits every time. Non-finite densities, and the -1 of a
+// cell no training camera sees (occupancy_mark_unseen), count as 0.
 #extension GL_GOOGLE_include_directive : require
 #include "occupancy/occupancy.glsl"
 
@@ -22,7 +23,7 @@ void main() {
   float s = 0.0;
   for (uint i = l; i < pc.numCells; i += 256u) {
     float d = gridDensity[i];
-    s += isnan(d) || isinf(d) ? 0.0 : d;
+    s += isnan(d) || isinf(d) ? 0.0 : max(d, 0.0);
   }
   sums[l] = s;
   barrier();

@@ -1,8 +1,11 @@
 // The camera builders of include/vknerf/camera.h: the one place the look-at frame is computed (the
-// command line's orbit, the viewer, the self-check and the tests all build their cameras here).
+// command line's orbit, the viewer, the self-check and the tests all build their cameras here); and
+// a pixel's ray direction through the lens.
 #include "vknerf/camera.h"
 
 #include <cmath>
+
+#include "reference/rays/lens.h"
 
 namespace vknerf {
 namespace {
@@ -63,6 +66,12 @@ Camera pinholeFromFocal(uint32_t width, uint32_t height, float focalPixels, cons
 
 Camera pinholeFromFov(uint32_t width, uint32_t height, float fovXDegrees, const std::array<float, 16>& c2w) {
   return pinholeFromFocal(width, height, 0.5f * float(width) / std::tan(0.5f * radians(fovXDegrees)), c2w);
+}
+
+std::array<float, 3> pixelDirection(const Camera& c, float x, float y) {
+  const auto d = ref::lensDirection(c.lens, (double(x) - c.cx) / c.fx, (double(y) - c.cy) / c.fy);
+  const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  return {float(d[0] / n), float(-d[1] / n), float(-d[2] / n)};  // OpenCV (y down, z forward) -> OpenGL
 }
 
 }  // namespace vknerf

@@ -51,9 +51,11 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
   FastModel& m = c.model.emplace<FastModel>();
   m.hashLevels = 16;
   m.hashFeatures = 2;
-  m.hashLog2Size = 19;
   m.hashBaseResolution = 16;
-  m.hashGrowth = 1.447f;  // 16 -> ~4096 cells over 16 levels (instant-ngp's 2048 per unit of a 2-unit box)
+  // The table size and the finest resolution (through the growth factor) follow the training data:
+  // 0 leaves them to the Trainer (src/api/fast_capacity.h).
+  m.hashLog2Size = 0;
+  m.hashGrowth = 0;
   m.gridResolution = 128;
   m.marchSteps = 1024;
   m.maxSamplesPerRay = 1024;
@@ -70,10 +72,9 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     // hold all the detail they show, at a fraction of the work per sample. Measured on the sample
     // scene (45 s budgets, held-out PSNR): 128 march steps per diagonal beat 256 (+1.5 dB: half the
     // samples per ray, twice the rays), 2^14 samples per step beat 2^15 and 2^16 (more, cheaper
-    // steps), and a 2^15-entry table per level matched 2^17 at a third of the Adam cost.
+    // steps), and a 2^15-entry table per level matched 2^17 at a third of the Adam cost (the
+    // capacity rule of src/api/fast_capacity.h gives the sample scene that table and 256 cells).
     m.hashLevels = 8;
-    m.hashLog2Size = 15;
-    m.hashGrowth = float(std::pow(256.0 / 16.0, 1.0 / 7.0));
     m.gridResolution = 64;
     m.marchSteps = 128;
     m.maxSamplesPerRay = 128;
@@ -99,8 +100,11 @@ TrainConfig TrainConfig::named(const std::string& name, const Context& ctx) {
 std::string TrainConfig::describe() const {
   std::ostringstream os;
   if (const FastModel* m = std::get_if<FastModel>(&model)) {
-    os << "fast: hash grid L=" << m->hashLevels << " F=" << m->hashFeatures << " T=" << m->hashLog2Size
-       << " N=" << m->hashBaseResolution << " b=" << m->hashGrowth << ", MLP " << m->depth << "x" << m->width
+    os << "fast: hash grid L=" << m->hashLevels << " F=" << m->hashFeatures << " T=";
+    if (m->hashLog2Size) os << m->hashLog2Size; else os << "auto";  // auto: from the dataset
+    os << " N=" << m->hashBaseResolution << " b=";
+    if (m->hashGrowth != 0) os << m->hashGrowth; else os << "auto";
+    os << ", MLP " << m->depth << "x" << m->width
        << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
        << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
        << "), " << m->marchSteps

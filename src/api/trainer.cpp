@@ -11,6 +11,7 @@
 #include "io/checkpoint.h"
 #include "io/config_json.h"
 #include "io/memory_fit.h"
+#include "api/fast_capacity.h"
 #include "api/model_impl.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/loss/pixel_bindings.h"
@@ -162,6 +163,7 @@ struct Trainer::Impl {
   std::unique_ptr<gpu::Recorder> rec;
   std::unique_ptr<Model> model;
   uint32_t step = 0;
+  std::string capacityNote;
 };
 
 Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config)
@@ -179,6 +181,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.ctx = ctx;
   s.config = config;
   if (s.config.isFast() && s.config.fastModel().cascades == 0) s.config.fastModel().cascades = cascadesFor(train.aabbScale);
+  if (s.config.isFast()) s.capacityNote = nerf::resolveFastCapacity(s.config.fastModel(), train, ctx->isCpu());
   s.box = train.bounds;
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;
@@ -213,6 +216,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
     if (release) std::vector<uint8_t>().swap(release->images[i].rgba);
   }
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
+  s.pipe->markUnseenEmpty(train.cameras);
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;
@@ -266,6 +270,7 @@ StepStats Trainer::step(bool readLoss) {
 ModelStatistics Trainer::statistics() const { return impl_->pipe->statistics(); }
 double Trainer::trainingPixelsDeviceMiB() const { return double(impl_->pixels->bytes()) / double(1 << 20); }
 uint32_t Trainer::trainingPixelBindings() const { return uint32_t(impl_->pixels->bindings().size()); }
+const std::string& Trainer::capacityNote() const { return impl_->capacityNote; }
 
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;

@@ -1,5 +1,7 @@
 // Scene boxes the files do not state: from where the cameras look, then carved by alpha masks.
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include "io/dataset_loaders.h"
 #include "vknerf/error.h"
@@ -36,6 +38,20 @@ bool solve3(const double A[3][3], const Vec3& b, Vec3& x) {
     x[k] = det(M) / d;
   }
   return true;
+}
+
+// tan of the wider half field of view: to the farthest image edge from the principal point, through
+// the lens (the ray through the middle of each edge; a pinhole's, exactly, from the intrinsics).
+double widerHalfFieldTangent(const Camera& c) {
+  const float w = float(c.width), h = float(c.height);
+  if (c.lens.model == LensModel::Pinhole) return std::max(std::max(c.cx, w - c.cx) / c.fx, std::max(c.cy, h - c.cy) / c.fy);
+  double tangent = 0;
+  for (auto [x, y] : {std::pair{0.0f, c.cy}, {w, c.cy}, {c.cx, 0.0f}, {c.cx, h}}) {
+    const auto d = pixelDirection(c, x, y);
+    const double forward = -double(d[2]), sideways = std::hypot(double(d[0]), double(d[1]));
+    tangent = std::max(tangent, forward > 1e-6 * sideways ? sideways / forward : 1e6);  // 1e6: beyond 90 degrees
+  }
+  return tangent;
 }
 
 }  // namespace
@@ -75,10 +91,7 @@ Aabb boxFromCameras(std::span<const Camera> cameras) {
 
   // The half width each camera sees at the centre's distance, over its wider half field of view.
   std::vector<double> halves;
-  for (const Camera& c : cameras) {
-    double tx = std::max(c.cx, float(c.width) - c.cx) / c.fx, ty = std::max(c.cy, float(c.height) - c.cy) / c.fy;
-    halves.push_back(dist(centre, origin(c)) * std::max(tx, ty));
-  }
+  for (const Camera& c : cameras) halves.push_back(dist(centre, origin(c)) * widerHalfFieldTangent(c));
   std::nth_element(halves.begin(), halves.begin() + halves.size() / 2, halves.end());
   double half = halves[halves.size() / 2];
   if (!(half > 1e-6 * depth) || !std::isfinite(half)) half = depth;  // cameras sitting at the centre

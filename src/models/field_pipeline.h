@@ -86,6 +86,9 @@ class FieldPipeline {
     return doTrainStep(rec, data, step);
   }
   virtual const gpu::Buffer& lossPartials() const = 0;
+  // Before the first step: the training cameras, so that space none of them sees is never modelled
+  // (the fast model's occupancy grid marks it empty for good). A model without such a structure ignores them.
+  virtual void markUnseenEmpty(std::span<const Camera> cameras) { (void)cameras; }
   // Called after resume() loads the state: rebuild anything derived from it.
   virtual void stateLoaded() {}
 

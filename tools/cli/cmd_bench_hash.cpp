@@ -6,6 +6,7 @@
 // after a warm-up submission (shader JIT); SortReduce's stages from GPU timestamps of one more run.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <random>
@@ -67,8 +68,12 @@ int run(const Options& o, Context& ctx) {
     std::string name;
     nerf::HashGridConfig config;
   };
-  // The fast model's grid as TrainConfig::fast picks it for this device (L=8 F=2 T=15 on a CPU).
-  const nerf::HashGridConfig fastGrid = nerf::hashGridConfigFor(TrainConfig::fast(ctx).fastModel());
+  // The fast model's grid as TrainConfig::fast and the Trainer size it for the sample scene on this
+  // device (L=8 F=2 T=15, finest 256 on a CPU; the table and finest resolution follow the dataset).
+  FastModel sample = TrainConfig::fast(ctx).fastModel();
+  sample.hashLog2Size = 15;
+  sample.hashGrowth = float(std::pow(256.0 / sample.hashBaseResolution, 1.0 / (sample.hashLevels - 1)));
+  const nerf::HashGridConfig fastGrid = nerf::hashGridConfigFor(sample);
   auto label = [](const nerf::HashGridConfig& c, const char* what) {
     return "L=" + std::to_string(c.levels) + " F=" + std::to_string(c.featuresPerLevel) +
            " T=" + std::to_string(c.log2TableSize) + what;

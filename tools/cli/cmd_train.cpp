@@ -84,7 +84,9 @@ void applyFlags(const Options& o, TrainConfig& cfg) {
     if (o.depth) f.depth = o.depth;
     if (o.hashLevels) f.hashLevels = o.hashLevels;
     if (o.hashLog2Size) f.hashLog2Size = o.hashLog2Size;
-    if (o.hashLevels || o.hashMaxResolution) {
+    // Without --hash-max-resolution a growth left to the dataset (0) stays so: the finest
+    // resolution it picks is then spread over the levels asked for.
+    if (o.hashMaxResolution || (o.hashLevels && f.hashGrowth != 0)) {
       // keep N_min and the finest resolution, spread the levels geometrically between them
       const double finest = o.hashMaxResolution ? o.hashMaxResolution
                                                  : f.hashBaseResolution * std::pow(double(f.hashGrowth), 7.0);
@@ -207,6 +209,7 @@ int train(const Options& o, const Globals& g) {
                 " rays per batch; lower --rays" + (cfg.isFast() ? " or --samples-per-step" : "") + " or raise --downscale");
   }
   Trainer& trainer = *built;
+  if (!trainer.capacityNote().empty()) std::printf("%s\n", trainer.capacityNote().c_str());
   if (cfg.isFast()) {
     const ModelStatistics start = trainer.statistics();
     std::printf("model: %zu occupancy cascade(s) over the box (aabb_scale %g), device buffers %.1f MiB\n",

@@ -59,6 +59,8 @@ AdamConfig tableAdamOf(const TrainConfig& config) {
 }  // namespace
 
 HashGridConfig hashGridConfigFor(const FastModel& m) {
+  if (m.hashLog2Size == 0 || m.hashGrowth == 0)
+    throw Error("fast model: the hash table size or finest resolution is left to the dataset (0); a Trainer sets it");
   HashGridConfig c;
   c.levels = m.hashLevels;
   c.featuresPerLevel = m.hashFeatures;
@@ -230,9 +232,9 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
     grid_.recordRandomCellPoints(rec, seed, count, f.positions, occCells_);
   }
   // instant-ngp's threshold: the density at which one step is 1% opaque, or the grid's mean density
-  // (before this update, computed on the device) when that is lower, so that a young field whose
-  // densities are all small is not declared empty everywhere (nothing would be sampled, and nothing
-  // learnt).
+  // (before this update, computed on the device; a cell no camera sees counts as 0) when that is
+  // lower, so that a young field whose densities are all small is not declared empty everywhere
+  // (nothing would be sampled, and nothing learnt).
   const float threshold = OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
   recordFieldAt(rec, f, count);
   grid_.recordUpdate(rec, occCells_, f.field, count, kOccupancyDecay, threshold, 4, 3, true);

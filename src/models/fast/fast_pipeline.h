@@ -40,6 +40,7 @@ class FastPipeline final : public FieldPipeline {
   const gpu::Buffer& color() const override { return color_; }
   const gpu::Buffer& depth() const override { return depth_; }
   const gpu::Buffer& lossPartials() const override { return partials_; }
+  void markUnseenEmpty(std::span<const Camera> cameras) override { grid_.markUnseenEmpty(cameras, box_); }
   std::vector<StateArray> state() override;
 
   FieldBatch& queryBatch() override { return field_; }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "reference/occupancy/view_bounds.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
@@ -26,8 +27,13 @@ struct MeanPush {
 struct CountPush {
   uint32_t numCells;
 };
+struct UnseenPush {
+  uint32_t resolution, cascades, numCells, numViews;
+  float centre[3], half[3];
+};
 
-constexpr uint32_t kPointsLocal = 256, kSplatLocal = 256, kEmaLocal = 64, kCountLocal = 64, kCountWords = 16;
+constexpr uint32_t kPointsLocal = 256, kSplatLocal = 256, kEmaLocal = 64, kCountLocal = 64, kCountWords = 16,
+                   kUnseenLocal = 64;
 
 void requireBytes(const char* what, const gpu::BufferRange& r, uint64_t needed) {
   gpu::requireBytes("OccupancyGrid", what, r, needed);
@@ -61,13 +67,35 @@ OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution, uint32_t cascade
                    sizeof(SplatPush), {}}),
       ema_(ctx, {gpu::shaders::occupancy_ema, std::vector<gpu::Binding>(4, gpu::Binding::Storage), sizeof(EmaPush), {}}),
       meanKernel_(ctx, {gpu::shaders::occupancy_mean, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(MeanPush), {}}),
-      count_(ctx, {gpu::shaders::occupancy_count, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(CountPush), {}}) {
+      count_(ctx, {gpu::shaders::occupancy_count, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(CountPush), {}}),
+      unseen_(ctx, {gpu::shaders::occupancy_mark_unseen, {gpu::Binding::Storage, gpu::Binding::Storage},
+                    sizeof(UnseenPush), {}}) {
   density_.zero();
   bits_.zero();
   mean_.zero();
 }
 
 void OccupancyGrid::recordMarkAllOccupied(gpu::Recorder& rec) { rec.fill(bits_, 0xffffffffu); }
+
+void OccupancyGrid::markUnseenEmpty(std::span<const Camera> cameras, const Aabb& box) {
+  if (cameras.empty()) return;  // no camera to judge by: every cell stays as it is
+  const auto views = gpu::Buffer::of(ctx_, ref::viewBoundsOf(cameras));
+  UnseenPush p{resolution_, cascades_, numCells_, uint32_t(cameras.size()), {}, {}};
+  for (int k = 0; k < 3; ++k) {
+    p.centre[k] = 0.5f * (box.min[k] + box.max[k]);
+    p.half[k] = 0.5f * (box.max[k] - box.min[k]);
+  }
+  gpu::Recorder rec(ctx_);
+  rec.begin();
+  rec.dispatchFlat(unseen_, {views, density_}, p, numCells_, kUnseenLocal, "occupancy_mark_unseen");
+  // bits = d > -1/2: every cell a camera sees (d >= 0) occupied, the unseen ones (d = -1) empty;
+  // decay 1 and no fresh measurement leave the densities as they are.
+  rec.fill(fresh_, 0u);
+  EmaPush ep{numCells_, 1.0f, -0.5f, 0u};
+  rec.dispatchFlat(ema_, {density_, fresh_, bits_, mean_}, ep, numWords(), kEmaLocal, "occupancy_ema");
+  rec.end();
+  rec.submitAndWait();
+}
 
 void OccupancyGrid::recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const gpu::BufferRange& positions,
                                         const gpu::BufferRange& cells) {

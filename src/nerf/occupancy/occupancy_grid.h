@@ -15,11 +15,13 @@
 // The threshold is a density; densityThreshold(tau, dt) gives the density at which one march step
 // dt has optical thickness sigma * dt = tau (instant-ngp: tau = 0.01, alpha ~ 1%).
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
+#include "vknerf/camera.h"
 
 namespace vknerf::nerf {
 
@@ -54,6 +56,13 @@ class OccupancyGrid {
   // Every cell occupied (the initial state of training); densities are left as they are.
   void recordMarkAllOccupied(gpu::Recorder& rec);
 
+  // Before training (instant-ngp's mark_untrained_density_grid): every cell none of whose corners
+  // any of `cameras` sees (in front of it, inside its image through a pinhole bound that holds the
+  // lens: ref::viewBoundOf) gets density -1, which no update changes, so it starts and stays empty;
+  // then bits = occupied wherever a camera sees. `box` is the scene box the grid covers. Records,
+  // submits and waits.
+  void markUnseenEmpty(std::span<const Camera> cameras, const Aabb& box);
+
   // numCells() points, point j in cell j: positions vec4[numCells()], cells uint[numCells()].
   void recordAllCellPoints(gpu::Recorder& rec, uint32_t seed, const gpu::BufferRange& positions,
                            const gpu::BufferRange& cells);
@@ -85,7 +94,7 @@ class OccupancyGrid {
   Context& ctx_;
   uint32_t resolution_, cascades_, numCells_;
   gpu::Buffer density_, bits_, fresh_, counter_, mean_;
-  gpu::Kernel points_, splat_, ema_, meanKernel_, count_;
+  gpu::Kernel points_, splat_, ema_, meanKernel_, count_, unseen_;
 };
 
 }  // namespace vknerf::nerf

@@ -55,10 +55,11 @@ inline uint32_t cellPointCell(uint32_t r, uint32_t seed, uint32_t j, bool random
 
 template <class T> T sanitizeDensity(T sigma) { return sigma >= T(0) ? std::min(sigma, T(FLT_MAX)) : T(0); }
 
-template <class T> T emaDensity(T old, T decay, T fresh) { return std::max(old * decay, fresh); }
+// A negative density marks a cell no training camera sees (ref::markUnseenEmpty): it stays empty.
+template <class T> T emaDensity(T old, T decay, T fresh) { return old < T(0) ? old : std::max(old * decay, fresh); }
 
 // One update: fresh[cell] = max of the sanitised densities measured in it (0 if none), then
-// d = max(d decay, fresh) for every cell and bits = d > threshold.
+// d = max(d decay, fresh) for every cell (a negative d stays) and bits = d > threshold.
 template <class T>
 void updateGrid(std::vector<T>& density, std::vector<uint32_t>& bits, const std::vector<uint32_t>& cells,
                 const std::vector<T>& measured, T decay, T threshold) {

@@ -8,26 +8,14 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
+#include "lib/process/subprocess.h"
 #include "vknerf/error.h"
 
 extern char** environ;
 
 namespace vknerf::nerf {
-namespace {
-
-std::string lastLine(const std::string& file) {
-  std::ifstream in(file);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
-}
-
-}  // namespace
-
 VideoEncoder::VideoEncoder(const std::string& path, uint32_t width, uint32_t height, double fps)
     : path_(path), width_(width), height_(height) {
   if (width == 0 || height == 0) throw Error(path + ": cannot encode a video of empty frames");
@@ -84,7 +72,7 @@ void VideoEncoder::abandon() {
 }
 
 void VideoEncoder::fail(const std::string& what) {
-  const std::string why = lastLine(log_);
+  const std::string why = process::lastLogLine(log_);
   abandon();
   throw Error(path_ + ": " + what + (why.empty() ? "" : " (ffmpeg: " + why + ")"));
 }

@@ -1,0 +1,101 @@
+#include "lib/process/subprocess.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
+#include "vknerf/error.h"
+
+extern char** environ;
+
+namespace vknerf::process {
+namespace {
+
+// Our environment with `extra` added; an entry of ours with the same name is replaced.
+std::vector<std::string> environmentWith(const std::vector<std::string>& extra) {
+  std::vector<std::string> out;
+  for (char** e = environ; *e; ++e) {
+    const std::string entry = *e;
+    bool replaced = false;
+    for (const std::string& x : extra)
+      if (entry.compare(0, x.find('=') + 1, x, 0, x.find('=') + 1) == 0) replaced = true;
+    if (!replaced) out.push_back(entry);
+  }
+  out.insert(out.end(), extra.begin(), extra.end());
+  return out;
+}
+
+std::vector<char*> pointers(std::vector<std::string>& strings) {
+  std::vector<char*> out;
+  for (auto& s : strings) out.push_back(s.data());
+  out.push_back(nullptr);
+  return out;
+}
+
+}  // namespace
+
+int runLogged(const Subprocess& p) {
+  std::ofstream log(p.logPath, std::ios::app | std::ios::binary);
+  if (!log) throw Error("cannot write the log '" + p.logPath + "': " + std::strerror(errno));
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot start " + p.argv.at(0) + ": " + std::strerror(errno));
+  std::vector<std::string> args = p.argv, env = environmentWith(p.env);
+  auto argv = pointers(args), envp = pointers(env);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
+  pid_t pid = -1;
+  const int err = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(fds[1]);
+  if (err != 0) {
+    ::close(fds[0]);
+    if (err == ENOENT)
+      throw Error(p.argv[0] + " is not installed (Debian package: " + p.debianPackage + ")");
+    throw Error("cannot start " + p.argv[0] + ": " + std::strerror(err));
+  }
+  // COLMAP ends some progress lines with '\r' rather than '\n': both end a line here.
+  std::string pending;
+  char buf[4096];
+  for (;;) {
+    const ssize_t n = ::read(fds[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    log.write(buf, n);
+    log.flush();
+    for (ssize_t i = 0; i < n; ++i) {
+      if (buf[i] == '\n' || buf[i] == '\r') {
+        if (p.onLine && !pending.empty()) p.onLine(pending);
+        pending.clear();
+      } else {
+        pending += buf[i];
+      }
+    }
+  }
+  if (p.onLine && !pending.empty()) p.onLine(pending);
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+std::string lastLogLine(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (!line.empty() && line.find_first_not_of("=-") != std::string::npos) last = line;
+  }
+  return last;
+}
+
+}  // namespace vknerf::process

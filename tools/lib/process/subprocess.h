@@ -1,0 +1,26 @@
+#pragma once
+// Running an external program (colmap, ffmpeg) with its output appended to a log file, each line
+// also handed to a callback so the caller can show progress parsed from it.
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace vknerf::process {
+
+struct Subprocess {
+  std::vector<std::string> argv;     // argv[0] is looked up on PATH
+  std::vector<std::string> env;      // "NAME=value" entries added to (or replacing in) ours
+  std::string debianPackage;         // named when argv[0] is not installed
+  std::string logPath;               // stdout and stderr are appended here
+  std::function<void(const std::string& line)> onLine;  // optional, for each line as it arrives
+};
+
+// Runs `p` to completion and returns its exit status (128 + N when killed by signal N). Throws
+// vknerf::Error "<program> is not installed (Debian package: <package>)" when argv[0] is not on
+// PATH, and naming the log when the log cannot be opened.
+int runLogged(const Subprocess& p);
+
+// The last non-empty line of a log file ("" when there is none): the reason a program gave.
+std::string lastLogLine(const std::string& path);
+
+}  // namespace vknerf::process

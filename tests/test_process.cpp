@@ -4,7 +4,9 @@
 // true ones after a similarity alignment.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -16,6 +18,7 @@
 #include "lib/process/sharpness.h"
 #include "lib/process/sparse_model.h"
 #include "lib/process/subsample.h"
+#include "lib/process/video_frames.h"
 #include "support/cli_run.h"
 #include "support/colmap_model_files.h"
 #include "support/similarity_alignment.h"
@@ -82,6 +85,52 @@ TEST(ProcessSharpness, SharpestOfEachWindow) {
   EXPECT_EQ(sharpestPerWindow({1, 5, 2, 9, 9, 0, 3}, 3), (std::vector<size_t>{1, 3, 6}));
   EXPECT_EQ(sharpestPerWindow({4, 4}, 0), (std::vector<size_t>{0, 1}));
   EXPECT_TRUE(sharpestPerWindow({}, 4).empty());
+}
+
+// A real video through ffmpeg: 16 frames at 8 frames/s, one sharp checkerboard in each window of 4
+// and the rest box-blurred; at --fps 2 with 4 candidates per frame kept, the sharp ones are kept.
+TEST(ProcessVideo, KeepsTheSharpestFrameOfEachWindow) {
+  if (std::system("ffmpeg -version > /dev/null 2>&1") != 0) GTEST_SKIP() << "ffmpeg is not installed here";
+  test::TempDir dir("video");
+  const uint32_t w = 64, h = 48;
+  const std::vector<size_t> sharpFrames{1, 6, 8, 15};
+  for (size_t f = 0; f < 16; ++f) {
+    std::vector<uint8_t> board;
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) board.push_back((((x + f) / 4 + y / 4) % 2) ? 220 : 30);
+    const bool sharp = std::find(sharpFrames.begin(), sharpFrames.end(), f) != sharpFrames.end();
+    std::vector<uint8_t> grey = board;
+    if (!sharp)  // a 5x5 box blur: what camera shake does to the Laplacian
+      for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+          int sum = 0;
+          for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx)
+              sum += board[std::clamp(int(y) + dy, 0, int(h) - 1) * w + std::clamp(int(x) + dx, 0, int(w) - 1)];
+          grey[y * w + x] = uint8_t(sum / 25);
+        }
+    char name[32];
+    std::snprintf(name, sizeof name, "f_%02zu.png", f);
+    nerf::savePng(dir.file(name), greyImage(w, h, grey));
+  }
+  // ffv1: lossless, so the blur the test made is the blur the video holds.
+  const std::string encode = "ffmpeg -nostdin -loglevel error -framerate 8 -i " + dir.file("f_%02d.png") +
+                             " -c:v ffv1 " + dir.file("video.mkv");
+  ASSERT_EQ(std::system(encode.c_str()), 0);
+  VideoFrameOptions o;
+  o.fps = 2;
+  o.candidatesPerFrame = 4;
+  o.logPath = dir.file("ffmpeg.log");
+  size_t scored = 0;
+  o.progress = [&](size_t done, size_t) { scored = done; };
+  const auto kept = extractSharpFrames(dir.file("video.mkv"), dir.file("frames"), o);
+  EXPECT_EQ(scored, 16u);
+  ASSERT_EQ(kept.size(), sharpFrames.size());
+  for (size_t i = 0; i < kept.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06zu.jpg", sharpFrames[i] + 1);  // ffmpeg counts from 1
+    EXPECT_EQ(kept[i].filename().string(), name) << "window " << i;
+  }
 }
 
 TEST(ProcessSubsample, EvenSpreadWithBothEnds) {

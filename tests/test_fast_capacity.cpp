@@ -1,0 +1,97 @@
+// The fast model's capacity from the data (src/api/fast_capacity.h): the finest hash resolution from
+// the cameras' pixel footprint, the table from the training pixels and the box in view, the caps of
+// a CPU device, and explicit settings kept.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "api/fast_capacity.h"
+#include "vknerf/camera.h"
+#include "vknerf/dataset.h"
+
+using namespace vknerf;
+
+namespace {
+
+// `views` cameras of width x height pixels on a circle of `radius` around a unit box, looking at
+// its centre, with black images of their size.
+Dataset ring(uint32_t views, uint32_t width, uint32_t height, float fovX, float radius, float boxHalf = 1) {
+  Dataset d;
+  for (uint32_t i = 0; i < views; ++i) {
+    const float a = 6.2831853f * float(i) / float(views);
+    d.cameras.push_back(pinholeFromFov(width, height, fovX,
+                                       lookAt({radius * std::cos(a), radius * std::sin(a), 0.5f}, {0, 0, 0}, {0, 0, 1})));
+    d.images.push_back({width, height, std::vector<uint8_t>(size_t(width) * height * 4, 0)});
+  }
+  d.bounds = {{-boxHalf, -boxHalf, -boxHalf}, {boxHalf, boxHalf, boxHalf}};
+  return d;
+}
+
+FastModel openModel() {
+  FastModel m;
+  m.hashLevels = 8;
+  m.hashFeatures = 2;
+  m.hashBaseResolution = 16;
+  m.hashLog2Size = 0;
+  m.hashGrowth = 0;
+  return m;
+}
+
+double finestOf(const FastModel& m) {
+  return m.hashBaseResolution * std::pow(double(m.hashGrowth), double(m.hashLevels - 1));
+}
+
+}  // namespace
+
+// Two cells per pixel footprint over the box: focal f = (w/2) / tan(fov/2), footprint = distance / f,
+// N = 2 * extent / footprint, rounded up to a power of two.
+TEST(FastCapacity, FinestResolutionResolvesThePixelFootprint) {
+  const Dataset d = ring(8, 400, 400, 60, 4);
+  FastModel m = openModel();
+  const std::string note = nerf::resolveFastCapacity(m, d, false);
+  const double focal = 200 / std::tan(30 * M_PI / 180), distance = std::sqrt(16 + 0.25);
+  const double wanted = 2 * 2 / (distance / focal);  // ~327
+  EXPECT_NEAR(finestOf(m), std::exp2(std::ceil(std::log2(wanted))), 1e-2);
+  EXPECT_NE(note.find("finest 512"), std::string::npos) << note;
+  // Twice the pixels across: twice the resolution.
+  FastModel sharper = openModel();
+  nerf::resolveFastCapacity(sharper, ring(8, 800, 800, 60, 4), false);
+  EXPECT_NEAR(finestOf(sharper), 2 * finestOf(m), 1e-2);
+}
+
+// The table: at most a parameter per training pixel (levels x features per entry), within 2^15..2^19.
+TEST(FastCapacity, TableFollowsTheTrainingPixels) {
+  FastModel few = openModel(), many = openModel();
+  nerf::resolveFastCapacity(few, ring(4, 100, 100, 60, 4), false);  // 40k pixels: the floor, 2^15
+  EXPECT_EQ(few.hashLog2Size, 15u);
+  nerf::resolveFastCapacity(many, ring(100, 800, 800, 60, 4), false);  // 64M pixels / 16: 2^21, capped
+  EXPECT_EQ(many.hashLog2Size, 19u);
+  FastModel mid = openModel();
+  nerf::resolveFastCapacity(mid, ring(16, 256, 256, 60, 4), false);  // 1M pixels / 16 = 2^16
+  EXPECT_EQ(mid.hashLog2Size, 16u);
+}
+
+// A CPU device: the table at 2^15 and the finest level at 256, whatever the data asks for.
+TEST(FastCapacity, CpuDeviceKeepsTheSmallModel) {
+  FastModel m = openModel();
+  const std::string note = nerf::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), true);
+  EXPECT_EQ(m.hashLog2Size, 15u);
+  EXPECT_NEAR(finestOf(m), 256, 1e-2);
+  EXPECT_NE(note.find("on a CPU"), std::string::npos) << note;
+}
+
+// What the configuration sets is kept, and only what it leaves open is filled.
+TEST(FastCapacity, ExplicitSettingsWin) {
+  FastModel m = openModel();
+  m.hashLog2Size = 17;
+  m.hashGrowth = 1.5f;
+  const FastModel before = m;
+  nerf::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), false);
+  EXPECT_EQ(m.hashLog2Size, before.hashLog2Size);
+  EXPECT_EQ(m.hashGrowth, before.hashGrowth);
+  FastModel growthOnly = openModel();
+  growthOnly.hashGrowth = 1.5f;
+  nerf::resolveFastCapacity(growthOnly, ring(100, 800, 800, 60, 4), false);
+  EXPECT_EQ(growthOnly.hashGrowth, 1.5f);
+  EXPECT_EQ(growthOnly.hashLog2Size, 19u);
+}

@@ -14,7 +14,6 @@
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "nerf/occupancy/occupancy_grid.h"
-#include "nerf/sampling/early_termination.h"
 #include "nerf/sampling/packed_points.h"
 #include "nerf/sampling/ray_marcher.h"
 #include "reference/encoding/frequency_encoding.h"
@@ -462,106 +461,4 @@ TEST_F(Marcher, PackedPointsFollowSampleRays) {
     }
   }
   for (uint32_t i = total; i < capacity; ++i) ASSERT_EQ(pos[4 * i], 7.0f) << "wrote past the batch at " << i;
-}
-
-// ---- Early termination ----
-
-namespace {
-
-struct PackedBatch {
-  std::vector<uint32_t> offsets{0}, sampleRay;
-  std::vector<float> samples, field;  // 2 and 4 per sample
-};
-
-// Rays of 0..60 samples; sigma scaled per ray from faint (never terminates) to opaque, with NaN,
-// negative and infinite densities sprinkled in.
-PackedBatch randomBatch(uint32_t numRays, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
-  PackedBatch b;
-  for (uint32_t r = 0; r < numRays; ++r) {
-    uint32_t n = rng() % 61;
-    float scale = std::pow(10.0f, 3.0f * uni(rng) - 1.0f), t = uni(rng);
-    for (uint32_t i = 0; i < n; ++i) {
-      float delta = 0.01f + 0.09f * uni(rng), sigma = scale * uni(rng);
-      uint32_t hard = rng() % 200;
-      if (hard == 0) sigma = NAN;
-      if (hard == 1) sigma = -5.0f;
-      if (hard == 2) sigma = INFINITY;
-      b.samples.insert(b.samples.end(), {t, delta});
-      b.field.insert(b.field.end(), {uni(rng), uni(rng), uni(rng), sigma});
-      b.sampleRay.push_back(r);
-      t += delta;
-    }
-    b.offsets.push_back(uint32_t(b.sampleRay.size()));
-  }
-  return b;
-}
-
-// Colour of one ray from samples [first, first + n), in double.
-std::array<double, 3> compositeRay(const PackedBatch& b, uint32_t first, uint32_t n) {
-  std::array<double, 3> c{0, 0, 0};
-  double trans = 1;
-  for (uint32_t i = first; i < first + n; ++i) {
-    double sigma = ref::sanitizeDensity<double>(b.field[4 * i + 3]);
-    double alpha = 1 - std::exp(-sigma * b.samples[2 * i + 1]);
-    for (int k = 0; k < 3; ++k) c[k] += trans * alpha * b.field[4 * i + k];
-    trans *= 1 - alpha;
-  }
-  return c;
-}
-
-}  // namespace
-
-TEST_F(Marcher, EarlyTerminationKeepsSamplesUntilOpaque) {
-  const uint32_t n = 700;
-  const float minT = 1e-4f;
-  auto b = randomBatch(n, 31);
-  uint32_t total = b.offsets.back();
-  auto offsets = gpu::Buffer::of(ctx(), b.offsets);
-  auto samples = gpu::Buffer::of(ctx(), b.samples), sampleRay = gpu::Buffer::of(ctx(), b.sampleRay);
-  auto field = gpu::Buffer::of(ctx(), b.field);
-  gpu::Buffer outOffsets(ctx(), (n + 1) * 4), outSamples(ctx(), total * 8), outSampleRay(ctx(), total * 4),
-      outField(ctx(), total * 16), outTotals(ctx(), 16);
-  nerf::EarlyTermination et(ctx(), n);
-  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    et.record(rec, n, offsets, samples, sampleRay, field, minT, outOffsets, outSamples, outSampleRay, outField,
-              outTotals);
-  });
-  auto off = outOffsets.download<uint32_t>(n + 1);
-  uint32_t kept = off[n];
-  auto s = outSamples.download<float>(size_t(kept) * 2);
-  auto sr = outSampleRay.download<uint32_t>(kept);
-  auto f = outField.download<float>(size_t(kept) * 4);
-  EXPECT_EQ(outTotals.download<uint32_t>(1)[0], kept);
-  float maxDepth = nerf::EarlyTermination::maxOpticalDepth(minT);
-  uint32_t truncated = 0, whole = 0;
-  for (uint32_t r = 0; r < n; ++r) {
-    uint32_t first = b.offsets[r], count = b.offsets[r + 1] - first;
-    std::vector<float> sigma, delta;
-    for (uint32_t i = first; i < first + count; ++i) {
-      sigma.push_back(b.field[4 * i + 3]);
-      delta.push_back(b.samples[2 * i + 1]);
-    }
-    // Same float sum in the same order as the shader: the kept counts match exactly.
-    uint32_t expected = ref::keptSamples<float>(sigma, delta, maxDepth);
-    ASSERT_EQ(off[r + 1] - off[r], expected) << "ray " << r;
-    for (uint32_t i = 0; i < expected; ++i) {
-      uint32_t src = first + i, dst = off[r] + i;
-      ASSERT_EQ(s[2 * dst], b.samples[2 * src]);
-      ASSERT_EQ(s[2 * dst + 1], b.samples[2 * src + 1]);
-      ASSERT_EQ(sr[dst], r);
-      for (int k = 0; k < 4; ++k)
-        if (!std::isnan(b.field[4 * src + k])) ASSERT_EQ(f[4 * dst + k], b.field[4 * src + k]);
-    }
-    // What was dropped was invisible: the colour changes by less than the cut-off transmittance
-    // (colours are in [0, 1]); 1% slack for the float optical depth against double exp().
-    auto full = compositeRay(b, first, count), cut = compositeRay(b, first, expected);
-    for (int k = 0; k < 3; ++k) EXPECT_LE(std::fabs(full[k] - cut[k]), 1.01 * minT) << "ray " << r;
-    truncated += expected < count;
-    whole += expected == count && count > 0;
-  }
-  EXPECT_GT(truncated, 100u);  // both outcomes occur often enough to matter
-  EXPECT_GT(whole, 100u);
-  EXPECT_LT(kept, total);
 }

@@ -6,6 +6,8 @@
 #ifndef VKNERF_COMPOSITE_GLSL
 #define VKNERF_COMPOSITE_GLSL
 
+#include "occupancy/occupancy.glsl"
+
 // Optical depth is capped so that sigma = +inf or FLT_MAX never enters the arithmetic as inf:
 // exp(-cap) is 0 and 1 - exp(-cap) is 1 exactly, and prefix sums of capped values stay finite
 // (no inf - inf or 0 * inf anywhere downstream).
@@ -29,6 +31,17 @@ vec2 alphaAndSurvival(float x) {
   float series = x * p;
   float e = exp(-x);
   return x < 0.5 ? vec2(series, 1.0 - series) : vec2(1.0 - e, e);
+}
+
+// Early termination: a ray stops compositing once the transmittance in front of its next sample
+// falls below a threshold, tested as optical depth > maxOpticalDepth = -ln(threshold) so that no
+// exp() rounding decides; the sample that crosses it is still composited. The depth is its own
+// sum (sanitized density times delta, as the occupancy grid reads densities), so the decision is
+// independent of the compositing arithmetic and matches src/reference's keptSamples bit for bit.
+// maxOpticalDepth = +inf never stops.
+float terminationDepth(float sigma, float delta) {
+  precise float tau = sanitizeDensity(sigma) * delta;
+  return tau;
 }
 
 #endif

@@ -8,6 +8,9 @@
 // dC/dsigma_i = delta_i * T_{i+1} * (c_i - Q_i) is exactly 0 (never NaN) where T_{i+1} underflows.
 // The front-to-back pass stores T_{i+1} per sample in dField, whose slots this invocation owns; the
 // back-to-front pass reads them and overwrites them with the gradients.
+// With early termination (composite.glsl) the ray ends where the forward pass stopped it: the
+// samples behind the cut get a zero gradient, the rest exactly what a batch holding only the kept
+// samples would get.
 #extension GL_GOOGLE_include_directive : require
 #include "render/composite.glsl"
 
@@ -26,6 +29,8 @@ layout(push_constant) uniform Push {
   uint numRays;
   uint samplesPerRay;
   uint useBackgroundBuffer;
+  float maxOpticalDepth;
+  uint writeKept;  // the forward pass's; unused here
 } pc;
 
 void main() {
@@ -37,10 +42,16 @@ void main() {
   // Front to back: the same prefix sums as the forward pass, so T matches it bit for bit. Only
   // T_{i+1} is kept (in dField[i].x); alpha is cheaper to recompute than to store and reload.
   float prefix = 0.0;
-  for (uint i = begin; i < end; ++i) {
-    prefix += opticalDepth(imageLoad(field, int(i)).w, samples[i].y);
-    dField[i].x = exp(-prefix);
+  float opaque = 0.0;
+  uint cut = begin;
+  for (; cut < end && opaque <= pc.maxOpticalDepth; ++cut) {
+    float sigma = imageLoad(field, int(cut)).w, delta = samples[cut].y;
+    prefix += opticalDepth(sigma, delta);
+    dField[cut].x = exp(-prefix);
+    opaque += terminationDepth(sigma, delta);
   }
+  for (uint i = cut; i < end; ++i) dField[i] = vec4(0.0);
+  end = cut;
 
   vec4 g = dColor[ray];
   float gDepth = dDepth[ray];

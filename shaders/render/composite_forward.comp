@@ -2,6 +2,8 @@
 // Volume-rendering compositing, forward: one invocation per ray walks its samples front to back.
 // w_i = T_i * alpha_i with T_i = exp(-S_i), S_i the exclusive prefix sum of sigma * delta (a product
 // of (1 - alpha) would lose the small factors); C = sum w_i c_i + T_final * bg; depth = sum w_i t_i.
+// With early termination (composite.glsl) a ray's samples behind the cut get weight 0 and the
+// number it composited goes to keptCounts.
 #extension GL_GOOGLE_include_directive : require
 #include "render/composite.glsl"
 
@@ -14,12 +16,15 @@ layout(std430, binding = 3) readonly buffer Background { vec4 perRayBackground[]
 layout(std430, binding = 4) writeonly buffer Color { vec4 color[]; };           // (r, g, b, opacity)
 layout(std430, binding = 5) writeonly buffer Depth { float depth[]; };
 layout(std430, binding = 6) writeonly buffer Weights { float weights[]; };
+layout(std430, binding = 7) writeonly buffer KeptCounts { uint keptCounts[]; };  // per ray, when writeKept
 
 layout(push_constant) uniform Push {
   vec4 background;     // rgb, when useBackgroundBuffer == 0
   uint numRays;
   uint samplesPerRay;  // 0: packed layout through rayOffsets
   uint useBackgroundBuffer;
+  float maxOpticalDepth;  // early termination; +inf: composite every sample
+  uint writeKept;
 } pc;
 
 void main() {
@@ -32,7 +37,9 @@ void main() {
   float prefix = 0.0;
   vec3 rgb = vec3(0.0);
   float d = 0.0;
-  for (uint i = begin; i < end; ++i) {
+  float opaque = 0.0;
+  uint i = begin;
+  for (; i < end && opaque <= pc.maxOpticalDepth; ++i) {
     vec2 s = samples[i];
     vec4 f = imageLoad(field, int(i));
     float x = opticalDepth(f.w, s.y);
@@ -41,7 +48,10 @@ void main() {
     rgb += w * f.rgb;
     d += w * s.x;
     prefix += x;
+    opaque += terminationDepth(f.w, s.y);
   }
+  if (pc.writeKept != 0u) keptCounts[ray] = i - begin;
+  for (; i < end; ++i) weights[i] = 0.0;
   // Opacity as 1 - T_final through the same accurate alpha: a faint ray keeps its few 1e-8s.
   vec2 escape = alphaAndSurvival(prefix);
   color[ray] = vec4(rgb + escape.y * bg, escape.x);

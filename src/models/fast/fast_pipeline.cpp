@@ -15,6 +15,7 @@ constexpr float kOccupancyDecay = 0.95f;       // instant-ngp's EMA factor per u
 constexpr float kOccupancyThickness = 0.01f;   // a cell is empty when one step through it is < 1% opaque
 constexpr uint32_t kMaxOccupancyPoints = 1u << 18;
 constexpr uint32_t kRayAlign = 64;             // sub-batches start at multiples of this (binding offsets)
+constexpr float kMinTransmittance = 1e-4f;     // early termination (instant-ngp's)
 
 float diagonal(const Aabb& b) {
   float s = 0;
@@ -124,10 +125,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
     std::vector<float> up(size_t(occPoints_) * 4, 0.0f);
     for (size_t i = 0; i < occPoints_; ++i) up[i * 4 + 2] = 1.0f;  // any unit direction: sigma ignores it
     occField_.directions.upload(up);
-    if (model_.earlyTermination) {
-      termination_.emplace(ctx, rayCapacity_);
-      kept_.emplace(ctx, rayCapacity_, sampleCapacity_);
-    }
+    if (model_.earlyTermination) keptCounts_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4);
   }
   gpu::Recorder rec(ctx);
   rec.begin();
@@ -172,11 +170,13 @@ void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t
 }
 
 void FastPipeline::recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
-                                   const std::array<float, 3>& bg) {
+                                   const std::array<float, 3>& bg, float maxOpticalDepth,
+                                   const gpu::BufferRange* keptCounts) {
   gpu::BufferRange perRay(rays_.background(), VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16);
   compositor_.recordForward(rec, numRays, 0, batch.offsets, batch.samples, field_.field, bg, &perRay,
                             gpu::BufferRange(color_, VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16),
-                            gpu::BufferRange(depth_, VkDeviceSize(rayOffset) * 4, VkDeviceSize(numRays) * 4), weights_);
+                            gpu::BufferRange(depth_, VkDeviceSize(rayOffset) * 4, VkDeviceSize(numRays) * 4), weights_,
+                            maxOpticalDepth, keptCounts);
 }
 
 void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
@@ -255,30 +255,22 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   marchedSamples_ += samples;
   marchedRays_ += rays;
 
-  const Packed* batch = &marched_;
-  if (termination_) {
-    // instant-ngp's two passes: the field without gradients over everything marched, then the
-    // training pass (forward with activations kept, backward) only over the samples in front of
-    // T < 1e-4 — behind an opaque surface the gradient is ~0 and the backward costs most.
-    rec.begin();
-    recordField(rec, marched_, 0, samples, false);
-    termination_->record(rec, rays, marched_.offsets, marched_.samples, marched_.sampleRay, field_.field, 1e-4f,
-                         kept_->offsets, kept_->samples, kept_->sampleRay, field_.dField, kept_->totals);
-    rec.end();
-    rec.submitAndWait();
-    batch = &*kept_;
-    samples = kept_->totals.download<uint32_t>(1)[0];
-  }
-  keptSamples_ += samples;
-
+  // One field forward with activations kept over every marched sample. The compositor stops each
+  // ray where the transmittance falls below 1e-4 (instant-ngp's early termination) and gives the
+  // samples behind that zero gradient, so the step needs no separate pass (the field without
+  // gradients, then a compacted copy of the kept samples) and never evaluates the forward twice.
+  const float maxDepth =
+      model_.earlyTermination ? Compositor::maxOpticalDepth(kMinTransmittance) : Compositor::kNoTermination;
+  std::optional<gpu::BufferRange> kept;
+  if (model_.earlyTermination) kept.emplace(keptCounts_, 0, VkDeviceSize(rays) * 4);
   rec.begin();
-  recordField(rec, *batch, 0, samples, true);
-  recordComposite(rec, *batch, 0, rays, config_.background);
+  recordField(rec, marched_, 0, samples, true);
+  recordComposite(rec, marched_, 0, rays, config_.background, maxDepth, kept ? &*kept : nullptr);
   loss_->record(rec, rays, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
                 partials_);
   gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(rays) * 16);
-  compositor_.recordBackward(rec, rays, 0, batch->offsets, batch->samples, field_.field, config_.background, &perRay,
-                             dColor_, zeroDepthGrad_, field_.dField);
+  compositor_.recordBackward(rec, rays, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
+                             &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth);
   gpu::BufferRange dPos(dPos_);
   mlp_.recordBackward(rec, samples, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
                       field_.dField, network_.grads(), *field_.workspace, &dPos);
@@ -287,6 +279,14 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   table_.recordOptimizerStep(rec, step);
   rec.end();
   rec.submitAndWait();
+
+  // The samples the loss saw (all marched ones without early termination).
+  if (model_.earlyTermination) {
+    const auto counts = keptCounts_.download<uint32_t>(rays);
+    samples = 0;
+    for (uint32_t c : counts) samples += c;
+  }
+  keptSamples_ += samples;
 
   lastRays_ = rays;
   lastSamples_ = marchedCount;

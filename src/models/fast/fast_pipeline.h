@@ -22,7 +22,6 @@
 #include "nerf/network/mlp.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/render/composite.h"
-#include "nerf/sampling/early_termination.h"
 #include "nerf/sampling/packed_points.h"
 #include "nerf/sampling/ray_marcher.h"
 #include "vknerf/config.h"
@@ -57,7 +56,7 @@ class FastPipeline final : public FieldPipeline {
   StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   ModelStatistics modelStatistics() override;
 
-  // A packed batch of samples (RayMarcher's layout): the march's, or its early-terminated copy.
+  // A packed batch of samples (RayMarcher's layout).
   struct Packed {
     Packed(Context& ctx, uint32_t rays, uint32_t samples);
     gpu::Buffer offsets, samples, sampleRay, totals;
@@ -72,8 +71,10 @@ class FastPipeline final : public FieldPipeline {
   // limitToTotal, only the samples below the batch's device total are evaluated (count: capacity).
   void recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count, bool keep,
                    bool limitToTotal = false);
+  // Early termination at maxOpticalDepth (Compositor), the samples each ray kept into keptCounts.
   void recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
-                       const std::array<float, 3>& bg);
+                       const std::array<float, 3>& bg, float maxOpticalDepth = Compositor::kNoTermination,
+                       const gpu::BufferRange* keptCounts = nullptr);
   // The field at the first `count` positions and directions of `f`, nothing kept for backward.
   void recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count);
   void recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step);
@@ -94,14 +95,12 @@ class FastPipeline final : public FieldPipeline {
   RayMarcher marcher_;
   PackedSamplePoints points_;
   Compositor compositor_;
-  std::optional<EarlyTermination> termination_;
   std::optional<PhotometricLoss> loss_;
 
   // per ray
-  gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_;
+  gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_, keptCounts_;
   // per sample
   Packed marched_;
-  std::optional<Packed> kept_;  // early termination (training): the samples in front of T < 1e-4
   FieldBatch field_;
   gpu::Buffer weights_, dPos_;
   uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;

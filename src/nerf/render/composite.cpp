@@ -1,5 +1,9 @@
 #include "nerf/render/composite.h"
 
+#include <cmath>
+#include <string>
+
+#include "gpu/buffer.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
@@ -10,7 +14,7 @@ gpu::KernelDesc desc(const gpu::ShaderCode& shader, uint32_t pushBytes) {
   using gpu::Binding;
   return {shader,
           {Binding::Storage, Binding::Storage, Binding::TexelRgba32f, Binding::Storage, Binding::Storage,
-           Binding::Storage, Binding::Storage},
+           Binding::Storage, Binding::Storage, Binding::Storage},
           pushBytes,
           {}};
 }
@@ -21,35 +25,49 @@ Compositor::Compositor(Context& ctx)
       forward_(ctx, desc(gpu::shaders::composite_forward, sizeof(Push))),
       backward_(ctx, desc(gpu::shaders::composite_backward, sizeof(Push))) {}
 
+float Compositor::maxOpticalDepth(float minTransmittance) {
+  if (!(minTransmittance > 0.0f && minTransmittance <= 1.0f))
+    throw Error("Compositor: minTransmittance " + std::to_string(minTransmittance) + " is outside (0, 1]");
+  return float(-std::log(double(minTransmittance)));
+}
+
 void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays,
                           uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
                           const gpu::BufferRange& field, const std::array<float, 3>& background,
                           const gpu::BufferRange* perRayBackground, const gpu::BufferRange& out0,
-                          const gpu::BufferRange& out1, const gpu::BufferRange& out2) {
+                          const gpu::BufferRange& out1, const gpu::BufferRange& out2, float maxOpticalDepth,
+                          const gpu::BufferRange* out3) {
   if (samplesPerRay == 0 && numRays > 0 && !rayOffsets.buffer)
     throw Error("Compositor: samplesPerRay == 0 (packed layout) needs a rayOffsets buffer");
-  Push p{{background[0], background[1], background[2], 0}, numRays, samplesPerRay, perRayBackground ? 1u : 0u, 0};
+  if (!(maxOpticalDepth >= 0.0f)) throw Error("Compositor: maxOpticalDepth must be >= 0 (or +inf)");
+  if (out3) gpu::requireBytes("Compositor", "keptCounts", *out3, uint64_t(numRays) * 4);
+  Push p{{background[0], background[1], background[2], 0}, numRays, samplesPerRay, perRayBackground ? 1u : 0u,
+         maxOpticalDepth, out3 ? 1u : 0u};
   gpu::BufferRange offsets = rayOffsets.buffer ? rayOffsets : gpu::BufferRange(dummy_);
   gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
-  rec.dispatch(kernel, {offsets, samples, field, bg, out0, out1, out2}, p, gpu::groupsFor(numRays, kLocal), 1, 1, label);
+  gpu::BufferRange kept = out3 ? *out3 : gpu::BufferRange(dummy_);
+  rec.dispatch(kernel, {offsets, samples, field, bg, out0, out1, out2, kept}, p, gpu::groupsFor(numRays, kLocal), 1, 1,
+               label);
 }
 
 void Compositor::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay,
                                const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
                                const gpu::BufferRange& field, const std::array<float, 3>& background,
                                const gpu::BufferRange* perRayBackground, const gpu::BufferRange& outColor,
-                               const gpu::BufferRange& outDepth, const gpu::BufferRange& outWeights) {
+                               const gpu::BufferRange& outDepth, const gpu::BufferRange& outWeights,
+                               float maxOpticalDepth, const gpu::BufferRange* outKeptCounts) {
   dispatch(rec, forward_, "composite_forward", numRays, samplesPerRay, rayOffsets, samples, field, background,
-           perRayBackground, outColor, outDepth, outWeights);
+           perRayBackground, outColor, outDepth, outWeights, maxOpticalDepth, outKeptCounts);
 }
 
 void Compositor::recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay,
                                 const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
                                 const gpu::BufferRange& field, const std::array<float, 3>& background,
                                 const gpu::BufferRange* perRayBackground, const gpu::BufferRange& dColor,
-                                const gpu::BufferRange& dDepth, const gpu::BufferRange& dField) {
+                                const gpu::BufferRange& dDepth, const gpu::BufferRange& dField,
+                                float maxOpticalDepth) {
   dispatch(rec, backward_, "composite_backward", numRays, samplesPerRay, rayOffsets, samples, field, background,
-           perRayBackground, dColor, dDepth, dField);
+           perRayBackground, dColor, dDepth, dField, maxOpticalDepth, nullptr);
 }
 
 }  // namespace vknerf::nerf

@@ -12,8 +12,16 @@
 //   weights     float per sample, w_i = T_i * alpha_i
 //   dColor      vec4 dL/d(r, g, b, opacity) per ray; dDepth float dL/ddepth per ray
 //   dField      vec4 dL/d(r, g, b, sigma) per sample
+//   keptCounts  uint per ray: the samples it composited (early termination)
+// Early termination (instant-ngp's): with a finite maxOpticalDepth a ray stops once the optical
+// depth in front of its next sample exceeds it (transmittance below exp(-maxOpticalDepth)); the
+// sample that crosses it is kept (src/reference keptSamples). Both passes make the same decision;
+// the samples behind the cut get weight 0 and gradient 0, and the kept ones exactly what a batch
+// holding only them would get. The light they could add is below that transmittance times their
+// brightest colour; the backward, the expensive part, skips them through the zero gradient.
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include "nerf/sampling/sample_layout.h"
 #include "gpu/buffer.h"
@@ -28,13 +36,18 @@ class Compositor {
  public:
   explicit Compositor(Context& ctx);
 
+  static constexpr float kNoTermination = std::numeric_limits<float>::infinity();
+  // The optical depth the kernels compare against: -ln(minTransmittance), rounded to float.
+  static float maxOpticalDepth(float minTransmittance);
+
   // rayOffsets may be a default BufferRange when samplesPerRay > 0; perRayBackground == nullptr
   // uses `background` for every ray.
   void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
                      const gpu::BufferRange& samples, const gpu::BufferRange& field,
                      const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
                      const gpu::BufferRange& outColor, const gpu::BufferRange& outDepth,
-                     const gpu::BufferRange& outWeights);
+                     const gpu::BufferRange& outWeights, float maxOpticalDepth = kNoTermination,
+                     const gpu::BufferRange* outKeptCounts = nullptr);
 
   // Recomputes T and w from the inputs rather than reading the forward outputs: the stable
   // back-to-front suffix sums need only the field. dField is written in full.
@@ -42,19 +55,22 @@ class Compositor {
                       const gpu::BufferRange& samples, const gpu::BufferRange& field,
                       const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
                       const gpu::BufferRange& dColor, const gpu::BufferRange& dDepth,
-                      const gpu::BufferRange& dField);
+                      const gpu::BufferRange& dField, float maxOpticalDepth = kNoTermination);
 
  private:
   struct Push {
     float background[4];
-    uint32_t numRays, samplesPerRay, useBackgroundBuffer, pad;
+    uint32_t numRays, samplesPerRay, useBackgroundBuffer;
+    float maxOpticalDepth;
+    uint32_t writeKept;
   };
-  // Both passes bind the same inputs and three outputs (forward: colour, depth, weights;
-  // backward: dColor, dDepth, dField).
+  // Both passes bind the same inputs and four outputs (forward: colour, depth, weights, kept
+  // counts; backward: dColor, dDepth, dField, nothing).
   void dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays, uint32_t samplesPerRay,
                 const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples, const gpu::BufferRange& field,
                 const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
-                const gpu::BufferRange& out0, const gpu::BufferRange& out1, const gpu::BufferRange& out2);
+                const gpu::BufferRange& out0, const gpu::BufferRange& out1, const gpu::BufferRange& out2,
+                float maxOpticalDepth, const gpu::BufferRange* out3);
 
   gpu::Buffer dummy_;  // bound where the layout or the background source leaves a binding unused
   gpu::Kernel forward_, backward_;

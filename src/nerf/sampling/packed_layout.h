@@ -1,5 +1,5 @@
 #pragma once
-// The layout every stage that packs samples writes (RayMarcher, EarlyTermination): a first pass
+// The layout every stage that packs samples writes (RayMarcher): a first pass
 // counts each ray's samples into counts(), then recordOffsetsAndTotals turns the counts into
 //   offsets uint[numRays + 1]: ray r owns samples [off[r], off[r+1]); an exclusive prefix sum of the
 //           counts, clamped at the sample capacity so that off[numRays] <= capacity always

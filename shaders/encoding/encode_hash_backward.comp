@@ -27,6 +27,8 @@ const uint GROUPS = (LEVELS + GROUP - 1u) / GROUP;
 layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer dFeatures;
 layout(std430, binding = 2) buffer Grads { float grads[]; };
+#define ROW_LIMIT_BINDING 3
+#include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
@@ -34,6 +36,7 @@ layout(push_constant) uniform Push {
   uint offsetVec4;
   uint denseMask;
   uvec4 res[6];
+  uint limitBase;  // row_limit.glsl: the rows at and past the device limit add nothing
 } pc;
 
 void scatter(uint index, float value) {
@@ -47,7 +50,7 @@ void scatter(uint index, float value) {
 
 void main() {
   uint row = gl_GlobalInvocationID.x;
-  if (row >= pc.count) return;
+  if (row >= limitedRows(pc.count, pc.limitBase)) return;
   vec3 p = imageLoad(positions, int(row)).xyz;
   uint src = row * pc.strideVec4 + pc.offsetVec4;
   for (uint g = 0u; g < GROUPS; ++g) {

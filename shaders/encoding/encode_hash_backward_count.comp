@@ -5,6 +5,7 @@
 // contributions (sample, corner) each table entry of the pass receives. Uint atomics only; the
 // counts are then prefix-summed into each entry's first slot (scan_blocks.comp / scan_add.comp).
 #define HASH_SORT_SAMPLES
+#define ROW_LIMIT_BINDING 2  // after the bindings below
 #include "encoding/hash_grid.glsl"
 #include "encoding/hash_sort.glsl"
 
@@ -19,7 +20,7 @@ layout(std430, binding = 1) buffer Counts { uint counts[]; };
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.count) return;
+  if (!sortSampleLive(i)) return;
   vec3 p = imageLoad(positions, int(pc.rowBase + i)).xyz;
   for (uint l = pc.levelBegin; l < pc.levelEnd; ++l) {
     uint res = pc.res[l / 4u][l % 4u];

@@ -65,8 +65,11 @@ float finalSum(uint maxBits, uvec2 acc, int shift) {
 void main() {
   uint chunk = gl_GlobalInvocationID.x;
   uint begin = chunk * CHUNK;
-  if (begin >= pc.slots) return;
-  uint end = min(begin + CHUNK, pc.slots);
+  // The slots filled: all of the pass's contributions, or fewer when rows past a device row limit
+  // contributed nothing (the last entry's end; the rest of the range holds stale slots).
+  uint filled = min(pc.slots, cursor[cursor.length() - 1]);
+  if (begin >= filled) return;
+  uint end = min(begin + CHUNK, filled);
 
   if (STAGE == 0u) {
     for (uint i = begin; i < end;) {

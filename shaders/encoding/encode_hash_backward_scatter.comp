@@ -8,6 +8,7 @@
 // the end of entry e's range and cursor[e - 1] its beginning. The order of slots within an entry
 // depends on scheduling; encode_hash_backward_reduce.comp sums them order-independently.
 #define HASH_SORT_SAMPLES
+#define ROW_LIMIT_BINDING 4  // after the bindings below
 #include "encoding/hash_grid.glsl"
 #include "encoding/hash_sort.glsl"
 
@@ -27,7 +28,7 @@ layout(std430, binding = 3) writeonly buffer Slots { uvec4 slots[]; };
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.count) return;
+  if (!sortSampleLive(i)) return;
   uint row = pc.rowBase + i;
   vec3 p = imageLoad(positions, int(row)).xyz;
   uint src = row * pc.strideVec4 + pc.offsetVec4;

@@ -19,7 +19,12 @@ layout(push_constant) uniform Push {
   uint rowBase;
   uint levelBegin;
   uint levelEnd;
+  uint limitBase;  // row_limit.glsl: the chunk's first row in the limited batch
 } pc;
+#include "gpu/row_limit.glsl"
+
+// Whether row rowBase + i of the bound chunk is one of this pass's samples (and below the row limit).
+bool sortSampleLive(uint i) { return i < pc.count && pc.rowBase + i < limitedRows(pc.rowBase + pc.count, pc.limitBase); }
 #endif
 
 // ---- Exact, order-independent sums in 64-bit fixed point (two uints, two's complement) ----

@@ -12,6 +12,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_EXT_shader_atomic_float : require
+#extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint K4 = 64;
@@ -27,27 +28,35 @@ layout(constant_id = 9) const bool ONES = false;
 layout(binding = 0, rgba32f) uniform readonly imageBuffer X;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer DZ;
 layout(std430, binding = 2) buffer Grads { float g[]; };
+#define ROW_LIMIT_BINDING 3
+#include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideX4, strideZ4;  // row strides in vec4
   uint iters;
+  uint limitBase;           // row_limit.glsl
 } pc;
 
 void main() {
   uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   uint row0 = gl_GlobalInvocationID.x;
+  // Under a device row limit the rows at and past it add nothing: a lane with none left leaves (the
+  // rest of its subgroup reduces without it), the others stop sweeping after the last live row.
+  uint count = limitedRows(pc.count, pc.limitBase);
+  if (row0 >= count) return;
+  uint iters = min(pc.iters, (count + U * G - 1u) / (U * G));
   uint tile = gl_WorkGroupID.y, ntn = NW / NT;
   uint k0 = (tile / ntn) * KT, n0 = N0 + (tile % ntn) * NT;
   float acc[KT][NT];
   [[unroll]] for (uint i = 0; i < KT; i++)
     [[unroll]] for (uint j = 0; j < NT; j++) acc[i][j] = 0.0;
-  for (uint it = 0; it < pc.iters; it++) {
+  for (uint it = 0; it < iters; it++) {
     float x[U][KT], d[U][NT];
     [[unroll]] for (uint u = 0; u < U; u++) {
       uint b = row0 + (it * U + u) * G;
-      uint bc = min(b, pc.count - 1u);
-      float valid = b < pc.count ? 1.0 : 0.0;
+      uint bc = min(b, count - 1u);
+      float valid = b < count ? 1.0 : 0.0;
       if (ONES) {
         x[u][0] = valid;
       } else {

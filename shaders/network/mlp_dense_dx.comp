@@ -6,6 +6,7 @@
 // Same shape as mlp_dense.comp: lanes are rows, R rows per invocation with dZ in registers, the n
 // loop unrolled with uniform weight reads, a dynamic loop over blocks of KBLK input columns.
 #extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint KA4 = 64;
@@ -22,10 +23,13 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer A;  // for MODE_A == 2
 layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) buffer DA { vec4 da4[]; };
 layout(std430, binding = 4) buffer DB { vec4 db4[]; };
+#define ROW_LIMIT_BINDING 5
+#include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideZ4, strideA4, strideDA4, strideDB4;  // row strides in vec4
+  uint limitBase;                                 // row_limit.glsl
 } pc;
 
 // acc[r][kk] = sum_n dz[r][n] W[ROW0 + k0 + kk][n]
@@ -43,9 +47,14 @@ layout(push_constant) uniform Push {
 void main() {
   uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   uint row0 = gl_GlobalInvocationID.x;
+  // Under a device row limit only the invocations the limited rows need run, strided by their own
+  // count (as mlp_dense.comp); the rows past the limit are left untouched.
+  uint count = limitedRows(pc.count, pc.limitBase);
+  if (count < pc.count) G = min(G, (((count + R - 1u) / R) + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x * gl_WorkGroupSize.x);
+  if (row0 >= G || count == 0u) return;
   float dz[R][N4];
   [[unroll]] for (uint r = 0; r < R; r++) {
-    uint row = min(row0 + r * G, pc.count - 1u);
+    uint row = min(row0 + r * G, count - 1u);
     [[unroll]] for (uint q = 0; q < N4 / 4u; q++) {
       vec4 v = imageLoad(DZ, int(row * pc.strideZ4 + q));
       dz[r][4 * q] = v.x; dz[r][4 * q + 1] = v.y; dz[r][4 * q + 2] = v.z; dz[r][4 * q + 3] = v.w;
@@ -56,7 +65,7 @@ void main() {
       DX_BLOCK(KBLK, 0u, k0)
       [[unroll]] for (uint r = 0; r < R; r++) {
         uint row = row0 + r * G;
-        if (row < pc.count)
+        if (row < count)
           [[unroll]] for (uint kk = 0; kk < KBLK; kk += 4) {
             vec4 v = vec4(acc[r][kk], acc[r][kk + 1], acc[r][kk + 2], acc[r][kk + 3]);
             uint i = row * pc.strideDA4 + (k0 + kk) / 4u;
@@ -72,7 +81,7 @@ void main() {
       DX_BLOCK(4u, KA4, k0)
       [[unroll]] for (uint r = 0; r < R; r++) {
         uint row = row0 + r * G;
-        if (row < pc.count) {
+        if (row < count) {
           vec4 v = vec4(acc[r][0], acc[r][1], acc[r][2], acc[r][3]);
           uint i = row * pc.strideDB4 + k0 / 4u;
           if (MODE_B == 3u) v += db4[i];

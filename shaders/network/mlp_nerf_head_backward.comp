@@ -21,21 +21,26 @@ layout(binding = 4, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 5) writeonly buffer DZH { vec4 dzh4[]; };
 layout(std430, binding = 6) writeonly buffer DF { vec4 df4[]; };
 layout(std430, binding = 7) writeonly buffer DC { vec4 dc4[]; };
+#define ROW_LIMIT_BINDING 8
+#include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
+  uint limitBase;  // row_limit.glsl: the rows at and past the device limit are left untouched
 } pc;
 
 void main() {
   uint row = gl_GlobalInvocationID.x;
-  uint rc = min(row, pc.count - 1u);
+  uint count = limitedRows(pc.count, pc.limitBase);
+  if (count == 0u) return;
+  uint rc = min(row, count - 1u);
   vec4 g = imageLoad(DOut, int(rc * pc.strideDOut4));
   vec4 o = imageLoad(Out, int(rc * pc.strideOut4));
   vec4 dzh = vec4(g.xyz * o.xyz * (1.0 - o.xyz), 0.0);
   float sigmaPre = imageLoad(F, int(rc * pc.strideF4 + SIGMA_COL / 4u)).x;
   float dsigma = g.w * mlpDensityGrad(DENSITY, sigmaPre);
-  if (row >= pc.count) return;
+  if (row >= count) return;
   dzh4[row] = dzh;
   df4[row * pc.strideDF4 + SIGMA_COL / 4u] = vec4(dsigma, 0.0, 0.0, 0.0);
   [[unroll]] for (uint q = 0; q < K4 / 4u; q++) {

@@ -48,7 +48,8 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                      {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                       gpu::Binding::Storage},
                      sizeof(Push), {config.levels, config.featuresPerLevel, config.log2TableSize}}),
-      limited_(ctx) {
+      limited_(ctx),
+      limitedBackward_(ctx) {
   for (uint32_t l = 0; l < config_.levels; ++l) {
     push_.res[l] = resolution(l);
     if (dense(l)) push_.denseMask |= 1u << l;
@@ -60,11 +61,12 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                   " entries per level, more than one prefix-sum dispatch covers (" +
                   std::to_string(scanCapacity(ctx)) + "); lower T or use Atomic");
     const std::vector<uint32_t> spec{config.levels, config.featuresPerLevel, config.log2TableSize};
-    count_ = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward_count, {gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
+    count_ = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward_count,
+                               {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage},
                                sizeof(SortPush), spec});
     scatter_ = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward_scatter,
                                  {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
-                                  gpu::Binding::Storage},
+                                  gpu::Binding::Storage, gpu::Binding::Storage},
                                  sizeof(SortPush), spec});
     for (uint32_t stage = 0; stage < 3; ++stage)
       reduce_[stage] = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward_reduce,
@@ -76,7 +78,8 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
   } else if (ctx.floatAtomics()) {
     // Without float atomics the forward pass still works (inference); recordBackward says why not.
     backward_ = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward,
-                                  {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
+                                  {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
+                                   gpu::Binding::Storage},
                                   sizeof(Push),
                                   {config.levels, config.featuresPerLevel, config.log2TableSize, uint32_t(mode)}});
   }
@@ -145,11 +148,15 @@ void HashEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::
 
 void HashEncoding::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                                   const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
-                                  const gpu::BufferRange& grads) {
+                                  const gpu::BufferRange& grads, const gpu::BufferRange* rowLimit) {
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("HashEncoding::recordBackward: row limit binding holds no uint");
   if (mode_ == HashBackwardMode::SortReduce) {
+    // The sort passes are dispatched for the whole chunk; their kernels skip the rows past the limit.
     forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
-              [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t, uint32_t, uint32_t) {
-                recordSortReduce(rec, in, dF, p, grads);
+              [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t, uint32_t c,
+                  uint32_t chunkRows) {
+                const gpu::LimitedRows L = rowLimit ? gpu::LimitedRows{*rowLimit, c * chunkRows} : limited_.uncut();
+                recordSortReduce(rec, in, dF, p, grads, L);
               });
     return;
   }
@@ -158,9 +165,11 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu:
                 "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs (HashBackwardMode::SortReduce "
                 "does not)");
   forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
-            [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t groups, uint32_t,
-                uint32_t) {
-              rec.dispatch(backward_, {in, dF, exactly(grads)}, p, groups, 1, 1, "encode_hash_backward");
+            [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, Push p, uint32_t groups, uint32_t c,
+                uint32_t chunkRows) {
+              if (c == 0) limitedBackward_.begin(rec, rowLimit, count, chunkRows, {kLocal});
+              gpu::dispatchLimited(rec, backward_, {in, dF, exactly(grads)}, p, limitedBackward_.rows(c, 0), groups,
+                                   "encode_hash_backward");
             });
 }
 
@@ -192,7 +201,8 @@ void HashEncoding::ensureSortScratch(uint64_t slots, uint64_t entries) {
 // stages (shaders/encode_hash_backward_*.comp). Rows outer, levels inner: each pass's entries are
 // whole levels, so a pass's counts cover (levels << T) entries.
 void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& positions,
-                                    const gpu::BufferRange& dFeatures, const Push& p, const gpu::BufferRange& grads) {
+                                    const gpu::BufferRange& dFeatures, const Push& p, const gpu::BufferRange& grads,
+                                    const gpu::LimitedRows& limited) {
   const uint32_t L = config_.levels, T = config_.log2TableSize, F = config_.featuresPerLevel, n = p.count;
   const uint32_t rowsPerPass = std::min(n, slotBudget_ / 8);
   const uint64_t levelCap = std::max<uint64_t>(1, scanCapacity(ctx_) >> T);
@@ -202,6 +212,7 @@ void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& 
   SortPush sp{};
   sp.strideVec4 = p.strideVec4, sp.offsetVec4 = p.offsetVec4, sp.denseMask = p.denseMask;
   std::copy(std::begin(p.res), std::end(p.res), sp.res);
+  sp.limitBase = limited.base;
   for (uint32_t r0 = 0; r0 < n; r0 += rowsPerPass) {
     sp.count = std::min(rowsPerPass, n - r0), sp.rowBase = r0;
     for (uint32_t l0 = 0; l0 < L; l0 += levelsPerPass) {
@@ -210,10 +221,10 @@ void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& 
       const gpu::BufferRange counts(counts_, 0, VkDeviceSize(entries) * 4), cursor(cursor_, 0, VkDeviceSize(entries) * 4);
       const gpu::BufferRange slotRange(slots_, 0, VkDeviceSize(slots) * slotBytes(F));
       rec.fill(counts_, 0, 0, VkDeviceSize(entries) * 4);
-      rec.dispatch(count_, {positions, counts}, sp, gpu::groupsFor(sp.count, kLocal), 1, 1,
+      rec.dispatch(count_, {positions, counts, limited.limit}, sp, gpu::groupsFor(sp.count, kLocal), 1, 1,
                    "encode_hash_backward_count");
       scan_->record(rec, counts, entries, cursor, entries);
-      rec.dispatch(scatter_, {positions, dFeatures, cursor, slotRange}, sp,
+      rec.dispatch(scatter_, {positions, dFeatures, cursor, slotRange, limited.limit}, sp,
                    gpu::groupsFor(sp.count, kLocal), 1, 1, "encode_hash_backward_scatter");
       const uint32_t reducePush[2] = {slots, l0 << T};
       const uint32_t groups = gpu::groupsFor(gpu::groupsFor(slots, kChunk), kLocal);

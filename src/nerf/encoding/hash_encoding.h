@@ -75,15 +75,16 @@ class HashEncoding {
   // need float atomics. SortReduce does not; it works in passes of at most sortSlotBudget()
   // contributions (levels x 8 corners x samples) through scratch buffers this object owns, grown on
   // demand. Grown buffers are kept, not freed, so every recording stays valid while this object lives.
+  // rowLimit (optional): as recordForward; the rows at and past it add nothing to grads.
   void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                       const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
-                      const gpu::BufferRange& grads);
+                      const gpu::BufferRange& grads, const gpu::BufferRange* rowLimit = nullptr);
 
  private:
   struct Push {
     uint32_t count, strideVec4, offsetVec4, denseMask;
     uint32_t res[24];
-    uint32_t limitBase;  // forward only: shaders/row_limit.glsl
+    uint32_t limitBase;  // shaders/row_limit.glsl
   };
   gpu::BufferRange exactly(const gpu::BufferRange& table) const;
   template <class Fn>
@@ -94,10 +95,10 @@ class HashEncoding {
   struct SortPush {
     uint32_t count, strideVec4, offsetVec4, denseMask;
     uint32_t res[24];
-    uint32_t rowBase, levelBegin, levelEnd;
+    uint32_t rowBase, levelBegin, levelEnd, limitBase;
   };
   void recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& positions, const gpu::BufferRange& dFeatures,
-                        const Push& p, const gpu::BufferRange& grads);
+                        const Push& p, const gpu::BufferRange& grads, const gpu::LimitedRows& limited);
   void ensureSortScratch(uint64_t slots, uint64_t entries);
 
   Context& ctx_;
@@ -113,7 +114,7 @@ class HashEncoding {
   std::unique_ptr<gpu::PrefixSum> scan_;
   std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
   std::vector<std::unique_ptr<gpu::PrefixSum>> retiredScans_;
-  gpu::LimitedDispatch limited_;
+  gpu::LimitedDispatch limited_, limitedBackward_;  // workgroup counts under a row limit
 };
 
 }  // namespace vknerf::nerf

@@ -13,7 +13,7 @@ struct HeadPush {  // mlp_nerf_head.comp
 };
 
 struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
-  uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
+  uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4, limitBase;
 };
 struct SigmoidBackwardPush {  // mlp_sigmoid_backward.comp
   uint32_t count, strideDY4, strideY4, strideDZ4;
@@ -72,7 +72,7 @@ NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacit
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config) : NerfMlp(ctx, config, MlpTuning::forDevice(ctx)) {}
 
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning)
-    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), limited_(ctx) {
+    : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), limited_(ctx), limitedBackward_(ctx) {
   if (!ctx.floatAtomics()) throw Error("NeRF MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
   for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
   chunkRows_ = deviceChunkRows(ctx, std::max({posStride(), dirStride(), config.width + 4}));
@@ -128,20 +128,25 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
 void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
                              const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
                              const gpu::BufferRange& dOut, const gpu::BufferRange& grads, Workspace& ws,
-                             const gpu::BufferRange* dPos) {
+                             const gpu::BufferRange* dPos, const gpu::BufferRange* rowLimit) {
   if (count == 0) return;
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
   const uint32_t W = config_.width, D = config_.depth;
   if (!headBackward_) {
     const auto& h = shape_.head();
     std::vector<gpu::Binding> b(5, gpu::Binding::TexelRgba32f);
-    b.insert(b.end(), 3, gpu::Binding::Storage);
+    b.insert(b.end(), 4, gpu::Binding::Storage);
     headBackward_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head_backward, b, sizeof(HeadBackwardPush),
                               {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
   }
-  gpu::forRowChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n, uint32_t) {
+  const uint32_t chunk = std::min(chunkRows_, ws.scratchRows_);
+  // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
+  limitedBackward_.begin(rec, rowLimit, count, chunk, {layers_[0].dxRowsPerGroup(), kHeadLocal});
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
+    const gpu::LimitedRows L = limitedBackward_.rows(c, 0), head = limitedBackward_.rows(c, 1);
     Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
     Mat o = Mat{out, 4}.rows(first, n), dO = Mat{dOut, 4}.rows(first, n);
     auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };
@@ -149,26 +154,26 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], W + 4}.rows(0, n), dC = Mat{ws.dc_, W / 2}.rows(0, n);
     Mat dP = dPos ? Mat{*dPos, posStride()}.rows(first, n) : p;
 
-    HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4};
-    rec.dispatch(*headBackward_, {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range}, hp,
-                 gpu::groupsFor(n, kHeadLocal), 1, 1, "nerf head backward");
-    layers_[D + 2].recordBackwardWeights(rec, n, C, C, dzh, grads, "nerf head dW");
-    layers_[D + 1].recordBackwardWeights(rec, n, F, d, dC, grads, "nerf colour dW");
-    layers_[D + 1].recordBackwardInput(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, "nerf colour dX");
-    layers_[D].recordBackwardWeights(rec, n, H(D - 1), H(D - 1), dF, grads, "nerf feature+sigma dW");
+    HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4, 0};
+    gpu::dispatchLimited(rec, *headBackward_, {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range},
+                         hp, head, gpu::groupsFor(n, kHeadLocal), "nerf head backward");
+    layers_[D + 2].recordBackwardWeights(rec, n, C, C, dzh, grads, L, "nerf head dW");
+    layers_[D + 1].recordBackwardWeights(rec, n, F, d, dC, grads, L, "nerf colour dW");
+    layers_[D + 1].recordBackwardInput(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, L, "nerf colour dX");
+    layers_[D].recordBackwardWeights(rec, n, H(D - 1), H(D - 1), dF, grads, L, "nerf feature+sigma dW");
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
     layers_[D].recordBackwardInput(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
-                         "nerf feature+sigma dX");
+                                   L, "nerf feature+sigma dX");
     for (uint32_t l = D; l-- > 0;) {
       Mat a = l ? H(l - 1) : p;
-      layers_[l].recordBackwardWeights(rec, n, a, p, cur, grads, "nerf trunk dW");
+      layers_[l].recordBackwardWeights(rec, n, a, p, cur, grads, L, "nerf trunk dW");
       if (l > 0) {
         layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
-                             dPos ? GradMode::Store : GradMode::Skip, dP, "nerf trunk dX");
+                                       dPos ? GradMode::Store : GradMode::Skip, dP, L, "nerf trunk dX");
         std::swap(cur, other);
       } else if (dPos) {
         layers_[0].recordBackwardInput(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
-                             GradMode::Skip, dP, "nerf trunk dX");
+                                       GradMode::Skip, dP, L, "nerf trunk dX");
       }
     }
   });
@@ -254,15 +259,17 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buf
     int next = 0;
     for (uint32_t l = L; l-- > 0;) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].recordBackwardWeights(rec, n, a, a, cur, grads, "mlp dW");
+      layers_[l].recordBackwardWeights(rec, n, a, a, cur, grads, uncut_.uncut(), "mlp dW");
       if (l > 0) {
         Mat da = Mat{ws.dz_[next], W}.rows(0, n);
-        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, "mlp dX");
+        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, uncut_.uncut(),
+                                       "mlp dX");
         cur = da;
         next ^= 1;
       } else if (dIn) {
         Mat d = Mat{*dIn, inputStride()}.rows(first, n);
-        layers_[0].recordBackwardInput(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, "mlp dX");
+        layers_[0].recordBackwardInput(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, uncut_.uncut(),
+                                       "mlp dX");
       }
     }
   });

@@ -68,10 +68,12 @@ class NerfMlp {
                      const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keepForBackward,
                      const gpu::BufferRange* rowLimit = nullptr);
   // grads += dL/dparams for the batch last run forward into `ws` (out: what that forward wrote).
-  // dPos (optional, posStride() per row) receives dL/dgamma(x), overwritten.
+  // dPos (optional, posStride() per row) receives dL/dgamma(x), overwritten. rowLimit (optional): as
+  // recordForward; the rows at and past it add nothing to grads and leave dPos untouched.
   void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
                       const gpu::BufferRange& dir, const gpu::BufferRange& out, const gpu::BufferRange& dOut,
-                      const gpu::BufferRange& grads, Workspace& ws, const gpu::BufferRange* dPos = nullptr);
+                      const gpu::BufferRange& grads, Workspace& ws, const gpu::BufferRange* dPos = nullptr,
+                      const gpu::BufferRange* rowLimit = nullptr);
 
   // Rows per chunk (derived from device limits). Tests lower it to exercise chunking cheaply;
   // set it before creating workspaces.
@@ -85,7 +87,8 @@ class NerfMlp {
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_;
-  gpu::LimitedDispatch limited_;  // the forward's workgroup counts under a row limit
+  gpu::LimitedDispatch limited_;          // the forward's workgroup counts under a row limit
+  gpu::LimitedDispatch limitedBackward_;  // the backward's
   std::unique_ptr<Workspace> scratch_;
   uint32_t chunkRows_ = 0;
 };

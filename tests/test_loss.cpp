@@ -60,16 +60,20 @@ struct LossRun {
   nerf::LossStats stats;
 };
 
+// rayLimit: the rays to count as a uint on the device (the training batch's whole rays), or none.
 LossRun runLoss(Context& ctx, const Scene& s, const std::vector<float>& pred, uint32_t numRays, float gradScale,
-                uint32_t bgSeed) {
+                uint32_t bgSeed, const uint32_t* rayLimit = nullptr) {
   nerf::BackgroundColors bg(ctx);
   nerf::PhotometricLoss loss(ctx);
   auto predB = gpu::Buffer::of(ctx, pred), idB = gpu::Buffer::of(ctx, s.ids), pixB = gpu::Buffer::of(ctx, s.pixels),
        camB = gpu::Buffer::of(ctx, s.cameras);
-  gpu::Buffer bgB(ctx, 16 * numRays), dB(ctx, 16 * numRays), partB(ctx, 4 * loss.partialCount(numRays));
+  gpu::Buffer bgB(ctx, 16 * numRays), partB(ctx, 4 * loss.partialCount(numRays));
+  auto dB = gpu::Buffer::of(ctx, std::vector<float>(4 * size_t(numRays), -777.0f));
+  auto limitB = gpu::Buffer::of(ctx, std::vector<uint32_t>{rayLimit ? *rayLimit : 0u, 0, 0, 0});
+  const gpu::BufferRange limit(limitB, 0, 4);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     bg.recordRandom(rec, bgB, numRays, bgSeed);
-    loss.record(rec, numRays, predB, idB, pixB, camB, bgB, dB, partB, gradScale);
+    loss.record(rec, numRays, predB, idB, pixB, camB, bgB, dB, partB, gradScale, rayLimit ? &limit : nullptr);
   });
   return {bgB.download<float>(), dB.download<float>(), partB.download<float>(), loss.read(partB, numRays)};
 }
@@ -307,4 +311,26 @@ TEST_F(Loss, PixelsOverManyBindingsMatchReference) {
   for (uint32_t r = 0; r < n; ++r)
     for (int c = 0; c < 3; ++c) ASSERT_TRUE(test::near(d[4 * r + c], grad[r][c], 4e-7, eAbs * gradFactor)) << r << "," << c;
   EXPECT_TRUE(test::near(loss.read(partB, n).mse, want, 1e-6, 1e-9));
+}
+
+// A batch whose ray count only the device knows (the training batch cut to whole rays): the rays
+// below the device count give exactly what a batch of that many rays gives (itself checked against
+// the reference above), the rest a zero gradient and nothing in the partials.
+TEST_F(Loss, DeviceRayCountEqualsTheBatchOfThatMany) {
+  const uint32_t n = 1000;
+  Scene s = makeScene(n, 7);
+  std::mt19937 gen(8);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> pred(4 * n);
+  for (auto& x : pred) x = u(gen);
+  for (uint32_t k : {1u, 127u, 128u, 640u, 999u, n}) {
+    SCOPED_TRACE(testing::Message() << k << " rays counted");
+    const LossRun want = runLoss(ctx(), s, pred, k, 0.5f, 42);
+    const LossRun got = runLoss(ctx(), s, pred, n, 0.5f, 42, &k);
+    for (uint32_t i = 0; i < 4 * n; ++i)
+      ASSERT_EQ(got.dPred[i], i < 4 * k ? want.dPred[i] : 0.0f) << "dPred float " << i;
+    for (uint32_t g = 0; g < got.partials.size(); ++g)
+      ASSERT_EQ(got.partials[g], g < want.partials.size() ? want.partials[g] : 0.0f) << "partial " << g;
+    EXPECT_EQ(nerf::PhotometricLoss::summarize(got.partials, k).mse, want.stats.mse);
+  }
 }

@@ -28,11 +28,16 @@ layout(std430, binding = 11) readonly buffer Pixels5 { uint pixels5[]; };
 layout(std430, binding = 12) readonly buffer Pixels6 { uint pixels6[]; };
 layout(std430, binding = 13) readonly buffer Pixels7 { uint pixels7[]; };
 const uint kPixelBindings = 8u;
+// The rays to count when only the device knows them (a training batch cut to whole rays): the rays
+// at and past it get no gradient and no error, and the mean is over the rays below it.
+#define ROW_LIMIT_BINDING 14
+#include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint numRays;
   float gradScale;
   uint firstBinding;  // binding index of pixels0; 0 in the first dispatch, which writes the partials
+  uint limitBase;     // row_limit.glsl
 } pc;
 
 shared float sums[128];
@@ -56,7 +61,8 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   uint l = gl_LocalInvocationID.x;
   float sq = 0.0;
-  if (i < pc.numRays) {
+  uint numRays = limitedRows(pc.numRays, pc.limitBase);
+  if (i < numRays) {
     uvec2 id = pixelIds[i];
     uvec4 size = cameras[id.x].size;
     uint slot = size.w - pc.firstBinding;  // wraps to a huge value below firstBinding
@@ -65,8 +71,10 @@ void main() {
       vec3 target = px.rgb * px.a + background[i].rgb * (1.0 - px.a);
       vec3 e = pred[i].rgb - target;
       sq = dot(e, e);
-      dPred[i] = vec4(e * (pc.gradScale * 2.0 / (3.0 * float(pc.numRays))), 0.0);
+      dPred[i] = vec4(e * (pc.gradScale * 2.0 / (3.0 * float(numRays))), 0.0);
     }
+  } else if (i < pc.numRays) {
+    dPred[i] = vec4(0.0);  // a ray past the device count: no gradient
   }
   sums[l] = sq;
   barrier();

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/limited_dispatch.h"
 #include "reference/loss/photometric_loss.h"
 #include "vknerf/error.h"
 
@@ -13,8 +14,9 @@ struct LossPush {
   uint32_t numRays;
   float gradScale;
   uint32_t firstBinding;
+  uint32_t limitBase;  // shaders/gpu/row_limit.glsl
 };
-constexpr uint32_t kOtherBindings = 6;  // pred, pixel ids, cameras, background, dPred, partials
+constexpr uint32_t kOtherBindings = 7;  // pred, pixel ids, cameras, background, dPred, partials, ray limit
 
 gpu::KernelDesc lossKernel(Context& ctx) {
   const uint32_t needed = kOtherBindings + PhotometricLoss::kPixelBindings;
@@ -33,8 +35,10 @@ PhotometricLoss::PhotometricLoss(Context& ctx)
 void PhotometricLoss::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred,
                              const gpu::BufferRange& pixelIds, std::span<const gpu::BufferRange> pixels,
                              const gpu::BufferRange& cameras, const gpu::BufferRange& background,
-                             const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale) {
+                             const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale,
+                             const gpu::BufferRange* rayLimit) {
   if (numRays == 0) return;
+  if (rayLimit && gpu::boundBytes(*rayLimit) < 4) throw Error("PhotometricLoss: ray limit binding holds no uint");
   if (pixels.empty()) throw Error("PhotometricLoss: no training pixels bound");
   for (const auto& r : pixels)
     if (gpu::boundBytes(r) > ctx_.properties().limits.maxStorageBufferRange)
@@ -45,7 +49,8 @@ void PhotometricLoss::record(gpu::Recorder& rec, uint32_t numRays, const gpu::Bu
     std::vector<gpu::BufferRange> b = {pred, pixelIds, cameras, background, dPred, partials};
     // Slots past the last binding repeat one that exists: they are never read.
     for (uint32_t k = 0; k < kPixelBindings; ++k) b.push_back(pixels[std::min<size_t>(first + k, pixels.size() - 1)]);
-    LossPush p{numRays, gradScale, first};
+    b.push_back(rayLimit ? *rayLimit : partials);  // uncut: a placeholder, never read
+    LossPush p{numRays, gradScale, first, rayLimit ? 0u : gpu::kNoRowLimit};
     rec.dispatch(kernel_, std::span<const gpu::BufferRange>(b), &p, sizeof p, partialCount(numRays), 1, 1, "loss_photometric");
   }
 }

@@ -26,17 +26,19 @@ class PhotometricLoss {
   explicit PhotometricLoss(Context& ctx);
   uint32_t partialCount(uint32_t numRays) const { return gpu::groupsFor(numRays, kRaysPerPartial); }
   // dPred = gradScale * dL/dpred with L = sum (pred - target)^2 / (3 numRays). One dispatch per
-  // kPixelBindings bindings of `pixels`.
+  // kPixelBindings bindings of `pixels`. rayLimit (optional): a uint on the device; only the rays
+  // below it count (L is their mean, the rest get no dPred and add nothing to the partials).
   void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred, const gpu::BufferRange& pixelIds,
               std::span<const gpu::BufferRange> pixels, const gpu::BufferRange& cameras,
               const gpu::BufferRange& background, const gpu::BufferRange& dPred, const gpu::BufferRange& partials,
-              float gradScale = 1.0f);
+              float gradScale = 1.0f, const gpu::BufferRange* rayLimit = nullptr);
   // The same with every image in one binding.
   void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred, const gpu::BufferRange& pixelIds,
               const gpu::BufferRange& images, const gpu::BufferRange& cameras, const gpu::BufferRange& background,
-              const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale = 1.0f) {
+              const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale = 1.0f,
+              const gpu::BufferRange* rayLimit = nullptr) {
     record(rec, numRays, pred, pixelIds, std::span<const gpu::BufferRange>(&images, 1), cameras, background, dPred,
-           partials, gradScale);
+           partials, gradScale, rayLimit);
   }
 
   // Sums partials (in double) into the mean loss of numRays rays.

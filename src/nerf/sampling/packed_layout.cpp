@@ -2,10 +2,15 @@
 
 #include <algorithm>
 
+#include "vknerf/error.h"
+
 namespace vknerf::nerf {
 namespace {
 struct TotalsPush {
   uint32_t numRays, localSize, maxGroupsX;
+};
+struct CutPush {  // march_cut.comp
+  uint32_t numRays, localSize, maxGroupsX, capacity, rayAlign;
 };
 }  // namespace
 
@@ -27,6 +32,20 @@ void PackedLayout::recordOffsetsAndTotals(gpu::Recorder& rec, uint32_t numRays, 
   scan_.record(rec, counts_, numRays, offsets, numRays + 1, capacity);
   TotalsPush p{numRays, kIndirectLocal, ctx_.properties().limits.maxComputeWorkGroupCount[0]};
   rec.dispatch(totals_, {offsets, totals}, p, 1, 1, 1, "march_totals");
+}
+
+void PackedLayout::recordCutToWholeRays(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity, uint32_t rayAlign,
+                                        const gpu::BufferRange& offsets, const gpu::BufferRange& totals,
+                                        const gpu::BufferRange& wholeRays) {
+  requireOutputs("PackedLayout::recordCutToWholeRays", numRays, offsets, totals);
+  gpu::requireBytes("PackedLayout::recordCutToWholeRays", "wholeRays", wholeRays, 4);
+  if (rayAlign == 0) throw Error("PackedLayout::recordCutToWholeRays: rayAlign must be positive");
+  if (!cut_)
+    cut_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::march_cut, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                              sizeof(CutPush), {}});
+  CutPush p{numRays, kIndirectLocal, ctx_.properties().limits.maxComputeWorkGroupCount[0], capacity, rayAlign};
+  rec.dispatch(*cut_, {offsets, totals, wholeRays}, p, 1, 1, 1, "march_cut");
 }
 
 }  // namespace vknerf::nerf

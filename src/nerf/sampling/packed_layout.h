@@ -9,6 +9,7 @@
 // (shaders/gpu/scan_*.comp, shaders/sampling/march_totals.comp); a second pass then writes the
 // samples at their offsets.
 #include <cstdint>
+#include <memory>
 
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
@@ -31,12 +32,20 @@ class PackedLayout {
                              const gpu::BufferRange& totals);
   void recordOffsetsAndTotals(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity,
                               const gpu::BufferRange& offsets, const gpu::BufferRange& totals);
+  // After a batch was packed at `capacity`: keeps its whole rays on the device (all of them when the
+  // batch is under the capacity; else those ending below it, rounded down to a multiple of rayAlign,
+  // at least rayAlign), empties the offsets of the rest at the kept total, rewrites the totals for
+  // the kept samples and writes the rays kept as the uint `wholeRays` (shaders/sampling/march_cut.comp).
+  void recordCutToWholeRays(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity, uint32_t rayAlign,
+                            const gpu::BufferRange& offsets, const gpu::BufferRange& totals,
+                            const gpu::BufferRange& wholeRays);
 
  private:
   Context& ctx_;
   gpu::Buffer counts_;
   gpu::PrefixSum scan_;
   gpu::Kernel totals_;
+  std::unique_ptr<gpu::Kernel> cut_;  // built on first use (training only)
 };
 
 }  // namespace vknerf::nerf

@@ -50,6 +50,14 @@ class RayMarcher {
               const gpu::BufferRange& offsets, const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
               const gpu::BufferRange& totals, const ConeSteps& cone = {});
 
+  // After record() at a sample capacity: the batch cut to its whole rays on the device, the rays kept
+  // written to `wholeRays` (PackedLayout::recordCutToWholeRays).
+  void recordCutToWholeRays(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity, uint32_t rayAlign,
+                            const gpu::BufferRange& offsets, const gpu::BufferRange& totals,
+                            const gpu::BufferRange& wholeRays) {
+    layout_.recordCutToWholeRays(rec, numRays, capacity, rayAlign, offsets, totals, wholeRays);
+  }
+
   // The inner cube of a grid of `cascades` over `box`: the box shrunk by 2^(cascades - 1) about its centre.
   static Aabb innerCube(const Aabb& box, uint32_t cascades);
 

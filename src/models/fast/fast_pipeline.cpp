@@ -111,6 +111,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       marched_(ctx, rayCapacity_, sampleCapacity_),
       field_(ctx, mlp_, sampleCapacity_, training),
       weights_(gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * 4, "the compositing weights")),
+      wholeRays_(gpu::Buffer::zeros(ctx, 16)),
       raysNext_(std::min(rayCapacity_, 1024u)) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
   if (training) {
@@ -248,38 +249,43 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   if (model_.gridUpdateInterval && step % model_.gridUpdateInterval == 0 && step > 0) recordOccupancyUpdate(rec, step);
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   recordMarch(rec, 0, R, model_.maxSamplesPerRay, seed, true);
-  rec.end();
-  rec.submitAndWait();
-  auto [rays, samples] = wholeRays(R);
-  const uint32_t marchedCount = samples;
-  marchedSamples_ += samples;
-  marchedRays_ += rays;
+  // The batch's size stays on the device: the rays that fit the sample capacity whole, and their
+  // sample total (the march's totals, rewritten); every later kernel is recorded for the capacity
+  // and cut to those counts (shaders/gpu/row_limit.glsl), so the step is one submission.
+  const gpu::BufferRange wholeRays(wholeRays_, 0, 4), total(marched_.totals, 0, 4);
+  marcher_.recordCutToWholeRays(rec, R, sampleCapacity_, kRayAlign, marched_.offsets, marched_.totals, wholeRays);
 
   // One field forward with activations kept over every marched sample. The compositor stops each
   // ray where the transmittance falls below 1e-4 (instant-ngp's early termination) and gives the
   // samples behind that zero gradient, so the step needs no separate pass (the field without
   // gradients, then a compacted copy of the kept samples) and never evaluates the forward twice.
+  // The rays past the whole ones have no samples: the loss neither counts them nor gives them a gradient.
   const float maxDepth =
       model_.earlyTermination ? Compositor::maxOpticalDepth(kMinTransmittance) : Compositor::kNoTermination;
   std::optional<gpu::BufferRange> kept;
-  if (model_.earlyTermination) kept.emplace(keptCounts_, 0, VkDeviceSize(rays) * 4);
-  rec.begin();
-  recordField(rec, marched_, 0, samples, true);
-  recordComposite(rec, marched_, 0, rays, config_.background, maxDepth, kept ? &*kept : nullptr);
-  loss_->record(rec, rays, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
-                partials_);
-  gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(rays) * 16);
-  compositor_.recordBackward(rec, rays, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
+  if (model_.earlyTermination) kept.emplace(keptCounts_, 0, VkDeviceSize(R) * 4);
+  recordField(rec, marched_, 0, sampleCapacity_, true, true);
+  recordComposite(rec, marched_, 0, R, config_.background, maxDepth, kept ? &*kept : nullptr);
+  loss_->record(rec, R, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
+                partials_, 1.0f, &wholeRays);
+  gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(R) * 16);
+  compositor_.recordBackward(rec, R, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
                              &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth);
   gpu::BufferRange dPos(dPos_);
-  mlp_.recordBackward(rec, samples, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
-                      field_.dField, network_.grads(), *field_.workspace, &dPos);
-  hash_.recordBackward(rec, samples, field_.positions, dPos_, mlp_.posStride(), 0, table_.grads());
+  mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
+                      field_.dField, network_.grads(), *field_.workspace, &dPos, &total);
+  hash_.recordBackward(rec, sampleCapacity_, field_.positions, dPos_, mlp_.posStride(), 0, table_.grads(), &total);
   network_.recordOptimizerStep(rec, step);
   table_.recordOptimizerStep(rec, step);
   rec.end();
   rec.submitAndWait();
 
+  // The step's counts, read after its own wait (mapped memory: no further stall).
+  const uint32_t rays = wholeRays_.download<uint32_t>(1)[0];
+  uint32_t samples = marched_.totals.download<uint32_t>(1)[0];
+  const uint32_t marchedCount = samples;
+  marchedSamples_ += samples;
+  marchedRays_ += rays;
   // The samples the loss saw (all marched ones without early termination).
   if (model_.earlyTermination) {
     const auto counts = keptCounts_.download<uint32_t>(rays);

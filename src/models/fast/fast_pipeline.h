@@ -4,9 +4,10 @@
 //        -> hash grid(x), SH(d) -> small MLP (trunc-exp density) -> composite (packed)
 // and, when training, photometric loss -> composite backward -> MLP backward (dL/dfeatures)
 // -> hash-grid backward -> Adam (MLP and table), with the occupancy grid re-measured every K steps.
-// The number of samples a batch marches is known only on the device; a step submits the march,
-// reads the total (a few bytes, mapped), sizes the rest of the step to it and adapts the next
-// step's ray count to hold about FastModel::samplesPerBatch samples.
+// The number of samples a batch marches is known only on the device: a training step is recorded
+// for the sample capacity, cut on the device to the whole rays and their samples, and submitted
+// once; after its wait the host reads those counts (a few bytes, mapped) and adapts the next step's
+// ray count to hold about FastModel::samplesPerBatch samples.
 #include <memory>
 #include <optional>
 
@@ -103,6 +104,7 @@ class FastPipeline final : public FieldPipeline {
   Packed marched_;
   FieldBatch field_;
   gpu::Buffer weights_, dPos_;
+  gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
   uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;
   // occupancy update (training): jittered points in cells and the field there
   uint32_t occPoints_ = 0;

@@ -398,44 +398,25 @@ TEST(ProcessAlignment, RecoversAKnownSimilarity) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(got.t[k], truth.t[k], 1e-9);
 }
 
-// The real colmap on 24 rendered 320x240 views (exhaustive matching, 512 features, SIFT at 320 px):
-// every view registered, centres within 1% of the ring's diameter and orientations within 1 degree
-// of the truth after the best similarity.
-TEST_F(ProcessScene, RealColmapRecoversRenderedPoses) {
-  if (!colmapInstalled()) GTEST_SKIP() << "colmap is not installed (Debian package: colmap); tools/install-deps.sh installs it";
-  const test::TexturedViewsSpec spec;
-  const auto truth = test::renderTexturedViews(dir() / "photos", spec);
-  const fs::path scene = dir() / "scene";
-  const auto r = test::runCli("process " + (dir() / "photos").string() + " -o " + scene.string() +
-                              " --max-features 512 --sift-max-size 320");
-  if (r.code != 0) {  // COLMAP's own words, for whoever reads the failure
-    std::ifstream in(scene.string() + ".colmap.log");
-    std::string log((std::istreambuf_iterator<char>(in)), {});
-    FAIL() << r.output << "\n--- colmap.log (end) ---\n" << log.substr(log.size() > 6000 ? log.size() - 6000 : 0);
-  }
-  EXPECT_NE(r.output.find("registered 24 of 24 images"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("mapping:"), std::string::npos) << r.output;
-  EXPECT_TRUE(fs::exists(scene / "colmap.log"));
+// The worst camera of a COLMAP reconstruction against the true poses, after the best similarity:
+// centre error over the scene size, and rotation error in degrees.
+struct PoseErrors {
+  double position = 1e30, angle = 1e30;
+};
 
-  DatasetOptions all;
-  all.split = "all";
-  const Dataset colmap = Dataset::load((scene / "sparse" / "0").string(), all);
-  expectSameCameras(colmap, Dataset::load((scene / "transforms.json").string(), all));
-  ASSERT_EQ(colmap.cameras.size(), truth.size());
-
+PoseErrors poseErrors(const Dataset& colmap, const std::vector<test::TrueView>& truth, double size) {
   std::vector<std::array<double, 3>> got, want;
   for (size_t i = 0; i < truth.size(); ++i) {
-    ASSERT_EQ(fs::path(colmap.names[i]).filename(), truth[i].name);  // both in name order
+    EXPECT_EQ(fs::path(colmap.names[i]).filename(), truth[i].name);  // both in name order
     const auto& m = colmap.cameras[i].c2w;
     got.push_back({m[3], m[7], m[11]});
     want.push_back({truth[i].c2w[3], truth[i].c2w[7], truth[i].c2w[11]});
   }
   const test::Similarity align = test::alignSimilarity(got, want);
-  const double size = 2 * spec.ringRadius;
-  double worstPosition = 0, worstAngle = 0;
+  PoseErrors e{0, 0};
   for (size_t i = 0; i < truth.size(); ++i) {
     const auto p = align.apply(got[i]);
-    worstPosition = std::max(worstPosition, std::hypot(p[0] - want[i][0], p[1] - want[i][1], p[2] - want[i][2]) / size);
+    e.position = std::max(e.position, std::hypot(p[0] - want[i][0], p[1] - want[i][1], p[2] - want[i][2]) / size);
     std::array<double, 9> R{}, T{};
     const auto& m = colmap.cameras[i].c2w;
     for (int r = 0; r < 3; ++r)
@@ -443,10 +424,52 @@ TEST_F(ProcessScene, RealColmapRecoversRenderedPoses) {
         for (int k = 0; k < 3; ++k) R[3 * r + c] += align.R[3 * r + k] * m[4 * k + c];
         T[3 * r + c] = truth[i].c2w[4 * r + c];
       }
-    worstAngle = std::max(worstAngle, test::rotationAngleDegrees(R, T));
+    e.angle = std::max(e.angle, test::rotationAngleDegrees(R, T));
   }
-  std::printf("worst camera centre error %.4f of the scene size, worst rotation error %.3f degrees\n", worstPosition,
-              worstAngle);
-  EXPECT_LT(worstPosition, 0.01);
-  EXPECT_LT(worstAngle, 1.0);
+  return e;
+}
+
+// The real colmap on 24 rendered 320x240 views (exhaustive matching, 512 features, SIFT at 320 px):
+// every view registered, centres within 1% of the ring's diameter and orientations within 1 degree
+// of the truth after the best similarity.
+//
+// COLMAP is not deterministic: its feature extraction and its matcher's RANSAC run on worker
+// threads whose random generators are seeded from the clock (colmap/util/random.cc), so the
+// database differs from run to run (the mapper on a given database is repeatable). Here 20 runs of
+// 20 came out within 0.0021 and 0.25 degrees; one CI run of this test came out 84 degrees off. A
+// conversion error (axes, c2w against w2c, the camera's convention) fails every run, so a run whose
+// poses are off is repeated once, with the same bounds, and the test fails when both are off.
+TEST_F(ProcessScene, RealColmapRecoversRenderedPoses) {
+  if (!colmapInstalled()) GTEST_SKIP() << "colmap is not installed (Debian package: colmap); tools/install-deps.sh installs it";
+  const test::TexturedViewsSpec spec;
+  const auto truth = test::renderTexturedViews(dir() / "photos", spec);
+  PoseErrors worst;
+  for (int attempt = 1; attempt <= 2; ++attempt) {
+    const fs::path scene = dir() / ("scene" + std::to_string(attempt));
+    const auto r = test::runCli("process " + (dir() / "photos").string() + " -o " + scene.string() +
+                                " --max-features 512 --sift-max-size 320");
+    if (r.code != 0) {  // COLMAP's own words, for whoever reads the failure
+      std::ifstream in(scene.string() + ".colmap.log");
+      std::string log((std::istreambuf_iterator<char>(in)), {});
+      FAIL() << r.output << "\n--- colmap.log (end) ---\n" << log.substr(log.size() > 6000 ? log.size() - 6000 : 0);
+    }
+    EXPECT_NE(r.output.find("mapping:"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(scene / "colmap.log"));
+    DatasetOptions all;
+    all.split = "all";
+    const Dataset colmap = Dataset::load((scene / "sparse" / "0").string(), all);
+    expectSameCameras(colmap, Dataset::load((scene / "transforms.json").string(), all));
+    const bool registeredAll = r.output.find("registered 24 of 24 images") != std::string::npos;
+    if (registeredAll) {
+      ASSERT_EQ(colmap.cameras.size(), truth.size());
+      worst = poseErrors(colmap, truth, 2 * spec.ringRadius);
+    }
+    std::printf("run %d: %s; worst camera centre error %.4f of the scene size, worst rotation error %.3f degrees\n",
+                attempt, registeredAll ? "registered 24 of 24" : "not every view registered", worst.position,
+                worst.angle);
+    if (registeredAll && worst.position < 0.01 && worst.angle < 1.0) break;
+    std::printf("%s\n", r.output.c_str());
+  }
+  EXPECT_LT(worst.position, 0.01);
+  EXPECT_LT(worst.angle, 1.0);
 }

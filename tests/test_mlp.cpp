@@ -162,6 +162,16 @@ TEST_F(MlpNerf, NoSkipLayerAndSingleRow) {
   checkNerf(ctx(), {cfg, 1});
 }
 
+// A feature narrower than the trunk: the fast model's (64 wide, 16 features + the density) and
+// one whose feature + density columns (13) fill an exact 16-column block.
+TEST_F(MlpNerf, NarrowFeatureMatchesReference) {
+  auto cfg = smallNerf(DensityActivation::TruncExp);
+  cfg.featureWidth = 12;
+  checkNerf(ctx(), {cfg, 131});
+  cfg.depth = 1, cfg.skipLayer = 0, cfg.width = 64, cfg.posDims = 16, cfg.dirDims = 16, cfg.featureWidth = 16;
+  checkNerf(ctx(), {cfg, 200});
+}
+
 TEST_F(MlpNerf, ChunkedBatchMatchesReference) {
   // 64-row chunks: 4 chunks, the last one partial; bindings at row offsets, gradients accumulated.
   checkNerf(ctx(), {smallNerf(), 229, 1.0f, 1.0f, 64});

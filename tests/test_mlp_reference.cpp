@@ -39,10 +39,33 @@ constexpr double kFdStep = 1e-5, kFdTol = 1e-6;
 
 class MlpReference : public ::testing::TestWithParam<DensityActivation> {};
 
+// The network's gradients (parameters and gamma(x)) against central differences of its loss.
+void expectNerfGradientsMatchFiniteDifferences(const ref::NerfShape& s);
+
 }  // namespace
 
 TEST_P(MlpReference, NerfGradientsMatchFiniteDifferences) {
-  auto s = ref::NerfShape::make(3, 8, 1, 5, 3, GetParam());
+  expectNerfGradientsMatchFiniteDifferences(ref::NerfShape::make(3, 8, 1, 5, 3, GetParam()));
+}
+
+// A feature narrower than the trunk (the fast model's shape): the colour layer reads f[0, 4), the
+// density f[4].
+TEST(MlpReferenceNarrowFeature, GradientsMatchFiniteDifferences) {
+  const auto s = ref::NerfShape::make(2, 8, 0, 5, 3, DensityActivation::TruncExp, 4);
+  EXPECT_EQ(s.feature().n, 5u);
+  EXPECT_EQ(s.colour().ka, 4u);
+  expectNerfGradientsMatchFiniteDifferences(s);
+}
+
+TEST(MlpReferenceNarrowFeature, WidthsThatCannotWorkAreErrors) {
+  EXPECT_THROW(ref::NerfShape::make(2, 8, 0, 5, 3, DensityActivation::Relu, 6), std::invalid_argument);   // not 4k
+  EXPECT_THROW(ref::NerfShape::make(2, 8, 0, 5, 3, DensityActivation::Relu, 12), std::invalid_argument);  // > width
+  EXPECT_EQ(ref::NerfShape::make(2, 8, 0, 5, 3, DensityActivation::Relu, 0).featureWidth, 8u);  // 0: the width
+}
+
+namespace {
+
+void expectNerfGradientsMatchFiniteDifferences(const ref::NerfShape& s) {
   auto p = toDouble(ref::initialParameters(s.layers, s.total, 11));
   // Larger-than-init biases keep ReLUs away from all-dead so the gradient is not trivially zero.
   for (auto& l : s.layers)
@@ -79,6 +102,8 @@ TEST_P(MlpReference, NerfGradientsMatchFiniteDifferences) {
     EXPECT_NEAR(dPos[i], fd, kFdTol + kFdTol * std::fabs(fd)) << "gamma(x) component " << i;
   }
 }
+
+}  // namespace
 
 INSTANTIATE_TEST_SUITE_P(MlpDensity, MlpReference,
                          ::testing::Values(DensityActivation::Relu, DensityActivation::TruncExp,

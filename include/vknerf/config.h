@@ -31,6 +31,9 @@ struct FastModel {
   float hashGrowth = 1.5f;
   uint32_t shDegree = 4;              // direction encoding: shDegree^2 coefficients
   uint32_t width = 64, depth = 1;     // instant-ngp: one hidden layer for density, the colour layer after it
+  // The features the density network passes to the colour layer (a multiple of 4, at most width;
+  // 0: width, as models saved before this field): instant-ngp passes 16 (15 and the density).
+  uint32_t featureWidth = 16;
   DensityActivation density = DensityActivation::TruncExp;
   uint32_t gridResolution = 64;       // occupancy cells per axis of each cascade
   // Nested occupancy cascades (instant-ngp): the outermost covers the scene box, each one inside it

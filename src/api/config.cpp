@@ -104,7 +104,7 @@ std::string TrainConfig::describe() const {
     if (m->hashLog2Size) os << m->hashLog2Size; else os << "auto";  // auto: from the dataset
     os << " N=" << m->hashBaseResolution << " b=";
     if (m->hashGrowth != 0) os << m->hashGrowth; else os << "auto";
-    os << ", MLP " << m->depth << "x" << m->width
+    os << ", MLP " << m->depth << "x" << m->width << " (feature " << (m->featureWidth ? m->featureWidth : m->width) << ")"
        << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
        << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
        << "), " << m->marchSteps

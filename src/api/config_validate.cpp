@@ -54,6 +54,11 @@ void validateModel(const FastModel& m) {
   inRange("model.width", m.width, 8, 4096);
   if (m.width % 8) throw Error("model.width must be a multiple of 8, got " + std::to_string(m.width));
   inRange("model.depth", m.depth, 1, 64);
+  if (m.featureWidth != 0) {
+    inRange("model.feature_width", m.featureWidth, 4, m.width);
+    if (m.featureWidth % 4)
+      throw Error("model.feature_width must be a multiple of 4, got " + std::to_string(m.featureWidth));
+  }
   density("model.density", m.density);
   inRange("model.hash_levels", m.hashLevels, 1, 32);
   inRange("model.hash_features", m.hashFeatures, 1, 8);

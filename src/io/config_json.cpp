@@ -13,7 +13,7 @@ json toJson(const TrainConfig& c) {
             {"decay_steps", c.decaySteps}, {"beta1", c.beta1}, {"beta2", c.beta2}, {"epsilon", c.epsilon},
             {"random_background", c.randomBackground}, {"background", c.background}, {"seed", c.seed}};
   if (const FastModel* m = std::get_if<FastModel>(&c.model)) {
-    j["model"] = {{"name", "fast"}, {"width", m->width}, {"depth", m->depth}, {"density", uint32_t(m->density)},
+    j["model"] = {{"name", "fast"}, {"width", m->width}, {"depth", m->depth}, {"feature_width", m->featureWidth}, {"density", uint32_t(m->density)},
                   {"hash_levels", m->hashLevels}, {"hash_features", m->hashFeatures},
                   {"hash_log2_size", m->hashLog2Size}, {"hash_base_resolution", m->hashBaseResolution},
                   {"hash_growth", m->hashGrowth}, {"sh_degree", m->shDegree},
@@ -40,6 +40,7 @@ FastModel fastModelFromJson(const json& m, const json& j) {
   FastModel f;
   f.width = m.at("width");
   f.depth = m.at("depth");
+  f.featureWidth = m.value("feature_width", 0u);  // checkpoints from before it pass the whole width
   f.density = DensityActivation(m.at("density").get<uint32_t>());
   f.hashLevels = m.value("hash_levels", f.hashLevels);
   f.hashFeatures = m.value("hash_features", f.hashFeatures);

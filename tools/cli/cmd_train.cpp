@@ -38,7 +38,7 @@ struct Options {
   std::string scene, output, config = "vanilla";
   uint32_t width = 0, depth = 0, coarse = 0, fine = 0;
   uint32_t hashLevels = 0, hashLog2Size = 0, hashMaxResolution = 0, grid = 0, marchSteps = 0, samplesPerStep = 0;
-  uint32_t cascades = 0;
+  uint32_t cascades = 0, featureWidth = 0;
   float coneAngle = 0;
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
   double seconds = 0;
@@ -64,7 +64,7 @@ std::string flagsForTheOtherModel(const Options& o, const TrainConfig& cfg) {
   const std::pair<bool, const char*> fastOnly[] = {
       {o.hashLevels != 0, "--hash-levels"}, {o.hashLog2Size != 0, "--hash-log2-size"},
       {o.hashMaxResolution != 0, "--hash-max-resolution"}, {o.grid != 0, "--grid"}, {o.cascades != 0, "--cascades"}, {o.coneAngle != 0, "--cone-angle"},
-      {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
+      {o.featureWidth != 0, "--feature-width"}, {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
       {o.noEarlyTermination, "--no-early-termination"}};
   for (auto [given, flag] : fastOnly)
     if (given) return flag;
@@ -82,6 +82,7 @@ void applyFlags(const Options& o, TrainConfig& cfg) {
     FastModel& f = cfg.fastModel();
     if (o.width) f.width = o.width;
     if (o.depth) f.depth = o.depth;
+    if (o.featureWidth) f.featureWidth = o.featureWidth;
     if (o.hashLevels) f.hashLevels = o.hashLevels;
     if (o.hashLog2Size) f.hashLog2Size = o.hashLog2Size;
     // Without --hash-max-resolution a growth left to the dataset (0) stays so: the finest
@@ -122,7 +123,7 @@ void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
       {"--coarse", "/model/coarse_samples"}, {"--fine", "/model/fine_samples"},
       {"--hash-levels", "/model/hash_levels"}, {"--hash-log2-size", "/model/hash_log2_size"},
       {"--hash-max-resolution", "/model/hash_growth"}, {"--grid", "/model/grid_resolution"}, {"--cascades", "/model/cascades"}, {"--cone-angle", "/model/cone_angle"},
-      {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
+      {"--feature-width", "/model/feature_width"}, {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
       {"--no-early-termination", "/early_termination"}};
   for (auto [flag, key] : keys) {
     const nlohmann::json::json_pointer ptr(key);
@@ -281,6 +282,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--depth", o->depth, "MLP trunk layers")->check(CLI::Range(2u, 16u));
                      app.add_option("--coarse", o->coarse, "Stratified samples per ray")->check(CLI::Range(1u, 1024u));
                      app.add_option("--fine", o->fine, "Importance samples per ray")->check(CLI::Range(1u, 1024u));
+                     app.add_option("--feature-width", o->featureWidth, "fast: features the density layer passes to the colour layer (multiple of 4, at most --width)")->check(CLI::Range(4u, 1024u));
                      app.add_option("--hash-levels", o->hashLevels, "fast: hash grid levels")->check(CLI::Range(1u, 24u));
                      app.add_option("--hash-log2-size", o->hashLog2Size, "fast: log2 of the hash table entries per level")->check(CLI::Range(2u, 24u));
                      app.add_option("--hash-max-resolution", o->hashMaxResolution, "fast: finest grid level's cells per axis")->check(CLI::Range(2u, 65536u));

@@ -34,7 +34,7 @@ gpu::Buffer rowsBuffer(Context& ctx, uint32_t rows, uint32_t stride) {
 
 ref::NerfShape nerfShape(const MlpConfig& c) {
   try {
-    return ref::NerfShape::make(c.depth, c.width, c.skipLayer, c.posDims, c.dirDims, c.density);
+    return ref::NerfShape::make(c.depth, c.width, c.skipLayer, c.posDims, c.dirDims, c.density, c.featureWidth);
   } catch (const std::invalid_argument& e) {
     throw Error(e.what());
   }
@@ -56,14 +56,15 @@ NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacit
 
 NerfMlp::Workspace::Workspace(Context& ctx, const NerfMlp& mlp, uint32_t capacity, bool keep)
     : capacity_(capacity), keep_(keep) {
-  const uint32_t W = mlp.config_.width;
+  const uint32_t W = mlp.config_.width, V = mlp.shape_.featureWidth;
   uint32_t rows = std::max(capacity, 1u);
   for (uint32_t l = 0; l < (keep ? mlp.config_.depth : 2u); ++l) h_.push_back(rowsBuffer(ctx, rows, W));
-  f_ = rowsBuffer(ctx, rows, W + 4);
+  f_ = rowsBuffer(ctx, rows, V + 4);
   c_ = rowsBuffer(ctx, rows, W / 2);
   if (keep) {
     scratchRows_ = std::max(1u, std::min(capacity, mlp.chunkRows_));
-    for (auto& b : dz_) b = rowsBuffer(ctx, scratchRows_, W + 4);
+    // dz_[0] holds dF (V + 4 per row), then the trunk's dZ (W), as does dz_[1].
+    for (auto& b : dz_) b = rowsBuffer(ctx, scratchRows_, std::max(W, V + 4));
     dc_ = rowsBuffer(ctx, scratchRows_, W / 2);
     dzh_ = rowsBuffer(ctx, scratchRows_, 4);
   }
@@ -97,7 +98,7 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
   if (!keep && !scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
   Workspace& ws = keep ? *keep : *scratch_;
-  const uint32_t W = config_.width, D = config_.depth;
+  const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
   const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, scratch_->capacity_);
   if (!head_) {
     const auto& h = shape_.head();
@@ -106,7 +107,7 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
                                gpu::Binding::Storage, gpu::Binding::Storage},
                               sizeof(HeadPush),
-                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
+                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), V, uint32_t(config_.density)}});
   }
   // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
   limited_.begin(rec, rowLimit, count, chunk, {layers_[0].rowsPerGroup(), kHeadLocal});
@@ -116,7 +117,7 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     Mat o = Mat{out, 4}.rows(first, n);
     const gpu::LimitedRows L = limited_.rows(c, 0), head = limited_.rows(c, 1);
     auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], W}.rows(row, n); };
-    Mat F = Mat{ws.f_, W + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
+    Mat F = Mat{ws.f_, V + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
     for (uint32_t l = 0; l < D; ++l) layers_[l].recordForward(rec, n, params, l ? H(l - 1) : p, p, H(l), L, "nerf trunk");
     layers_[D].recordForward(rec, n, params, H(D - 1), H(D - 1), F, L, "nerf feature+sigma");
     layers_[D + 1].recordForward(rec, n, params, F, d, C, L, "nerf colour");
@@ -133,14 +134,14 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
-  const uint32_t W = config_.width, D = config_.depth;
+  const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
   if (!headBackward_) {
     const auto& h = shape_.head();
     std::vector<gpu::Binding> b(5, gpu::Binding::TexelRgba32f);
     b.insert(b.end(), 4, gpu::Binding::Storage);
     headBackward_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head_backward, b, sizeof(HeadBackwardPush),
-                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), W, uint32_t(config_.density)}});
+                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), V, uint32_t(config_.density)}});
   }
   const uint32_t chunk = std::min(chunkRows_, ws.scratchRows_);
   // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
@@ -150,8 +151,8 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
     Mat o = Mat{out, 4}.rows(first, n), dO = Mat{dOut, 4}.rows(first, n);
     auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };
-    Mat F = Mat{ws.f_, W + 4}.rows(first, n), C = Mat{ws.c_, W / 2}.rows(first, n);
-    Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], W + 4}.rows(0, n), dC = Mat{ws.dc_, W / 2}.rows(0, n);
+    Mat F = Mat{ws.f_, V + 4}.rows(first, n), C = Mat{ws.c_, W / 2}.rows(first, n);
+    Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], V + 4}.rows(0, n), dC = Mat{ws.dc_, W / 2}.rows(0, n);
     Mat dP = dPos ? Mat{*dPos, posStride()}.rows(first, n) : p;
 
     HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4, 0};

@@ -30,6 +30,7 @@ struct MlpConfig {
   uint32_t dirDims = 27;
   DensityActivation density = DensityActivation::Relu;
   uint32_t seed = 0;
+  uint32_t featureWidth = 0;  // what the colour layer sees of the feature layer (0: width); ref::NerfShape
 };
 
 class NerfMlp {
@@ -46,7 +47,7 @@ class NerfMlp {
     uint32_t capacity_ = 0, scratchRows_ = 0;
     bool keep_ = true;
     std::vector<gpu::Buffer> h_;  // trunk outputs (depth buffers, or 2 reused when !keep_)
-    gpu::Buffer f_, c_;           // feature + sigma pre-activation (W + 4), colour hidden (W/2)
+    gpu::Buffer f_, c_;           // feature + sigma pre-activation (V + 4), colour hidden (W/2)
     gpu::Buffer dz_[2], dc_, dzh_;  // backward scratch, scratchRows_ rows
   };
 

@@ -143,31 +143,37 @@ void denseBackward(const DenseShape& l, const std::vector<P>& p, const T* a, con
 // ---------------------------------------------------------------------------------------------
 // The NeRF network (seed §4.8, §6.4).
 //   trunk:   h0 = relu(L0 gamma(x));  h_l = relu(L_l concat(h_{l-1}, gamma(x) if l == skipLayer else -))
-//   feature: f = F h_{D-1}, one layer W -> W+1: columns [0, W) the feature, column W the sigma
+//   feature: f = F h_{D-1}, one layer W -> V+1: columns [0, V) the feature, column V the sigma
 //            pre-activation (so the sigma head shares the feature layer's pass over h_{D-1})
-//   colour:  c = relu(C concat(f[0, W), gamma(d)));  rgb = sigmoid(H c)  (W/2 -> 3)
-//   output:  vec4(rgb, density(f[W]))
+//   colour:  c = relu(C concat(f[0, V), gamma(d)));  rgb = sigmoid(H c)  (W/2 -> 3)
+//   output:  vec4(rgb, density(f[V]))
+// V, the feature width, is W in the paper's network; instant-ngp passes 15 values + the density
+// on to its colour network, so a hash-grid model can use a narrow V (a multiple of 4: the sigma
+// column is read as a vec4).
 struct NerfShape {
-  uint32_t depth = 8, width = 256, skipLayer = 5, posDims = 63, dirDims = 27;
+  uint32_t depth = 8, width = 256, skipLayer = 5, posDims = 63, dirDims = 27, featureWidth = 256;
   DensityActivation density = DensityActivation::Relu;
 
   std::vector<DenseShape> layers;  // trunk 0..depth-1, then feature, colour, head
   uint64_t total = 0;
 
   static NerfShape make(uint32_t depth, uint32_t width, uint32_t skipLayer, uint32_t posDims, uint32_t dirDims,
-                        DensityActivation density) {
+                        DensityActivation density, uint32_t featureWidth = 0) {
     if (depth < 1) throw std::invalid_argument("NeRF MLP: depth must be >= 1");
     if (width < 8 || width % 8) throw std::invalid_argument("NeRF MLP: width must be a positive multiple of 8");
     if (skipLayer >= depth) throw std::invalid_argument("NeRF MLP: skipLayer must be 0 (none) or < depth");
     if (posDims == 0 || dirDims == 0) throw std::invalid_argument("NeRF MLP: posDims and dirDims must be > 0");
+    if (featureWidth == 0) featureWidth = width;
+    if (featureWidth % 4 || featureWidth > width)
+      throw std::invalid_argument("NeRF MLP: the feature width must be a positive multiple of 4, at most the width");
     NerfShape s;
     s.depth = depth, s.width = width, s.skipLayer = skipLayer, s.posDims = posDims, s.dirDims = dirDims;
-    s.density = density;
+    s.density = density, s.featureWidth = featureWidth;
     s.layers.push_back({posDims, 0, width, Activation::Relu});
     for (uint32_t l = 1; l < depth; ++l)
       s.layers.push_back({width, l == skipLayer ? posDims : 0u, width, Activation::Relu});
-    s.layers.push_back({width, 0, width + 1, Activation::None});
-    s.layers.push_back({width, dirDims, width / 2, Activation::Relu});
+    s.layers.push_back({width, 0, featureWidth + 1, Activation::None});
+    s.layers.push_back({featureWidth, dirDims, width / 2, Activation::Relu});
     s.layers.push_back({width / 2, 0, 3, Activation::Sigmoid});
     s.total = layOut(s.layers);
     return s;
@@ -180,7 +186,7 @@ struct NerfShape {
 
 template <class T> struct NerfSample {
   std::vector<std::vector<T>> h;  // trunk outputs
-  std::vector<T> f;               // feature (W) and sigma pre-activation (index W)
+  std::vector<T> f;               // feature (V) and sigma pre-activation (index V)
   std::vector<T> c;               // colour hidden
   std::array<T, 4> out{};         // rgb, sigma
 };
@@ -194,13 +200,13 @@ NerfSample<T> nerfForward(const NerfShape& s, const std::vector<P>& p, const T* 
     const T* a = l == 0 ? pos : r.h[l - 1].data();
     denseForward(s.trunk(l), p, a, pos, r.h[l].data());
   }
-  r.f.resize(s.width + 1);
+  r.f.resize(s.featureWidth + 1);
   denseForward(s.feature(), p, r.h.back().data(), (const T*)nullptr, r.f.data());
   r.c.resize(s.width / 2);
   denseForward(s.colour(), p, r.f.data(), dir, r.c.data());
   T rgb[3];
   denseForward(s.head(), p, r.c.data(), (const T*)nullptr, rgb);
-  r.out = {rgb[0], rgb[1], rgb[2], density(s.density, r.f[s.width])};
+  r.out = {rgb[0], rgb[1], rgb[2], density(s.density, r.f[s.featureWidth])};
   return r;
 }
 
@@ -209,14 +215,14 @@ NerfSample<T> nerfForward(const NerfShape& s, const std::vector<P>& p, const T* 
 template <class T, class P>
 void nerfBackward(const NerfShape& s, const std::vector<P>& p, const T* pos, const T* dir, const NerfSample<T>& fw,
                   const std::array<T, 4>& dOut, std::vector<T>& g, T* dPos, T* dDir) {
-  const uint32_t W = s.width;
+  const uint32_t W = s.width, V = s.featureWidth;
   T dzHead[3];
   for (int i = 0; i < 3; ++i) dzHead[i] = dOut[i] * activateGrad(Activation::Sigmoid, fw.out[i]);
-  std::vector<T> dc(W / 2), df(W + 1), dh(W), dhPrev(W), dPosPart(s.posDims);
+  std::vector<T> dc(W / 2), df(V + 1), dh(W), dhPrev(W), dPosPart(s.posDims);
   denseBackward(s.head(), p, fw.c.data(), (const T*)nullptr, dzHead, g, dc.data(), (T*)nullptr);
   for (uint32_t k = 0; k < W / 2; ++k) dc[k] *= activateGrad(Activation::Relu, fw.c[k]);
   denseBackward(s.colour(), p, fw.f.data(), dir, dc.data(), g, df.data(), dDir);
-  df[W] = dOut[3] * densityGrad(s.density, fw.f[W]);
+  df[V] = dOut[3] * densityGrad(s.density, fw.f[V]);
   denseBackward(s.feature(), p, fw.h.back().data(), (const T*)nullptr, df.data(), g, dh.data(), (T*)nullptr);
   if (dPos) std::fill(dPos, dPos + s.posDims, T(0));
   for (uint32_t l = s.depth; l-- > 0;) {

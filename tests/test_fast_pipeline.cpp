@@ -144,6 +144,36 @@ TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {
   EXPECT_GT(opacity, 0.05);
 }
 
+// A tile whose samples fit the sample capacity is marched, cut, shaded and composited in one
+// submission, with no host read-back in between; one that does not fit takes one more submission
+// for each part past a cut.
+TEST_F(FastPipelineTest, ATileThatFitsIsOneSubmission) {
+  TrainConfig cfg = smallFast();
+  cfg.fastModel().marchSteps = 64;
+  cfg.fastModel().maxSamplesPerRay = 64;
+  cfg.fastModel().samplesPerBatch = 1u << 12;
+  const Aabb box = scene("train").bounds;
+  const Camera& cam = scene("test").cameras[1];
+  const uint32_t count = 2048;
+  nerf::FastPipeline small(test::context(), cfg, box, count, true);   // ~8k samples: far fewer than the fog marches
+  nerf::FastPipeline large(test::context(), cfg, box, count, false);  // 64 per ray: every ray whole
+  Context& ctx = test::context();
+  auto packed = nerf::packCameras(std::span<const Camera>(&cam, 1));
+  auto camBuf = gpu::Buffer::of(ctx, packed);
+  auto submissions = [&](nerf::FieldPipeline& pipe) {
+    gpu::Recorder rec(ctx);
+    rec.startLog();
+    rec.begin();
+    pipe.recordRender(rec, camBuf, 0, 0, count, {1, 1, 1}, true);
+    const size_t n = rec.submissions().size();
+    rec.end();
+    rec.submitAndWait();
+    return n;
+  };
+  EXPECT_EQ(submissions(large), 1u);
+  EXPECT_GE(submissions(small), 3u);
+}
+
 TEST_F(FastPipelineTest, UnknownConfigurationIsAnError) {
   // The model is a variant: an unknown kind cannot be built in code, only named in a string.
   EXPECT_THROW(TrainConfig::named("turbo", test::context()), Error);

@@ -145,17 +145,6 @@ void FastPipeline::recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t 
       cone_);
 }
 
-std::pair<uint32_t, uint32_t> FastPipeline::wholeRays(uint32_t numRays) {
-  const uint32_t total = marched_.totals.download<uint32_t>(1)[0];
-  if (total < sampleCapacity_) return {numRays, total};
-  // The batch hit the capacity: the marcher clamped the offsets there, so a ray ending below it is whole.
-  auto off = marched_.offsets.download<uint32_t>(size_t(numRays) + 1);
-  uint32_t whole = uint32_t(std::upper_bound(off.begin() + 1, off.end(), sampleCapacity_ - 1) - (off.begin() + 1));
-  whole = std::max(kRayAlign, whole / kRayAlign * kRayAlign);
-  whole = std::min(whole, numRays);
-  return {whole, off[whole]};
-}
-
 void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count, bool keep,
                                bool limitToTotal) {
   FieldBatch& f = field_;
@@ -197,21 +186,22 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
     recordComposite(rec, marched_, 0, count, background);
     return;
   }
+  // A tile in one submission, as a training step: the march is cut on the device to the rays that
+  // fit the sample capacity whole (march_cut), the field and the compositing are recorded for the
+  // capacity and cut to the device's counts, and the host reads how many rays were done after the
+  // wait. Only a tile whose rays need more than the capacity (64 samples per ray on average) takes
+  // another submission, for the rays past the cut. `rec` is left begun, as it was given.
+  const gpu::BufferRange wholeRays(wholeRays_, 0, 4);
   for (uint32_t done = 0; done < count;) {
     const uint32_t n = count - done;
     recordMarch(rec, done, n, model_.maxSamplesPerRay, 0, false);
+    marcher_.recordCutToWholeRays(rec, n, sampleCapacity_, kRayAlign, marched_.offsets, marched_.totals, wholeRays);
+    recordField(rec, marched_, done, sampleCapacity_, false, true);
+    recordComposite(rec, marched_, done, n, background);
     rec.end();
     rec.submitAndWait();
-    auto [whole, samples] = wholeRays(n);
     rec.begin();
-    recordField(rec, marched_, done, samples, false);
-    recordComposite(rec, marched_, done, whole, background);
-    done += whole;
-    if (done < count) {
-      rec.end();
-      rec.submitAndWait();
-      rec.begin();
-    }
+    done += wholeRays_.download<uint32_t>(1)[0];
   }
 }
 

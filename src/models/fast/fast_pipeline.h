@@ -65,9 +65,6 @@ class FastPipeline final : public FieldPipeline {
   // Marches rays [rayOffset, rayOffset + numRays) of rays_ into marched_.
   void recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, uint32_t maxSamples, uint32_t seed,
                    bool jitter);
-  // How many of the marched rays are whole within the sample capacity (all when nothing was cut),
-  // and their sample total. Reads offsets on the host (after the march was submitted and waited).
-  std::pair<uint32_t, uint32_t> wholeRays(uint32_t numRays);
   // Field at `count` packed samples of the rays at rayOffset: points, encodings, MLP. With
   // limitToTotal, only the samples below the batch's device total are evaluated (count: capacity).
   void recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count, bool keep,
@@ -104,7 +101,7 @@ class FastPipeline final : public FieldPipeline {
   Packed marched_;
   FieldBatch field_;
   gpu::Buffer weights_, dPos_;
-  gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
+  gpu::Buffer wholeRays_;  // a batch's rays that fit the sample capacity whole (device-written; training and render)
   uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;
   // occupancy update (training): jittered points in cells and the field there
   uint32_t occPoints_ = 0;

@@ -7,6 +7,7 @@
 #include <iterator>
 
 #include "support/colmap_model_files.h"
+#include "support/dataset_checks.h"
 #include "support/dataset_files.h"
 #include "support/error_message.h"
 #include "support/temp_dir.h"
@@ -109,26 +110,10 @@ class DatasetColmapBinary : public TempDirTest {
 };
 
 void expectSameDataset(const Dataset& a, const Dataset& b) {
-  ASSERT_EQ(a.cameras.size(), b.cameras.size());
+  test::expectSameCameras(a, b);
   ASSERT_EQ(a.images.size(), b.images.size());
   EXPECT_EQ(a.boundsSource, b.boundsSource);
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(a.bounds.min[k], b.bounds.min[k]);
-    EXPECT_EQ(a.bounds.max[k], b.bounds.max[k]);
-  }
   for (size_t i = 0; i < a.cameras.size(); ++i) {
-    const Camera &x = a.cameras[i], &y = b.cameras[i];
-    EXPECT_EQ(x.width, y.width);
-    EXPECT_EQ(x.height, y.height);
-    EXPECT_EQ(x.fx, y.fx);
-    EXPECT_EQ(x.fy, y.fy);
-    EXPECT_EQ(x.cx, y.cx);
-    EXPECT_EQ(x.cy, y.cy);
-    const Lens &l = x.lens, &m = y.lens;
-    EXPECT_EQ(l.model, m.model);
-    const float lk[] = {l.k1, l.k2, l.k3, l.k4, l.k5, l.k6, l.p1, l.p2}, mk[] = {m.k1, m.k2, m.k3, m.k4, m.k5, m.k6, m.p1, m.p2};
-    for (int k = 0; k < 8; ++k) EXPECT_EQ(lk[k], mk[k]) << "camera " << i << " coefficient " << k;
-    for (int k = 0; k < 16; ++k) EXPECT_EQ(x.c2w[k], y.c2w[k]) << "camera " << i << " entry " << k;
     EXPECT_EQ(fs::path(a.names[i]).filename(), fs::path(b.names[i]).filename());
     EXPECT_EQ(a.images[i].rgba, b.images[i].rgba);
   }

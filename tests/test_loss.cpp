@@ -6,6 +6,7 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "support/gpu_test.h"
+#include "support/random_values.h"
 #include "support/submit_once.h"
 #include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
@@ -157,10 +158,7 @@ TEST_F(Loss, MatchesReferenceWithRandomBackgrounds) {
   const uint32_t n = 1000;  // 8 partials, the last one partly filled
   const float scale = 0.5f;
   Scene s = makeScene(n, 5);
-  std::mt19937 gen(6);
-  std::uniform_real_distribution<float> u(0, 1);
-  std::vector<float> pred(4 * n);
-  for (auto& x : pred) x = u(gen);
+  const std::vector<float> pred = test::uniformFloats(4 * n, 6, 0, 1);
   LossRun run = runLoss(ctx(), s, pred, n, scale, 42);
 
   std::vector<Vec4> p(n);
@@ -319,10 +317,7 @@ TEST_F(Loss, PixelsOverManyBindingsMatchReference) {
 TEST_F(Loss, DeviceRayCountEqualsTheBatchOfThatMany) {
   const uint32_t n = 1000;
   Scene s = makeScene(n, 7);
-  std::mt19937 gen(8);
-  std::uniform_real_distribution<float> u(0, 1);
-  std::vector<float> pred(4 * n);
-  for (auto& x : pred) x = u(gen);
+  const std::vector<float> pred = test::uniformFloats(4 * n, 8, 0, 1);
   for (uint32_t k : {1u, 127u, 128u, 640u, 999u, n}) {
     SCOPED_TRACE(testing::Message() << k << " rays counted");
     const LossRun want = runLoss(ctx(), s, pred, k, 0.5f, 42);

@@ -21,6 +21,7 @@
 #include "lib/process/video_frames.h"
 #include "support/cli_run.h"
 #include "support/colmap_model_files.h"
+#include "support/dataset_checks.h"
 #include "support/similarity_alignment.h"
 #include "support/temp_dir.h"
 #include "support/textured_views.h"
@@ -30,6 +31,7 @@
 namespace fs = std::filesystem;
 using namespace vknerf;
 using namespace vknerf::process;
+using vknerf::test::expectSameCameras;
 using vknerf::test::TempDirTest;
 
 namespace {
@@ -215,30 +217,6 @@ void writeImages(const fs::path& folder, const test::ColmapModelRecords& m) {
     ImageRGBA8 im{uint32_t(m.cameras[0].width), uint32_t(m.cameras[0].height), {}};
     for (uint32_t i = 0; i < im.width * im.height; ++i) im.rgba.insert(im.rgba.end(), {uint8_t(i * 7), uint8_t(i * 3), 90, 255});
     nerf::savePng((folder / img.name).string(), im);
-  }
-}
-
-void expectSameCameras(const Dataset& a, const Dataset& b) {
-  ASSERT_EQ(a.cameras.size(), b.cameras.size());
-  for (size_t i = 0; i < a.cameras.size(); ++i) {
-    const Camera &x = a.cameras[i], &y = b.cameras[i];
-    EXPECT_EQ(fs::path(a.names[i]).stem(), fs::path(b.names[i]).stem());
-    EXPECT_EQ(x.fx, y.fx);
-    EXPECT_EQ(x.fy, y.fy);
-    EXPECT_EQ(x.cx, y.cx);
-    EXPECT_EQ(x.cy, y.cy);
-    EXPECT_EQ(x.width, y.width);
-    EXPECT_EQ(x.height, y.height);
-    EXPECT_EQ(x.c2w, y.c2w) << "camera " << i;
-    EXPECT_EQ(x.lens.model, y.lens.model);
-    EXPECT_EQ(x.lens.k1, y.lens.k1);
-    EXPECT_EQ(x.lens.k2, y.lens.k2);
-    EXPECT_EQ(x.lens.p1, y.lens.p1);
-    EXPECT_EQ(x.lens.p2, y.lens.p2);
-  }
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(a.bounds.min[k], b.bounds.min[k]);
-    EXPECT_EQ(a.bounds.max[k], b.bounds.max[k]);
   }
 }
 

@@ -9,13 +9,13 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
-#include <random>
 #include <vector>
 
 #include "gpu/buffer.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 #include "support/gpu_test.h"
+#include "support/random_values.h"
 #include "support/submit_once.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
@@ -31,13 +31,7 @@ constexpr uint32_t kRows = 1000;
 
 using RowLimit = vknerf::test::GpuTest;
 
-std::vector<float> uniform(size_t n, uint32_t seed, float lo = -1, float hi = 1) {
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> v(n);
-  for (auto& x : v) x = u(gen);
-  return v;
-}
+using test::uniformFloats;
 
 // Runs `record` into an output of `rowFloats` floats per row prefilled with the sentinel, with no
 // limit (nullptr) or with the device uint `limit`; returns the output.
@@ -75,8 +69,8 @@ void expectLimited(Context& ctx, uint32_t rowFloats, const Record& record, std::
 
 TEST_F(RowLimit, HashEncodingForward) {
   nerf::HashEncoding enc(ctx(), ref::HashGridConfig{8, 2, 12, 4, 1.6});
-  auto pos = gpu::Buffer::of(ctx(), uniform(4 * size_t(kRows), 1));
-  auto table = gpu::Buffer::of(ctx(), uniform(enc.parameterCount(), 2, -1e-1f, 1e-1f));
+  auto pos = gpu::Buffer::of(ctx(), uniformFloats(4 * size_t(kRows), 1));
+  auto table = gpu::Buffer::of(ctx(), uniformFloats(enc.parameterCount(), 2, -1e-1f, 1e-1f));
   const uint32_t stride = enc.paddedDims() + 4;  // a column past the block: untouched either way
   expectLimited(ctx(), stride,
                 [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
@@ -87,7 +81,7 @@ TEST_F(RowLimit, HashEncodingForward) {
 
 TEST_F(RowLimit, ShEncoding) {
   nerf::ShEncoding enc(ctx(), 4);
-  auto dirs = uniform(4 * size_t(kRows), 3);
+  auto dirs = uniformFloats(4 * size_t(kRows), 3);
   for (uint32_t r = 0; r < kRows; ++r) {
     float* d = &dirs[4 * size_t(r)];
     const float n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -116,8 +110,8 @@ TEST_F(RowLimit, NerfMlpForwardInChunks) {
       mlp.setChunkRows(256);
       nerf::NerfMlp::Workspace ws(ctx(), mlp, kRows);
       auto params = gpu::Buffer::of(ctx(), mlp.initialParameters());
-      auto pos = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * mlp.posStride(), 4));
-      auto dir = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * mlp.dirStride(), 5));
+      auto pos = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * mlp.posStride(), 4));
+      auto dir = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * mlp.dirStride(), 5));
       expectLimited(ctx(), 4,
                     [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
                       mlp.recordForward(rec, kRows, params, pos, dir, out, keep ? &ws : nullptr, limit);

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <random>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -15,6 +14,7 @@
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
 #include "support/gpu_test.h"
+#include "support/random_values.h"
 #include "support/submit_once.h"
 
 using namespace vknerf;
@@ -28,13 +28,7 @@ constexpr double kGradRel = 1e-3, kGradAbsScale = 1e-4;
 
 using RowLimitBackward = vknerf::test::GpuTest;
 
-std::vector<float> uniform(size_t n, uint32_t seed, float lo = -1, float hi = 1) {
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> v(n);
-  for (auto& x : v) x = u(gen);
-  return v;
-}
+using test::uniformFloats;
 
 void expectNearSums(const std::vector<float>& got, const std::vector<float>& want, const char* what) {
   ASSERT_EQ(got.size(), want.size());
@@ -57,9 +51,9 @@ TEST_F(RowLimitBackward, NerfMlpEqualsTheBackwardOverTheTotal) {
     mlp.setChunkRows(256);
     nerf::NerfMlp::Workspace ws(ctx(), mlp, kRows);
     auto params = gpu::Buffer::of(ctx(), mlp.initialParameters());
-    auto pos = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * mlp.posStride(), 4));
-    auto dir = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * mlp.dirStride(), 5));
-    auto dOut = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * 4, 6));
+    auto pos = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * mlp.posStride(), 4));
+    auto dir = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * mlp.dirStride(), 5));
+    auto dOut = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * 4, 6));
     gpu::Buffer out(ctx(), VkDeviceSize(kRows) * 16);
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
       mlp.recordForward(rec, kRows, params, pos, dir, out, &ws);
@@ -99,9 +93,9 @@ TEST_F(RowLimitBackward, NerfMlpEqualsTheBackwardOverTheTotal) {
 // and past the limit).
 TEST_F(RowLimitBackward, HashGridEqualsTheBackwardOverTheTotal) {
   const ref::HashGridConfig config{8, 2, 12, 4, 1.6};
-  auto pos = gpu::Buffer::of(ctx(), uniform(4 * size_t(kRows), 1));
+  auto pos = gpu::Buffer::of(ctx(), uniformFloats(4 * size_t(kRows), 1));
   const uint32_t stride = 20;
-  auto dF = gpu::Buffer::of(ctx(), uniform(size_t(kRows) * stride, 2));
+  auto dF = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * stride, 2));
   for (auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged,
                     nerf::HashBackwardMode::SortReduce}) {
     for (uint32_t budget : {0u, 8u * 300u}) {

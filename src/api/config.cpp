@@ -79,9 +79,11 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     m.marchSteps = 128;
     m.maxSamplesPerRay = 128;
     // With cascades (unbounded scenes), instant-ngp's 1/256 marches ~300 points per ray through a
-    // fresh grid, past the 128-sample cap, so rays stop short of the far field; 1/32 fits the cap
-    // (docs/unbounded.md: 1/256 lost 1.5 dB to the single grid at 60 s, 1/32 gained 0.9 dB at 120 s).
-    m.coneAngle = 1.0f / 32.0f;
+    // fresh grid, past the 128-sample cap, so rays stop short of the far field (docs/unbounded.md:
+    // 1/256 lost 1.5 dB to the single grid at 60 s). On the distorted capture at 120 s, 1/64 beat
+    // 1/32 by 0.6-0.85 dB in two back-to-back pairs, and 1/32 beat 1/16 and 1/128 (finer steps
+    // sharpen the ground seen at grazing angles, until the samples per ray cost too many rays).
+    m.coneAngle = 1.0f / 64.0f;
     c.raysPerBatch = 1u << 14;
     m.samplesPerBatch = 1u << 14;
     c.decaySteps = 4000;

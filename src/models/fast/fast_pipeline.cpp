@@ -145,26 +145,24 @@ void FastPipeline::recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t 
       cone_);
 }
 
-void FastPipeline::recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count, bool keep,
-                               bool limitToTotal) {
+void FastPipeline::recordField(gpu::Recorder& rec, uint32_t rayOffset, bool keep) {
   FieldBatch& f = field_;
-  points_.record(rec, sampleCapacity_,
-                 gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE), batch.samples,
-                 batch.sampleRay, batch.totals, box_, f.positions, f.directions);
+  const uint32_t count = sampleCapacity_;
+  points_.record(rec, count, gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE),
+                 marched_.samples, marched_.sampleRay, marched_.totals, box_, f.positions, f.directions);
   // The sample total is the first uint of the totals (PackedLayout::kTotalsBytes).
-  const gpu::BufferRange total(batch.totals, 0, 4);
-  const gpu::BufferRange* limit = limitToTotal ? &total : nullptr;
-  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0, limit);
-  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, limit);
+  const gpu::BufferRange total(marched_.totals, 0, 4);
+  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0, &total);
+  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, &total);
   mlp_.recordForward(rec, count, network_.params(), f.posFeatures, f.dirFeatures, f.field,
-                     keep ? f.workspace.get() : nullptr, limit);
+                     keep ? f.workspace.get() : nullptr, &total);
 }
 
-void FastPipeline::recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
+void FastPipeline::recordComposite(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays,
                                    const std::array<float, 3>& bg, float maxOpticalDepth,
                                    const gpu::BufferRange* keptCounts) {
   gpu::BufferRange perRay(rays_.background(), VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16);
-  compositor_.recordForward(rec, numRays, 0, batch.offsets, batch.samples, field_.field, bg, &perRay,
+  compositor_.recordForward(rec, numRays, 0, marched_.offsets, marched_.samples, field_.field, bg, &perRay,
                             gpu::BufferRange(color_, VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16),
                             gpu::BufferRange(depth_, VkDeviceSize(rayOffset) * 4, VkDeviceSize(numRays) * 4), weights_,
                             maxOpticalDepth, keptCounts);
@@ -182,8 +180,8 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
     // recorded for the whole capacity and skip the rows past the total (shaders/gpu/row_limit.glsl).
     const uint32_t maxSamples = std::max(1u, std::min(model_.maxSamplesPerRay, sampleCapacity_ / count));
     recordMarch(rec, 0, count, maxSamples, 0, false);
-    recordField(rec, marched_, 0, sampleCapacity_, false, true);
-    recordComposite(rec, marched_, 0, count, background);
+    recordField(rec, 0, false);
+    recordComposite(rec, 0, count, background);
     return;
   }
   // A tile in one submission, as a training step: the march is cut on the device to the rays that
@@ -196,8 +194,8 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
     const uint32_t n = count - done;
     recordMarch(rec, done, n, model_.maxSamplesPerRay, 0, false);
     marcher_.recordCutToWholeRays(rec, n, sampleCapacity_, kRayAlign, marched_.offsets, marched_.totals, wholeRays);
-    recordField(rec, marched_, done, sampleCapacity_, false, true);
-    recordComposite(rec, marched_, done, n, background);
+    recordField(rec, done, false);
+    recordComposite(rec, done, n, background);
     rec.end();
     rec.submitAndWait();
     rec.begin();
@@ -255,8 +253,8 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
       model_.earlyTermination ? Compositor::maxOpticalDepth(kMinTransmittance) : Compositor::kNoTermination;
   std::optional<gpu::BufferRange> kept;
   if (model_.earlyTermination) kept.emplace(keptCounts_, 0, VkDeviceSize(R) * 4);
-  recordField(rec, marched_, 0, sampleCapacity_, true, true);
-  recordComposite(rec, marched_, 0, R, config_.background, maxDepth, kept ? &*kept : nullptr);
+  recordField(rec, 0, true);
+  recordComposite(rec, 0, R, config_.background, maxDepth, kept ? &*kept : nullptr);
   loss_->record(rec, R, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
                 partials_, 1.0f, &wholeRays);
   gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(R) * 16);

@@ -65,13 +65,14 @@ class FastPipeline final : public FieldPipeline {
   // Marches rays [rayOffset, rayOffset + numRays) of rays_ into marched_.
   void recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, uint32_t maxSamples, uint32_t seed,
                    bool jitter);
-  // Field at `count` packed samples of the rays at rayOffset: points, encodings, MLP. With
-  // limitToTotal, only the samples below the batch's device total are evaluated (count: capacity).
-  void recordField(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t count, bool keep,
-                   bool limitToTotal = false);
-  // Early termination at maxOpticalDepth (Compositor), the samples each ray kept into keptCounts.
-  void recordComposite(gpu::Recorder& rec, const Packed& batch, uint32_t rayOffset, uint32_t numRays,
-                       const std::array<float, 3>& bg, float maxOpticalDepth = Compositor::kNoTermination,
+  // Field at marched_'s samples of the rays at rayOffset: points, encodings, MLP, recorded for the
+  // sample capacity and cut on the device to the march's total (shaders/gpu/row_limit.glsl); `keep`
+  // keeps the activations for backward.
+  void recordField(gpu::Recorder& rec, uint32_t rayOffset, bool keep);
+  // Composites marched_'s rays [rayOffset, rayOffset + numRays). Early termination at maxOpticalDepth
+  // (Compositor), the samples each ray kept into keptCounts.
+  void recordComposite(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, const std::array<float, 3>& bg,
+                       float maxOpticalDepth = Compositor::kNoTermination,
                        const gpu::BufferRange* keptCounts = nullptr);
   // The field at the first `count` positions and directions of `f`, nothing kept for backward.
   void recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count);

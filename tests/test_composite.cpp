@@ -62,7 +62,7 @@ struct GpuResult {
 };
 
 // Forward then backward, recorded in one command buffer as a training step would be.
-GpuResult runGpu(Context& ctx, const Batch& b) {
+GpuResult runGpu(Context& ctx, const Batch& b, float distortion = 0) {
   uint32_t rays = b.numRays(), samples = uint32_t(b.samples.size() / 2);
   auto bytes = [](size_t n) { return std::max<size_t>(n, 4) * 4; };  // empty arrays still bind
   gpu::Buffer offsets(ctx, bytes(b.offsets.size())), sampleBuf(ctx, bytes(b.samples.size())),
@@ -88,7 +88,8 @@ GpuResult runGpu(Context& ctx, const Batch& b) {
   gpu::BufferRange off = b.samplesPerRay ? gpu::BufferRange() : gpu::BufferRange(offsets);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     comp.recordForward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, color, depth, weights);
-    comp.recordBackward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, dColor, dDepth, dField);
+    comp.recordBackward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, dColor, dDepth, dField,
+                        nerf::Compositor::kNoTermination, distortion);
   });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(samples),
           dField.download<float>(4 * samples)};
@@ -118,14 +119,14 @@ RayTolerance rayTolerance(std::span<const double> s, std::span<const double> f) 
 }
 
 // Compares ray r of the GPU result with the double reference; returns false on the first mismatch.
-::testing::AssertionResult rayMatches(const GpuResult& g, const Batch& b, uint32_t r) {
+::testing::AssertionResult rayMatches(const GpuResult& g, const Batch& b, uint32_t r, double distortion = 0) {
   auto s = b.raySamples(r), f = b.rayField(r);
   auto bg = b.background(r);
   size_t n = s.size() / 2, first = b.begin(r);
   auto fwd = ref::compositeForward<double>(s, f, bg);
   std::array<double, 4> dc = {b.dColor[4 * r], b.dColor[4 * r + 1], b.dColor[4 * r + 2], b.dColor[4 * r + 3]};
   double dd = b.dDepth[r];
-  auto bwd = ref::compositeBackward<double>(s, f, bg, dc, dd);
+  auto bwd = ref::compositeBackward<double>(s, f, bg, dc, dd, distortion);
   auto tol = rayTolerance(s, f);
   double tMax = 0;
   for (size_t i = 0; i < n; ++i) tMax = std::max(tMax, std::fabs(s[2 * i]));
@@ -155,6 +156,19 @@ RayTolerance rayTolerance(std::span<const double> s, std::span<const double> f) 
   // Backward: |inner_i| <= G with G = |dC|_1 + |dD| tMax (|c - Q| <= 1, |t - Qd| <= tMax); its error
   // is T_{i+1} (G eps_{i+1} + G 4u (n - i)) plus the opacity term's T_final |dO| eps_n.
   double G = std::fabs(dc[0]) + std::fabs(dc[1]) + std::fabs(dc[2]) + std::fabs(dd) * tMax;
+  // The distortion loss's part: dL/dw_i sums four running sums of n terms each at most M = max |m|
+  // + 1 (W, W' <= 1; |S|, |S'| <= M) in the O(n) form, each off by n u M, plus the weights' own
+  // errors sum_j w_j eps_j times 2M; D_k sums n products of such. So its error in dL/dsigma_k is
+  // below delta_k * distortion * M * (16 n u + 4 sum_j w_j eps_j) * 2 (T_{k+1} + D's sum).
+  double errDistortion = 0;
+  if (distortion > 0) {
+    double M = 1, weightErr = 0;
+    for (size_t i = 0; i < n; ++i) {
+      M = std::max(M, std::fabs(ref::distortionMidpoint(s[2 * i], s[2 * i + 1])) + 1);
+      weightErr += fwd.weights[i] * tol.eps[i];
+    }
+    errDistortion = distortion * M * (16 * double(n) * kU + 4 * weightErr) * 4;
+  }
   for (size_t i = 0; i < n; ++i) {
     double w = g.weights[first + i], errW = fwd.weights[i] * tol.eps[i] + 1e-38;
     if (!check("weight", i, w, fwd.weights[i], errW)) return fail("weight", i, w, fwd.weights[i], 4 * errW);
@@ -165,17 +179,17 @@ RayTolerance rayTolerance(std::span<const double> s, std::span<const double> f) 
     }
     double delta = s[2 * i + 1];
     double errS = delta * (tol.transmittance[i + 1] * G * (tol.eps[i + 1] + 4 * kU * double(n - i)) +
-                           tol.transmittance[n] * std::fabs(dc[3]) * tol.eps[n]) + 1e-38;
+                           tol.transmittance[n] * std::fabs(dc[3]) * tol.eps[n] + errDistortion) + 1e-38;
     double got = g.dField[4 * (first + i) + 3];
     if (!check("dSigma", i, got, bwd[i][3], errS)) return fail("dsigma", i, got, bwd[i][3], 4 * errS);
   }
   return ::testing::AssertionSuccess();
 }
 
-void expectAllRaysMatch(const GpuResult& g, const Batch& b) {
+void expectAllRaysMatch(const GpuResult& g, const Batch& b, double distortion = 0) {
   int failures = 0;
   for (uint32_t r = 0; r < b.numRays() && failures < 5; ++r) {
-    auto ok = rayMatches(g, b, r);
+    auto ok = rayMatches(g, b, r, distortion);
     EXPECT_TRUE(ok);
     failures += !ok;
   }
@@ -308,6 +322,34 @@ TEST_F(Composite, MatchesReferencePackedLayout) {
   expectAllRaysMatch(runGpu(ctx(), c), c);
 }
 
+// The distortion loss in the backward pass: the kernel's O(n) running sums against the reference's
+// O(n^2) definition, in both layouts, with weights large enough that the loss's part of dL/dsigma
+// is comparable with the colour's. A ray starting at t = 0 exercises the clamp of ln t.
+TEST_F(Composite, MatchesReferenceWithDistortion) {
+  auto b = randomBatch(200, 0, 96, true, 31);
+  expectAllRaysMatch(runGpu(ctx(), b, 0.5f), b, 0.5f);
+  auto c = randomBatch(70, 24, 0, false, 32);
+  for (uint32_t i = 0; i < 24; ++i) c.samples[2 * i] -= c.samples[0];  // ray 0 from t = 0
+  expectAllRaysMatch(runGpu(ctx(), c, 0.05f), c, 0.05f);
+}
+
+// The distortion loss's definition on hand-computed rays: one sample alone costs w^2 l / 3; two
+// equal weights 0.5 at midpoints ln 1 and ln e (one apart, in s = ln t) cost 2 * 0.25 * 1 plus
+// their own lengths; all weight in front of the other samples (w = 0) leaves their terms 0.
+TEST(CompositeReference, DistortionLossByHand) {
+  const double e = std::exp(1.0);
+  std::vector<double> one = {0.9, 0.2}, w1 = {0.8};
+  EXPECT_NEAR(ref::distortionLoss<double>(one, w1), 0.64 * 0.2 / 3, 1e-15);
+  std::vector<double> two = {1 - 1e-3, 2e-3, e - 1e-3, 2e-3}, w2 = {0.5, 0.5};
+  double own = 0.25 * (2e-3 / 1 + 2e-3 / e) / 3;
+  EXPECT_NEAR(ref::distortionLoss<double>(two, w2), 0.5 + own, 1e-12);
+  std::vector<double> three = {1, 0.1, 2, 0.1, 3, 0.1}, w3 = {1, 0, 0};
+  EXPECT_NEAR(ref::distortionLoss<double>(three, w3), ref::distortionLoss<double>(std::span(three).first(2), std::span(w3).first(1)), 1e-15);
+  // Spread weight costs more than the same weight gathered.
+  std::vector<double> spread = {1, 0.1, 1.5, 0.1, 2, 0.1}, wSpread = {0.3, 0.3, 0.3}, wGathered = {0, 0.9, 0};
+  EXPECT_GT(ref::distortionLoss<double>(spread, wSpread), 2 * ref::distortionLoss<double>(spread, wGathered));
+}
+
 // Reference gradients against central differences of L = dC . C + dO * opacity + dD * depth, in
 // double. Each loss separately, then all together. Steps of 1e-6 relative give truncation error
 // ~1e-12 and rounding ~1e-10 relative to the O(1) loss, far inside the 1e-7 tolerance.
@@ -340,6 +382,44 @@ TEST(CompositeReference, GradientsMatchFiniteDifferences) {
       }
     }
     EXPECT_EQ(grad[7][3], 0.0);  // delta = 0: sigma has no effect
+  }
+}
+
+// The same with the distortion loss: L = dC . C + lambda * distortionLoss(w), alone (dC = 0) and
+// with the colour term, over a ray whose first sample starts at t = 0 (the clamped ln t). Same steps
+// and tolerance as above: the loss is O(1) and smooth in sigma.
+TEST(CompositeReference, DistortionGradientsMatchFiniteDifferences) {
+  std::mt19937 rng(8);
+  std::vector<float> sf, ff;
+  randomRay(rng, 12, sf, ff);
+  std::vector<double> s(sf.begin(), sf.end()), f(ff.begin(), ff.end());
+  for (size_t i = 0; i < 12; ++i) s[2 * i] -= sf[0];  // from t = 0
+  f[4 * 5 + 3] = 0;   // a transparent sample
+  s[2 * 7 + 1] = 0;   // a duplicate sample
+  f[4 * 9 + 3] = 30;  // a nearly opaque one
+  const std::array<double, 3> bg = {0.2, 0.5, 0.8};
+  const std::array<std::array<double, 4>, 2> dCs = {{{0, 0, 0, 0}, {0.9, -0.3, 0.4, 0.2}}};
+  for (double lambda : {1.0, 0.01}) {
+    for (const auto& dc : dCs) {
+      auto loss = [&](const std::vector<double>& field) {
+        auto o = ref::compositeForward<double>(s, field, bg);
+        return dc[0] * o.rgb[0] + dc[1] * o.rgb[1] + dc[2] * o.rgb[2] + dc[3] * o.opacity +
+               lambda * ref::distortionLoss<double>(s, o.weights);
+      };
+      auto grad = ref::compositeBackward<double>(s, f, bg, dc, 0.0, lambda);
+      double largest = 0;
+      for (size_t i = 0; i < 12; ++i) {
+        double h = 1e-6 * std::max(1.0, std::fabs(f[4 * i + 3]));
+        auto fp = f, fm = f;
+        fp[4 * i + 3] += h;
+        fm[4 * i + 3] -= h;
+        double fd = (loss(fp) - loss(fm)) / (2 * h);
+        EXPECT_NEAR(grad[i][3], fd, 1e-7 * std::max(1.0, std::fabs(fd))) << "lambda " << lambda << " sample " << i;
+        largest = std::max(largest, std::fabs(fd));
+      }
+      EXPECT_GT(largest, 1e-3) << "the loss should depend on the densities";
+      EXPECT_EQ(grad[7][3], 0.0);
+    }
   }
 }
 

@@ -77,7 +77,7 @@ struct Outputs {
 };
 
 // Forward then backward in one recording, as a training step does; NaN sentinels in every output.
-Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth) {
+Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth, float distortion) {
   const uint32_t rays = uint32_t(b.offsets.size() - 1), n = b.offsets.back();
   auto sized = [&](const std::vector<float>& v) { return gpu::Buffer::of(ctx, v.empty() ? std::vector<float>(4) : v); };
   auto offsets = gpu::Buffer::of(ctx, b.offsets);
@@ -93,7 +93,7 @@ Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth) {
     comp.recordForward(rec, rays, 0, offsets, samples, field, {0, 0, 0}, &perRay, color, depth, weights,
                        maxOpticalDepth, terminate ? &keptRange : nullptr);
     comp.recordBackward(rec, rays, 0, offsets, samples, field, {0, 0, 0}, &perRay, dColor, dDepth, dField,
-                        maxOpticalDepth);
+                        maxOpticalDepth, distortion);
   });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(n),
           dField.download<float>(4 * n), terminate ? kept.download<uint32_t>(rays) : std::vector<uint32_t>{}};
@@ -141,23 +141,27 @@ TEST_F(CompositeTermination, KeepsSamplesUntilOpaqueAsABatchOfOnlyThem) {
   EXPECT_GT(truncated, 100u);  // both outcomes occur often enough to matter
   EXPECT_GT(whole, 100u);
 
-  const auto cut = composite(ctx(), b, maxDepth);
   const auto c = prefixes(b, expected);
-  const auto only = composite(ctx(), c, nerf::Compositor::kNoTermination);
-  for (uint32_t r = 0; r < n; ++r) {
-    // Same float sum in the same order as the reference: the kept counts match exactly.
-    ASSERT_EQ(cut.kept[r], expected[r]) << "ray " << r;
-    for (int k = 0; k < 4; ++k) ASSERT_TRUE(sameBits(cut.color[4 * r + k], only.color[4 * r + k])) << "ray " << r;
-    ASSERT_TRUE(sameBits(cut.depth[r], only.depth[r])) << "ray " << r;
-    for (uint32_t i = 0; i < b.offsets[r + 1] - b.offsets[r]; ++i) {
-      const uint32_t src = b.offsets[r] + i, dst = c.offsets[r] + i;
-      if (i < expected[r]) {
-        ASSERT_TRUE(sameBits(cut.weights[src], only.weights[dst])) << "ray " << r << " sample " << i;
-        for (int k = 0; k < 4; ++k)
-          ASSERT_TRUE(sameBits(cut.dField[4 * src + k], only.dField[4 * dst + k])) << "ray " << r << " sample " << i;
-      } else {
-        ASSERT_EQ(cut.weights[src], 0.0f) << "ray " << r << " sample " << i;
-        for (int k = 0; k < 4; ++k) ASSERT_EQ(cut.dField[4 * src + k], 0.0f) << "ray " << r << " sample " << i;
+  // With the distortion loss too: its sums run over the kept samples only, as in a batch of them.
+  for (float distortion : {0.0f, 0.1f}) {
+    SCOPED_TRACE(distortion);
+    const auto cut = composite(ctx(), b, maxDepth, distortion);
+    const auto only = composite(ctx(), c, nerf::Compositor::kNoTermination, distortion);
+    for (uint32_t r = 0; r < n; ++r) {
+      // Same float sum in the same order as the reference: the kept counts match exactly.
+      ASSERT_EQ(cut.kept[r], expected[r]) << "ray " << r;
+      for (int k = 0; k < 4; ++k) ASSERT_TRUE(sameBits(cut.color[4 * r + k], only.color[4 * r + k])) << "ray " << r;
+      ASSERT_TRUE(sameBits(cut.depth[r], only.depth[r])) << "ray " << r;
+      for (uint32_t i = 0; i < b.offsets[r + 1] - b.offsets[r]; ++i) {
+        const uint32_t src = b.offsets[r] + i, dst = c.offsets[r] + i;
+        if (i < expected[r]) {
+          ASSERT_TRUE(sameBits(cut.weights[src], only.weights[dst])) << "ray " << r << " sample " << i;
+          for (int k = 0; k < 4; ++k)
+            ASSERT_TRUE(sameBits(cut.dField[4 * src + k], only.dField[4 * dst + k])) << "ray " << r << " sample " << i;
+        } else {
+          ASSERT_EQ(cut.weights[src], 0.0f) << "ray " << r << " sample " << i;
+          for (int k = 0; k < 4; ++k) ASSERT_EQ(cut.dField[4 * src + k], 0.0f) << "ray " << r << " sample " << i;
+        }
       }
     }
   }

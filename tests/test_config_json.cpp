@@ -2,6 +2,8 @@
 // before a key existed reads as what it was then.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "io/config_json.h"
 #include "vknerf/error.h"
 
@@ -37,6 +39,26 @@ TEST(ConfigJson, AFeatureWidthThatCannotWorkNamesTheKey) {
       ADD_FAILURE() << "feature width " << v << " was accepted";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("model.feature_width"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The distortion loss's weight is a training setting: written, read back, and 0 for a model saved
+// before it existed (it trained without); a negative or non-finite weight names the key.
+TEST(ConfigJson, DistortionLossRoundTripsAndDefaultsToNoneForOldModels) {
+  TrainConfig c = fastConfig(16);
+  c.fastModel().distortionLoss = 0.01f;
+  EXPECT_EQ(nerf::trainConfigFromJson(nerf::toJson(c), "m.vknerf").fastModel().distortionLoss, 0.01f);
+  auto j = nerf::toJson(c);
+  j.erase("distortion_loss");
+  EXPECT_EQ(nerf::trainConfigFromJson(j, "old.vknerf").fastModel().distortionLoss, 0.0f);
+  for (float bad : {-0.5f, std::numeric_limits<float>::infinity()}) {
+    c.fastModel().distortionLoss = bad;
+    try {
+      nerf::trainConfigFromJson(nerf::toJson(c), "bad.vknerf");
+      ADD_FAILURE() << "distortion loss " << bad << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("distortion_loss"), std::string::npos) << e.what();
     }
   }
 }

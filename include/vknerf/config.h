@@ -50,6 +50,9 @@ struct FastModel {
   uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
   float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's
   bool earlyTermination = true;          // train only on samples in front of transmittance 1e-4
+  // Weight of mip-NeRF 360's distortion loss per ray against the photometric loss (0: none): it
+  // gathers each ray's weight into few samples, against fog and floaters.
+  float distortionLoss = 0;
 };
 
 using ModelConfig = std::variant<VanillaModel, FastModel>;

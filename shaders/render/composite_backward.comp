@@ -11,6 +11,17 @@
 // With early termination (composite.glsl) the ray ends where the forward pass stopped it: the
 // samples behind the cut get a zero gradient, the rest exactly what a batch holding only the kept
 // samples would get.
+//
+// Distortion loss (mip-NeRF 360; pc.distortion > 0 is its weight per ray): L = sum_{i,j} w_i w_j
+// |m_i - m_j| + 1/3 sum_i w_i^2 l_i penalises weight spread along the ray (fog, floaters), with
+// dL/dw_i = 2 (m_i W_i - S_i + S'_i - m_i W'_i) + 2/3 w_i l_i, where W, S are the sums of w and w m
+// over the samples in front of i and W', S' behind it: O(n), the front-to-back pass keeps W_i and
+// S_i in dField[i].yz, the back-to-front pass carries W' and S'. It reaches sigma_k as
+// delta_k (g_k T_{k+1} - D_k), D_k = sum_{i>k} g_i w_i, also carried back to front. m and l are
+// taken in s = ln t: the cascaded march's cone steps grow in proportion to t, so in s they are
+// even, and a spread over k samples costs the same near the camera and in the far field (in t the
+// far field's long steps dominated the loss; on the distorted capture ln t gained 0.35 dB at 120 s
+// and halved the samples per ray, where t lost 0.3 dB: docs/unbounded.md).
 #extension GL_GOOGLE_include_directive : require
 #include "render/composite.glsl"
 
@@ -31,6 +42,7 @@ layout(push_constant) uniform Push {
   uint useBackgroundBuffer;
   float maxOpticalDepth;
   uint writeKept;  // the forward pass's; unused here
+  float distortion;  // the distortion loss's weight per ray; 0: none
 } pc;
 
 void main() {
@@ -41,14 +53,25 @@ void main() {
 
   // Front to back: the same prefix sums as the forward pass, so T matches it bit for bit. Only
   // T_{i+1} is kept (in dField[i].x); alpha is cheaper to recompute than to store and reload.
+  // With the distortion loss, also W_i and S_i (dField[i].yz) from the forward pass's weights.
+  bool distortion = pc.distortion > 0.0;
   float prefix = 0.0;
   float opaque = 0.0;
+  float wFront = 0.0, sFront = 0.0;
   uint cut = begin;
   for (; cut < end && opaque <= pc.maxOpticalDepth; ++cut) {
-    float sigma = imageLoad(field, int(cut)).w, delta = samples[cut].y;
-    prefix += opticalDepth(sigma, delta);
+    float sigma = imageLoad(field, int(cut)).w;
+    vec2 s = samples[cut];
+    float x = opticalDepth(sigma, s.y);
+    if (distortion) {
+      float w = exp(-prefix) * alphaAndSurvival(x).x;
+      dField[cut].yz = vec2(wFront, sFront);
+      wFront += w;
+      sFront += w * distortionInterval(s).x;
+    }
+    prefix += x;
     dField[cut].x = exp(-prefix);
-    opaque += terminationDepth(sigma, delta);
+    opaque += terminationDepth(sigma, s.y);
   }
   for (uint i = cut; i < end; ++i) dField[i] = vec4(0.0);
   end = cut;
@@ -59,6 +82,7 @@ void main() {
   vec3 q = pc.useBackgroundBuffer != 0u ? perRayBackground[ray].rgb : pc.background.rgb;
   float qDepth = 0.0;
   float tOut = exp(-prefix);
+  float wBehind = 0.0, sBehind = 0.0, dBehind = 0.0;  // W', S' and D of the distortion loss
   for (uint i = end; i > begin;) {
     --i;
     float tIn = i > begin ? dField[i - 1u].x : 1.0;
@@ -66,6 +90,15 @@ void main() {
     vec4 f = imageLoad(field, int(i));
     vec2 a = alphaAndSurvival(opticalDepth(f.w, s.y));
     float inner = tOut * (dot(g.rgb, f.rgb - q) + gDepth * (s.x - qDepth)) + opacityTerm;
+    if (distortion) {
+      vec2 front = dField[i].yz, ml = distortionInterval(s);
+      float w = tIn * a.x;
+      float gw = pc.distortion * (2.0 * (ml.x * front.x - front.y + sBehind - ml.x * wBehind) + (2.0 / 3.0) * w * ml.y);
+      inner += gw * tOut - dBehind;
+      dBehind += gw * w;
+      wBehind += w;
+      sBehind += w * ml.x;
+    }
     // delta_i = 0 multiplies a finite inner: the gradient of a duplicate sample is exactly 0.
     dField[i] = vec4(tIn * a.x * g.rgb, s.y * inner);
     q = a.x * f.rgb + a.y * q;

@@ -75,6 +75,7 @@ void validateModel(const FastModel& m) {
   inRange("samples_per_batch", m.samplesPerBatch, 1, 1u << 28);
   inRange("grid_update_interval", m.gridUpdateInterval, 1, UINT32_MAX);
   inRange("hash_lr_scale", m.hashLearningRateScale, 0.0, 1e6, true);
+  inRange("distortion_loss", m.distortionLoss, 0.0, 1e3, false);
 }
 
 }  // namespace

@@ -24,6 +24,7 @@ json toJson(const TrainConfig& c) {
     j["grid_warmup_steps"] = m->gridWarmupSteps;
     j["hash_lr_scale"] = m->hashLearningRateScale;
     j["early_termination"] = m->earlyTermination;
+    j["distortion_loss"] = m->distortionLoss;
   } else {
     const VanillaModel& v = std::get<VanillaModel>(c.model);
     j["model"] = {{"name", "vanilla"}, {"width", v.width}, {"depth", v.depth}, {"skip_layer", v.skipLayer},
@@ -58,6 +59,7 @@ FastModel fastModelFromJson(const json& m, const json& j) {
   f.gridWarmupSteps = j.value("grid_warmup_steps", f.gridWarmupSteps);
   f.hashLearningRateScale = j.value("hash_lr_scale", f.hashLearningRateScale);
   f.earlyTermination = j.value("early_termination", f.earlyTermination);
+  f.distortionLoss = j.value("distortion_loss", 0.0f);  // checkpoints from before it trained without
   return f;
 }
 

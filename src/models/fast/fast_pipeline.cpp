@@ -258,8 +258,10 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   loss_->record(rec, R, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
                 partials_, 1.0f, &wholeRays);
   gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(R) * 16);
+  // The distortion loss, a mean over the batch's rays like the photometric loss (over the R rays
+  // recorded: the rays past the device's cut have no samples, so they add nothing).
   compositor_.recordBackward(rec, R, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
-                             &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth);
+                             &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth, model_.distortionLoss / float(R));
   gpu::BufferRange dPos(dPos_);
   mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
                       field_.dField, network_.grads(), *field_.workspace, &dPos, &total);

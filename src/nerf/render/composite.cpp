@@ -36,13 +36,15 @@ void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* l
                           const gpu::BufferRange& field, const std::array<float, 3>& background,
                           const gpu::BufferRange* perRayBackground, const gpu::BufferRange& out0,
                           const gpu::BufferRange& out1, const gpu::BufferRange& out2, float maxOpticalDepth,
-                          const gpu::BufferRange* out3) {
+                          const gpu::BufferRange* out3, float distortion) {
   if (samplesPerRay == 0 && numRays > 0 && !rayOffsets.buffer)
     throw Error("Compositor: samplesPerRay == 0 (packed layout) needs a rayOffsets buffer");
   if (!(maxOpticalDepth >= 0.0f)) throw Error("Compositor: maxOpticalDepth must be >= 0 (or +inf)");
+  if (!(distortion >= 0.0f && std::isfinite(distortion)))
+    throw Error("Compositor: the distortion loss weight must be finite and >= 0, got " + std::to_string(distortion));
   if (out3) gpu::requireBytes("Compositor", "keptCounts", *out3, uint64_t(numRays) * 4);
   Push p{{background[0], background[1], background[2], 0}, numRays, samplesPerRay, perRayBackground ? 1u : 0u,
-         maxOpticalDepth, out3 ? 1u : 0u};
+         maxOpticalDepth, out3 ? 1u : 0u, distortion};
   gpu::BufferRange offsets = rayOffsets.buffer ? rayOffsets : gpu::BufferRange(dummy_);
   gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
   gpu::BufferRange kept = out3 ? *out3 : gpu::BufferRange(dummy_);
@@ -57,7 +59,7 @@ void Compositor::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t sa
                                const gpu::BufferRange& outDepth, const gpu::BufferRange& outWeights,
                                float maxOpticalDepth, const gpu::BufferRange* outKeptCounts) {
   dispatch(rec, forward_, "composite_forward", numRays, samplesPerRay, rayOffsets, samples, field, background,
-           perRayBackground, outColor, outDepth, outWeights, maxOpticalDepth, outKeptCounts);
+           perRayBackground, outColor, outDepth, outWeights, maxOpticalDepth, outKeptCounts, 0.0f);
 }
 
 void Compositor::recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay,
@@ -65,9 +67,9 @@ void Compositor::recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t s
                                 const gpu::BufferRange& field, const std::array<float, 3>& background,
                                 const gpu::BufferRange* perRayBackground, const gpu::BufferRange& dColor,
                                 const gpu::BufferRange& dDepth, const gpu::BufferRange& dField,
-                                float maxOpticalDepth) {
+                                float maxOpticalDepth, float distortion) {
   dispatch(rec, backward_, "composite_backward", numRays, samplesPerRay, rayOffsets, samples, field, background,
-           perRayBackground, dColor, dDepth, dField, maxOpticalDepth, nullptr);
+           perRayBackground, dColor, dDepth, dField, maxOpticalDepth, nullptr, distortion);
 }
 
 }  // namespace vknerf::nerf

@@ -50,12 +50,13 @@ class Compositor {
                      const gpu::BufferRange* outKeptCounts = nullptr);
 
   // Recomputes T and w from the inputs rather than reading the forward outputs: the stable
-  // back-to-front suffix sums need only the field. dField is written in full.
+  // back-to-front suffix sums need only the field. dField is written in full. `distortion` > 0 adds
+  // that weight times each ray's distortion loss (mip-NeRF 360's, ref::distortionLoss) to the loss.
   void recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
                       const gpu::BufferRange& samples, const gpu::BufferRange& field,
                       const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
                       const gpu::BufferRange& dColor, const gpu::BufferRange& dDepth,
-                      const gpu::BufferRange& dField, float maxOpticalDepth = kNoTermination);
+                      const gpu::BufferRange& dField, float maxOpticalDepth = kNoTermination, float distortion = 0);
 
  private:
   struct Push {
@@ -63,6 +64,7 @@ class Compositor {
     uint32_t numRays, samplesPerRay, useBackgroundBuffer;
     float maxOpticalDepth;
     uint32_t writeKept;
+    float distortion;  // backward only
   };
   // Both passes bind the same inputs and four outputs (forward: colour, depth, weights, kept
   // counts; backward: dColor, dDepth, dField, nothing).
@@ -70,7 +72,7 @@ class Compositor {
                 const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples, const gpu::BufferRange& field,
                 const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
                 const gpu::BufferRange& out0, const gpu::BufferRange& out1, const gpu::BufferRange& out2,
-                float maxOpticalDepth, const gpu::BufferRange* out3);
+                float maxOpticalDepth, const gpu::BufferRange* out3, float distortion);
 
   gpu::Buffer dummy_;  // bound where the layout or the background source leaves a binding unused
   gpu::Kernel forward_, backward_;

@@ -71,13 +71,13 @@ TEST(FastCapacity, TableFollowsTheTrainingPixels) {
   EXPECT_EQ(mid.hashLog2Size, 16u);
 }
 
-// A CPU device: the table at 2^15 and the finest level at 256, whatever the data asks for.
+// A CPU device: the table at 2^15 and the finest level at 512, whatever the data asks for.
 TEST(FastCapacity, CpuDeviceKeepsTheSmallModel) {
   FastModel m = openModel();
   const std::string note = nerf::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), true);
   EXPECT_EQ(m.hashLog2Size, 15u);
-  EXPECT_NEAR(finestOf(m), 256, 1e-2);
-  EXPECT_NE(note.find("on a CPU"), std::string::npos) << note;
+  EXPECT_NEAR(finestOf(m), 512, 1e-2);
+  EXPECT_NE(note.find("at most 512 on a CPU"), std::string::npos) << note;
 }
 
 // What the configuration sets is kept, and only what it leaves open is filled.

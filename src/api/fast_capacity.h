@@ -6,7 +6,7 @@
 //     cameras of their distance to the box centre and of distance / focal; rounded up to a power of
 //     two (the estimate is rough: never under-resolve), within [64, 4096]. The hash grid spans the
 //     whole box, so with cascades (aabb_scale) N grows with the box, as instant-ngp's 2048 x aabb_scale.
-//     A CPU device keeps N <= 256: in the minutes it trains, finer levels did not pay (measured).
+//     A CPU device keeps N <= 512: in the minutes it trains, finer levels did not pay (measured).
 //   - table entries per level: a parameter per training pixel at most, 2^T <= pixels / (levels x
 //     features), since more than the photos constrain only adds optimizer work (the sample scene:
 //     2^15 matched 2^17 at a third of the Adam cost); and no more than the finest level's cells in

@@ -86,7 +86,8 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     m.coneAngle = 1.0f / 64.0f;
     // mip-NeRF 360's distortion loss at 0.01 (its own weight): on the distorted capture at 120 s
     // +0.35 dB held-out with 21.6 samples per ray against 56 (render 1.2 s against 2.9 s); 0.003
-    // and 0.03 did worse (docs/unbounded.md, "Distortion loss"). On the sample scene +0.4 dB at 60 s.
+    // and 0.03 did worse (docs/unbounded.md, "Distortion loss"). On the sample scene +0.37 and +0.07 dB
+    // in two pairs of 60 s runs.
     m.distortionLoss = 0.01f;
     c.raysPerBatch = 1u << 14;
     m.samplesPerBatch = 1u << 14;

@@ -63,5 +63,26 @@ TEST(ConfigJson, DistortionLossRoundTripsAndDefaultsToNoneForOldModels) {
   }
 }
 
+// The far field is part of the model (its parameters are in the checkpoint): written, read back,
+// constant for a model saved before it existed; an unknown name is an error naming the key and file.
+TEST(ConfigJson, FarFieldRoundTripsAndDefaultsToConstantForOldModels) {
+  TrainConfig c = fastConfig(16);
+  for (FarField f : {FarField::Constant, FarField::Learned}) {
+    c.fastModel().farField = f;
+    EXPECT_EQ(nerf::trainConfigFromJson(nerf::toJson(c), "m.vknerf").fastModel().farField, f);
+  }
+  auto j = nerf::toJson(c);
+  j["model"].erase("far_field");
+  EXPECT_EQ(nerf::trainConfigFromJson(j, "old.vknerf").fastModel().farField, FarField::Constant);
+  j["model"]["far_field"] = "painted";
+  try {
+    nerf::trainConfigFromJson(j, "bad.vknerf");
+    ADD_FAILURE() << "far field \"painted\" was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.vknerf"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("model.far_field"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace vknerf

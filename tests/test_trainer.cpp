@@ -145,3 +145,61 @@ TEST_F(TrainerTest, StepProfileAttributesTheWholeStep) {
   EXPECT_EQ(named, t.lastStepTimings().size());
   if (named) EXPECT_GT(kernels, 0.0);  // devices without compute timestamps time no kernel
 }
+
+namespace {
+// The sample scene as photos without alpha: composited over white, every pixel opaque.
+Dataset opaqueScene() {
+  Dataset d = scene();
+  for (auto& im : d.images)
+    for (size_t p = 0; p + 3 < im.rgba.size(); p += 4) {
+      const unsigned a = im.rgba[p + 3];
+      for (int k = 0; k < 3; ++k) im.rgba[p + k] = uint8_t((im.rgba[p + k] * a + 255u * (255u - a) + 127u) / 255u);
+      im.rgba[p + 3] = 255;
+    }
+  return d;
+}
+
+TrainConfig smallFastConfig() {
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.raysPerBatch = 1024;
+  return c;
+}
+}  // namespace
+
+// Photos without alpha get the learned far field, photos with alpha the constant (random in
+// training) background; the learned one is saved with the model and renders the same after loading.
+TEST_F(TrainerTest, FastModelLearnsTheFarFieldOfOpaquePhotos) {
+  const test::TempDir tmp("trainer");
+  const Dataset opaque = opaqueScene();
+  Trainer t(sharedContext(), opaque, smallFastConfig());
+  EXPECT_NE(t.capacityNote().find("far field: learned"), std::string::npos) << t.capacityNote();
+  for (int i = 0; i < 8; ++i) t.step();
+  t.save(tmp.file("learned.vknerf"));
+  EXPECT_EQ(Trainer::configOf(tmp.file("learned.vknerf")).fastModel().farField, FarField::Learned);
+  Model m = Model::load(sharedContext(), tmp.file("learned.vknerf"));
+  const Camera cam = opaque.cameras[2];
+  RenderedImage a = t.model().render(cam), b = m.render(cam);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << i;
+  // Eight steps have moved the far field off its start (white, clamped to 0.95) where the image is
+  // transparent: what the loaded model renders there is what was learnt, not the initial colour.
+  double moved = 0;
+  size_t transparent = 0;
+  for (size_t i = 0; i < a.opacity.size(); ++i)
+    if (a.opacity[i] < 1e-2f) ++transparent, moved = std::max(moved, std::fabs(double(a.rgb[3 * i]) - 0.95));
+  ASSERT_GT(transparent, 0u);
+  EXPECT_GT(moved, 1e-3);
+
+  Trainer withAlpha(sharedContext(), scene(), smallFastConfig());
+  EXPECT_NE(withAlpha.capacityNote().find("far field: constant"), std::string::npos) << withAlpha.capacityNote();
+  TrainConfig forced = smallFastConfig();
+  forced.fastModel().farField = FarField::Learned;
+  try {
+    Trainer bad(sharedContext(), scene(), forced);
+    ADD_FAILURE() << "a learned far field was accepted for photos with alpha";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("far_field"), std::string::npos) << e.what();
+  }
+}

@@ -24,6 +24,10 @@ struct VanillaModel {
 
 // Multiresolution hash grid -> trunk of `depth` x `width` (sigma and a feature) -> with SH(d) ->
 // colour layer; samples marched through an occupancy grid.
+enum class FarField : uint32_t { Auto = 0, Constant = 1, Learned = 2 };
+// "auto", "constant", "learned": the names a checkpoint and `--far-field` use.
+const char* farFieldName(FarField f);
+
 struct FastModel {
   // hashLog2Size (table entries per level) and hashGrowth (per-level resolution factor b, which sets
   // the finest resolution N b^(L-1)): 0 = from the dataset, as the Trainer sizes them (TrainConfig::fast).
@@ -53,6 +57,12 @@ struct FastModel {
   // Weight of mip-NeRF 360's distortion loss per ray against the photometric loss (0: none): it
   // gathers each ray's weight into few samples, against fog and floaters.
   float distortionLoss = 0;
+  // What a ray sees behind the field when it leaves the scene box partly transparent. Learned: a
+  // colour per direction at infinity (a hash grid on the unit sphere and a small MLP, trained with
+  // the field: the sky, and whatever the box leaves out), for photos without alpha. Constant:
+  // TrainConfig::background (random in training when the photos have alpha). Auto: the Trainer picks
+  // Learned when every training pixel is opaque, else Constant.
+  FarField farField = FarField::Auto;
 };
 
 using ModelConfig = std::variant<VanillaModel, FastModel>;

@@ -11,6 +11,15 @@ const char* modelName(const ModelConfig& model) {
   return std::holds_alternative<FastModel>(model) ? "fast" : "vanilla";
 }
 
+const char* farFieldName(FarField f) {
+  switch (f) {
+    case FarField::Auto: return "auto";
+    case FarField::Constant: return "constant";
+    case FarField::Learned: return "learned";
+  }
+  return "invalid";
+}
+
 namespace {
 template <class M, class Variant>  // Variant: ModelConfig or const ModelConfig
 auto& modelOf(Variant& model) {
@@ -117,6 +126,7 @@ std::string TrainConfig::describe() const {
        << "), " << m->marchSteps
        << " steps per diagonal, ~" << m->samplesPerBatch << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss;
+    os << ", far field " << farFieldName(m->farField);
   } else {
     const VanillaModel& v = std::get<VanillaModel>(model);
     os << "vanilla: MLP " << v.depth << "x" << v.width << " (skip at " << v.skipLayer << "), gamma L=" << v.posLevels

@@ -76,6 +76,7 @@ void validateModel(const FastModel& m) {
   inRange("grid_update_interval", m.gridUpdateInterval, 1, UINT32_MAX);
   inRange("hash_lr_scale", m.hashLearningRateScale, 0.0, 1e6, true);
   inRange("distortion_loss", m.distortionLoss, 0.0, 1e3, false);
+  inRange("model.far_field", uint32_t(m.farField), 0, uint32_t(FarField::Learned));
 }
 
 }  // namespace

@@ -199,6 +199,17 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
     sizes.emplace_back(im.width, im.height);
     pixelCounts.push_back(uint64_t(im.width) * im.height);
   }
+  // Photos without alpha leave what lies behind the scene box to the model: a learned far field.
+  if (s.config.isFast() && s.config.fastModel().farField == FarField::Auto) {
+    s.config.fastModel().farField = s.transparentPixels ? FarField::Constant : FarField::Learned;
+    s.capacityNote += std::string(s.capacityNote.empty() ? "" : "\n") + "far field: " +
+                      (s.transparentPixels ? "constant (the photos have alpha)" : "learned (the photos have no alpha)");
+  }
+  // Where a photo is transparent its target is composited over the background: a learned one would
+  // be fitted to itself there.
+  if (s.config.isFast() && s.config.fastModel().farField == FarField::Learned && s.transparentPixels)
+    throw Error("model.far_field learned needs opaque photos, and some training pixel has alpha < 255 "
+                "(use the far field auto or constant)");
   // The fit is checked before the pixels are allocated: the pixels alone first, then with the
   // model's buffers, which are measured by building the model (its size follows the configuration,
   // not the dataset).

@@ -18,7 +18,7 @@ json toJson(const TrainConfig& c) {
                   {"hash_log2_size", m->hashLog2Size}, {"hash_base_resolution", m->hashBaseResolution},
                   {"hash_growth", m->hashGrowth}, {"sh_degree", m->shDegree},
                   {"grid_resolution", m->gridResolution}, {"cascades", m->cascades}, {"cone_angle", m->coneAngle}, {"march_steps", m->marchSteps},
-                  {"max_samples_per_ray", m->maxSamplesPerRay}};
+                  {"max_samples_per_ray", m->maxSamplesPerRay}, {"far_field", farFieldName(m->farField)}};
     j["samples_per_batch"] = m->samplesPerBatch;
     j["grid_update_interval"] = m->gridUpdateInterval;
     j["grid_warmup_steps"] = m->gridWarmupSteps;
@@ -36,6 +36,12 @@ json toJson(const TrainConfig& c) {
 }
 
 namespace {
+
+FarField farFieldOf(const std::string& name) {
+  for (FarField f : {FarField::Auto, FarField::Constant, FarField::Learned})
+    if (name == farFieldName(f)) return f;
+  throw Error("model.far_field must be auto, constant or learned, got \"" + name + "\"");
+}
 
 FastModel fastModelFromJson(const json& m, const json& j) {
   FastModel f;
@@ -60,6 +66,7 @@ FastModel fastModelFromJson(const json& m, const json& j) {
   f.hashLearningRateScale = j.value("hash_lr_scale", f.hashLearningRateScale);
   f.earlyTermination = j.value("early_termination", f.earlyTermination);
   f.distortionLoss = j.value("distortion_loss", 0.0f);  // checkpoints from before it trained without
+  f.farField = farFieldOf(m.value("far_field", std::string("constant")));  // as did checkpoints from before it
   return f;
 }
 

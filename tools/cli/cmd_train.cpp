@@ -41,6 +41,7 @@ struct Options {
   uint32_t cascades = 0, featureWidth = 0;
   float coneAngle = 0;
   float distortionLoss = -1;  // -1: not given (0 is a valid value)
+  std::string farField;       // "": not given
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
   double seconds = 0;
   bool resume = false, profile = false, noEarlyTermination = false;
@@ -66,7 +67,8 @@ std::string flagsForTheOtherModel(const Options& o, const TrainConfig& cfg) {
       {o.hashLevels != 0, "--hash-levels"}, {o.hashLog2Size != 0, "--hash-log2-size"},
       {o.hashMaxResolution != 0, "--hash-max-resolution"}, {o.grid != 0, "--grid"}, {o.cascades != 0, "--cascades"}, {o.coneAngle != 0, "--cone-angle"},
       {o.featureWidth != 0, "--feature-width"}, {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
-      {o.noEarlyTermination, "--no-early-termination"}, {o.distortionLoss >= 0, "--distortion-loss"}};
+      {o.noEarlyTermination, "--no-early-termination"}, {o.distortionLoss >= 0, "--distortion-loss"},
+      {!o.farField.empty(), "--far-field"}};
   for (auto [given, flag] : fastOnly)
     if (given) return flag;
   return "";
@@ -101,6 +103,8 @@ void applyFlags(const Options& o, TrainConfig& cfg) {
     if (o.samplesPerStep) f.samplesPerBatch = o.samplesPerStep;
     if (o.noEarlyTermination) f.earlyTermination = false;
     if (o.distortionLoss >= 0) f.distortionLoss = o.distortionLoss;
+    for (FarField ff : {FarField::Auto, FarField::Constant, FarField::Learned})
+      if (o.farField == farFieldName(ff)) f.farField = ff;
   }
   cfg.seed = o.seed;
 }
@@ -126,7 +130,8 @@ void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
       {"--hash-levels", "/model/hash_levels"}, {"--hash-log2-size", "/model/hash_log2_size"},
       {"--hash-max-resolution", "/model/hash_growth"}, {"--grid", "/model/grid_resolution"}, {"--cascades", "/model/cascades"}, {"--cone-angle", "/model/cone_angle"},
       {"--feature-width", "/model/feature_width"}, {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
-      {"--no-early-termination", "/early_termination"}, {"--distortion-loss", "/distortion_loss"}};
+      {"--no-early-termination", "/early_termination"}, {"--distortion-loss", "/distortion_loss"},
+      {"--far-field", "/model/far_field"}};
   for (auto [flag, key] : keys) {
     const nlohmann::json::json_pointer ptr(key);
     if (a.contains(ptr) && a.at(ptr) != b.at(ptr))
@@ -295,6 +300,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--samples-per-step", o->samplesPerStep, "fast: samples a training step aims for")->check(CLI::Range(256u, 1u << 26));
                      app.add_flag("--no-early-termination", o->noEarlyTermination, "fast: train on every marched sample, also behind opaque surfaces");
                      app.add_option("--distortion-loss", o->distortionLoss, "fast: weight of the distortion loss against fog and floaters (0: off; default 0.01 on a CPU)")->check(CLI::Range(0.0f, 100.0f));
+                     app.add_option("--far-field", o->farField, "fast: what rays see behind the scene box: learned (a colour per direction, trained), constant (white; random in training when the photos have alpha) or auto (learned when no training pixel has alpha)")->check(CLI::IsMember({"auto", "constant", "learned"}));
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");

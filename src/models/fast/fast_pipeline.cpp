@@ -115,6 +115,9 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       wholeRays_(gpu::Buffer::zeros(ctx, 16)),
       raysNext_(std::min(rayCapacity_, 1024u)) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
+  if (model_.farField == FarField::Learned)
+    farField_.emplace(ctx, rayCapacity_, config.seed, config.background, training ? std::optional(tableAdamOf(config)) : std::nullopt,
+                      training ? std::optional(adamConfigOf(config)) : std::nullopt);
   if (training) {
     loss_.emplace(ctx);
     dColor_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 16);
@@ -174,6 +177,7 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
     throw Error("fast model: render block of " + std::to_string(count) + " rays over capacity " + std::to_string(rayCapacity_));
   if (count == 0) return;
   rays_.recordView(rec, cameras, camera, first, count, box_, background);
+  if (farField_) farField_->recordForward(rec, count, rays_.rays(), rays_.background(), false);
   if (!mayWait) {
     // Everything in the caller's command buffer: each ray gets at most capacity / count samples, so
     // nothing is cut. The sample total is known only on the device: the field's kernels are
@@ -237,6 +241,7 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   rec.begin();
   if (model_.gridUpdateInterval && step % model_.gridUpdateInterval == 0 && step > 0) recordOccupancyUpdate(rec, step);
   rays_.recordTraining(rec, data, seed, R, box_, config_);
+  if (farField_) farField_->recordForward(rec, R, rays_.rays(), rays_.background(), true);
   recordMarch(rec, 0, R, model_.maxSamplesPerRay, seed, true);
   // The batch's size stays on the device: the rays that fit the sample capacity whole, and their
   // sample total (the march's totals, rewritten); every later kernel is recorded for the capacity
@@ -262,12 +267,14 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   // recorded: the rays past the device's cut have no samples, so they add nothing).
   compositor_.recordBackward(rec, R, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
                              &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth, model_.distortionLoss / float(R));
+  if (farField_) farField_->recordBackward(rec, R, perRay, color_, dColor_);
   gpu::BufferRange dPos(dPos_);
   mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
                       field_.dField, network_.grads(), *field_.workspace, &dPos, &total);
   hash_.recordBackward(rec, sampleCapacity_, field_.positions, dPos_, mlp_.posStride(), 0, table_.grads(), &total);
   network_.recordOptimizerStep(rec, step);
   table_.recordOptimizerStep(rec, step);
+  if (farField_) farField_->recordOptimizerStep(rec, step);
   rec.end();
   rec.submitAndWait();
 
@@ -298,6 +305,7 @@ std::vector<StateArray> FastPipeline::state() {
   std::vector<StateArray> s;
   table_.appendState(s);
   network_.appendState(s);
+  if (farField_) farField_->appendState(s);
   s.push_back({"occupancy.density", &grid_.density(), grid_.numCells(), false});
   // uint words, carried bit for bit through the float section
   s.push_back({"occupancy.bits", &grid_.bits(), grid_.numWords(), false, false});

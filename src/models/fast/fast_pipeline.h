@@ -13,6 +13,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
+#include "models/common/far_field.h"
 #include "models/common/field_batch.h"
 #include "models/common/ray_batch.h"
 #include "models/common/trainable_parameters.h"
@@ -49,7 +50,7 @@ class FastPipeline final : public FieldPipeline {
   float marchStep() const { return dt_; }
   OccupancyGrid& occupancy() { return grid_; }
   std::optional<OccupancyBits> occupancyBits() const override { return grid_.hostBits(); }
-  size_t parameterCount() const { return table_.count() + network_.count(); }
+  size_t parameterCount() const { return table_.count() + network_.count() + (farField_ ? farField_->parameterCount() : 0); }
 
  private:
   void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
@@ -95,6 +96,7 @@ class FastPipeline final : public FieldPipeline {
   PackedSamplePoints points_;
   Compositor compositor_;
   std::optional<PhotometricLoss> loss_;
+  std::optional<LearnedFarField> farField_;  // FarField::Learned: writes the rays' backgrounds
 
   // per ray
   gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_, keptCounts_;

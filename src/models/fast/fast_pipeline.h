@@ -4,6 +4,8 @@
 //        -> hash grid(x), SH(d) -> small MLP (trunc-exp density) -> composite (packed)
 // and, when training, photometric loss -> composite backward -> MLP backward (dL/dfeatures)
 // -> hash-grid backward -> Adam (MLP and table), with the occupancy grid re-measured every K steps.
+// With FarField::Learned each ray's background is the learned far field in its direction
+// (models/common/far_field.h), trained from the light the ray leaves behind the box.
 // The number of samples a batch marches is known only on the device: a training step is recorded
 // for the sample capacity, cut on the device to the whole rays and their samples, and submitted
 // once; after its wait the host reads those counts (a few bytes, mapped) and adapts the next step's

@@ -100,6 +100,25 @@ TEST(VisiblePoints, TakeTheBackgroundBackOut) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(cloud.colors[k], field[k] * 255.0f, 1.0f) << "channel " << k;
 }
 
+// A render's own background per pixel (a learned far field) wins over the constant one given.
+TEST(VisiblePoints, TakeTheImagesOwnBackgroundBackOut) {
+  const Camera cam = pinholeFromFov(2, 1, 50);
+  const std::array<float, 3> field{0.2f, 0.6f, 1.0f};
+  const float behind[2][3] = {{1.0f, 0.5f, 0.0f}, {0.1f, 0.9f, 0.3f}};
+  RenderedImage img{2, 1, {}, {2.0f, 2.0f}, {0.6f, 0.7f}, {}};
+  for (int p = 0; p < 2; ++p)
+    for (int k = 0; k < 3; ++k) {
+      img.rgb.push_back(img.opacity[p] * field[k] + (1 - img.opacity[p]) * behind[p][k]);
+      img.background.push_back(behind[p][k]);
+    }
+  PointCloud cloud;
+  appendVisiblePoints(cloud, cam, img, 0.5f, kWhite);
+  ASSERT_EQ(cloud.colors.size(), 6u);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(cloud.colors[k], field[k % 3] * 255.0f, 1.0f) << "value " << k;
+  img.background.pop_back();
+  EXPECT_THROW(appendVisiblePoints(cloud, cam, img, 0.5f, kWhite), Error);
+}
+
 TEST(VisiblePoints, RejectAnImageOfAnotherSize) {
   Camera cam = pinholeFromFov(8, 8, 50);
   RenderedImage img = ballView(pinholeFromFov(8, 6, 50));

@@ -24,8 +24,9 @@ struct PointCloud {
 // Appends, for every pixel of `image` (rendered from `camera`) whose opacity exceeds `minOpacity`,
 // the point at the pixel's expected depth along the ray through the pixel's centre (the ray the
 // render marched, lens included), coloured by the field's own colour there: the rendered RGB with
-// the `background` it was composited over taken back out, (rgb - (1 - opacity) background) / opacity,
-// so that a half-transparent edge is not tinted by the background. Row-major pixel order. Throws
+// the background it was composited over taken back out, (rgb - (1 - opacity) background) / opacity,
+// so that a half-transparent edge is not tinted by the background: the image's own per-pixel
+// background when it has one (a render's: a learned far field differs per pixel), else `background`. Row-major pixel order. Throws
 // vknerf::Error when the image's size is not the camera's.
 void appendVisiblePoints(PointCloud& cloud, const Camera& camera, const RenderedImage& image, float minOpacity,
                          const std::array<float, 3>& background);

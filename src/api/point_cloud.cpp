@@ -17,6 +17,10 @@ void appendVisiblePoints(PointCloud& cloud, const Camera& camera, const Rendered
       image.depth.size() != pixels || image.rgb.size() != 3 * pixels)
     throw Error("points: a rendered image of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 " does not match its camera's " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
+  if (!image.background.empty() && image.background.size() != 3 * pixels)
+    throw Error("points: a rendered image's background holds " + std::to_string(image.background.size()) +
+                " values for " + std::to_string(pixels) + " pixels");
+  const bool perPixel = !image.background.empty();
   for (uint32_t y = 0; y < image.height; ++y)
     for (uint32_t x = 0; x < image.width; ++x) {
       const size_t i = size_t(y) * image.width + x;
@@ -24,9 +28,10 @@ void appendVisiblePoints(PointCloud& cloud, const Camera& camera, const Rendered
       // depth is the expected distance along the unit direction from the camera's centre.
       const ref::Ray<float> ray = ref::cameraRay<float>(camera, x, y);
       const float a = image.opacity[i];  // > minOpacity >= 0
+      const float* behind = perPixel ? &image.background[3 * i] : background.data();
       for (int k = 0; k < 3; ++k) {
         cloud.positions.push_back(ray.o[k] + image.depth[i] * ray.d[k]);
-        cloud.colors.push_back(detail::unitToByte((image.rgb[3 * i + k] - (1 - a) * background[k]) / a));
+        cloud.colors.push_back(detail::unitToByte((image.rgb[3 * i + k] - (1 - a) * behind[k]) / a));
       }
     }
 }

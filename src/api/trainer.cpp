@@ -61,6 +61,7 @@ RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(ui
   img.rgb.resize(size_t(total) * 3);
   img.depth.resize(total);
   img.opacity.resize(total);
+  img.background.resize(size_t(total) * 3);
   gpu::Recorder rec(c);
   for (uint32_t first = 0; first < total; first += cap) {
     const uint32_t n = std::min(cap, total - first);
@@ -70,9 +71,10 @@ RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(ui
     rec.submitAndWait();
     auto color = pipe->color().download<float>(size_t(n) * 4);
     auto depth = pipe->depth().download<float>(n);
+    auto background = pipe->backgrounds().download<float>(size_t(n) * 4);
     for (uint32_t i = 0; i < n; ++i) {
       const size_t p = first + i;
-      for (int k = 0; k < 3; ++k) img.rgb[p * 3 + k] = color[i * 4 + k];
+      for (int k = 0; k < 3; ++k) img.rgb[p * 3 + k] = color[i * 4 + k], img.background[p * 3 + k] = background[i * 4 + k];
       const float o = color[i * 4 + 3];
       img.opacity[p] = o;
       img.depth[p] = o > 1e-4f ? depth[i] / o : 0.0f;

@@ -64,6 +64,8 @@ class FieldPipeline {
   }
   virtual const gpu::Buffer& color() const = 0;
   virtual const gpu::Buffer& depth() const = 0;
+  // vec4 (r, g, b, -) per ray of the last recorded render: what color() is composited over.
+  virtual const gpu::Buffer& backgrounds() const = 0;
 
   // The field at points chosen by the caller (an exporter): queryBatch()'s positions (vec4, the
   // scene box mapped onto [-1, 1]^3) and directions (vec4, unit) for `count` <= its capacity points

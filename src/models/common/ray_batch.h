@@ -33,6 +33,7 @@ class RayBatch {
   gpu::Buffer& rays() { return rays_; }          // 2 x vec4 per ray (nerf::kRayBytes)
   gpu::Buffer& pixelIds() { return pixelIds_; }  // uvec2 (camera, pixel) per ray
   gpu::Buffer& background() { return background_; }  // vec4 per ray
+  const gpu::Buffer& background() const { return background_; }
 
  private:
   uint32_t capacity_;

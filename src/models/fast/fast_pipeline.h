@@ -42,6 +42,7 @@ class FastPipeline final : public FieldPipeline {
   uint32_t rayCapacity() const override { return rayCapacity_; }
   const gpu::Buffer& color() const override { return color_; }
   const gpu::Buffer& depth() const override { return depth_; }
+  const gpu::Buffer& backgrounds() const override { return rays_.background(); }
   const gpu::Buffer& lossPartials() const override { return partials_; }
   void markUnseenEmpty(std::span<const Camera> cameras) override { grid_.markUnseenEmpty(cameras, box_); }
   std::vector<StateArray> state() override;

@@ -50,6 +50,7 @@ class VanillaPipeline final : public FieldPipeline {
   uint32_t rayCapacity() const override { return capacity_; }
   const gpu::Buffer& color() const override { return levels_[1].color; }
   const gpu::Buffer& depth() const override { return levels_[1].depth; }
+  const gpu::Buffer& backgrounds() const override { return rays_.background(); }
   const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
   std::vector<StateArray> state() override;
   FieldBatch& queryBatch() override { return levels_[1].field; }

@@ -79,6 +79,15 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
   return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size())};
 }
 
+// The forward alone, without a workspace (nothing kept for backward).
+std::vector<float> inferNerf(Context& ctx, nerf::NerfMlp& mlp, uint32_t count, const NerfData& d) {
+  auto params = gpu::Buffer::of(ctx, d.params);
+  auto pos = gpu::Buffer::of(ctx, d.pos), dir = gpu::Buffer::of(ctx, d.dir);
+  gpu::Buffer out(ctx, size_t(count) * 16);
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) { mlp.recordForward(rec, count, params, pos, dir, out, nullptr); });
+  return out.download<float>(size_t(count) * 4);
+}
+
 struct NerfRef {
   std::vector<double> out, grads, dPos;
 };
@@ -269,14 +278,54 @@ TEST_F(MlpNerf, InferenceWithoutWorkspaceMatchesTraining) {
   mlp.setChunkRows(64);  // the internal scratch then serves 64 rows at a time
   NerfCase c{cfg, 150};
   auto data = makeData(mlp, c);
-  auto params = gpu::Buffer::of(ctx(), data.params);
-  auto pos = gpu::Buffer::of(ctx(), data.pos), dir = gpu::Buffer::of(ctx(), data.dir);
-  gpu::Buffer out(ctx(), c.count * 16);
-  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    mlp.recordForward(rec, c.count, params, pos, dir, out, nullptr);
-  });
   auto ref = referenceNerf(mlp, {cfg, c.count, 1.0f, 1.0f, 0, false}, data);
-  expectNear(out.download<float>(c.count * 4), ref.out, kFwdRel, kFwdAbs, "out");
+  expectNear(inferNerf(ctx(), mlp, c.count, data), ref.out, kFwdRel, kFwdAbs, "out");
+}
+
+// The fused forward (mlp_nerf_fused.comp) sums each layer in the layered kernels' order
+// (network/dense_block.glsl), so its outputs and the activations it keeps for backward are bit for
+// bit the layered path's. dPos is per sample and reads every kept activation (the ReLU masks, the
+// feature, the colour layer), so it must be equal too; the weight gradients sum with float atomics
+// in any order and get the reference tolerance. Cases, over 128-row chunks: the fast model's shape
+// with the CPU's tuning (8 rows an invocation) and a GPU's (1); two trunk layers with padded inputs
+// and 3 rows an invocation (not a divisor of the workgroup's); a width of 8.
+TEST_F(MlpNerf, FusedForwardEqualsTheLayeredOne) {
+  struct Case {
+    uint32_t depth, width, posDims, dirDims, featureWidth;
+    DensityActivation density;
+    uint32_t rows, block;
+  };
+  const Case cases[] = {{1, 64, 16, 16, 16, DensityActivation::TruncExp, 8, 4},
+                        {1, 64, 16, 16, 16, DensityActivation::TruncExp, 1, 8},
+                        {2, 32, 21, 9, 8, DensityActivation::Softplus, 3, 4},
+                        {1, 8, 5, 3, 0, DensityActivation::Relu, 8, 4}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(testing::Message() << "depth " << k.depth << ", width " << k.width << ", " << k.rows << " rows an invocation");
+    nerf::MlpConfig cfg;
+    cfg.depth = k.depth, cfg.width = k.width, cfg.skipLayer = 0, cfg.posDims = k.posDims, cfg.dirDims = k.dirDims;
+    cfg.featureWidth = k.featureWidth, cfg.density = k.density, cfg.seed = 21;
+    auto tuning = nerf::MlpTuning::forDevice(ctx());
+    tuning.fused = 0;
+    nerf::NerfMlp layered(ctx(), cfg, tuning);
+    tuning.fused = 1, tuning.fusedRows = k.rows, tuning.fusedBlock = k.block;
+    nerf::NerfMlp fused(ctx(), cfg, tuning);
+    ASSERT_FALSE(layered.fusedForward());
+    ASSERT_TRUE(fused.fusedForward());
+    layered.setChunkRows(128);
+    fused.setChunkRows(128);
+    NerfCase c{cfg, 301};
+    const auto data = makeData(layered, c);
+    const auto want = runNerf(ctx(), layered, c, data), got = runNerf(ctx(), fused, c, data);
+    ASSERT_EQ(got.out, want.out);
+    ASSERT_EQ(got.dPos, want.dPos);
+    // Inference (no workspace): the fused kernel's other variant (MlpTuning::fusedUnroll).
+    EXPECT_EQ(inferNerf(ctx(), fused, c.count, data), want.out);
+    const double gScale = maxAbs(referenceNerf(layered, c, data).grads);
+    expectNear(got.grads, std::vector<double>(want.grads.begin(), want.grads.end()), kGradRel, kGradAbsScale * gScale,
+               "grads");
+  }
+  // The paper's network (8 x 256, a skip connection) runs layer by layer.
+  EXPECT_FALSE(nerf::NerfMlp(ctx(), nerf::MlpConfig{}).fusedForward());
 }
 
 TEST_F(MlpDense, ForwardAndBackwardMatchReference) {

@@ -96,12 +96,12 @@ TEST_F(RowLimit, ShEncoding) {
 }
 
 // The NeRF MLP in chunks of 256 rows (limits inside the first, on a boundary, inside a later chunk),
-// with and without a workspace, for the fast model's shape (one hidden layer, trunc-exp density)
-// and a deeper one with a skip layer (two-input dense layers).
+// with and without a workspace, for the fast model's shape (one hidden layer, 16 features, trunc-exp
+// density: the fused kernel) and a deeper one with a skip layer (two-input dense layers, layer by layer).
 TEST_F(RowLimit, NerfMlpForwardInChunks) {
   std::vector<nerf::MlpConfig> configs(2);
   configs[0].depth = 1, configs[0].width = 64, configs[0].skipLayer = 0, configs[0].posDims = 16, configs[0].dirDims = 16;
-  configs[0].density = DensityActivation::TruncExp;
+  configs[0].density = DensityActivation::TruncExp, configs[0].featureWidth = 16;
   configs[1].depth = 3, configs[1].width = 32, configs[1].skipLayer = 2, configs[1].posDims = 21, configs[1].dirDims = 9;
   for (const auto& cfg : configs) {
     for (bool keep : {false, true}) {

@@ -27,6 +27,7 @@ layout(binding = 0, rgba32f) uniform readonly imageBuffer A;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer B;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) writeonly buffer Y { vec4 y4[]; };
+#include "network/dense_block.glsl"  // after R and P
 #define ROW_LIMIT_BINDING 4
 #include "gpu/row_limit.glsl"
 
@@ -36,38 +37,13 @@ layout(push_constant) uniform Push {
   uint limitBase;                     // row_limit.glsl
 } pc;
 
-const uint K4 = KA4 + KB4;
 const uint NMAIN = N4 - N4 % NB;
-const uint BOFF4 = WOFF4 + K4 * N4 / 4u;
-
-// Four input columns at a time: their products are summed before touching the accumulator, so
-// the (spilled) accumulators are loaded and stored once per 4 columns instead of once per column.
-#define DENSE_K4(XARR, k, wrow, n0, j)                                                                \
-  {                                                                                                \
-    vec4 w0 = imageLoad(P, int(WOFF4 + ((wrow) * N4 + (n0) + (j)) / 4u));                          \
-    vec4 w1 = imageLoad(P, int(WOFF4 + ((wrow + 1u) * N4 + (n0) + (j)) / 4u));                     \
-    vec4 w2 = imageLoad(P, int(WOFF4 + ((wrow + 2u) * N4 + (n0) + (j)) / 4u));                     \
-    vec4 w3 = imageLoad(P, int(WOFF4 + ((wrow + 3u) * N4 + (n0) + (j)) / 4u));                     \
-    [[unroll]] for (uint r = 0; r < R; r++) {                                                      \
-      vec4 t = XARR[r][k] * w0 + XARR[r][k + 1] * w1 + XARR[r][k + 2] * w2 + XARR[r][k + 3] * w3;  \
-      acc[r][j] += t.x; acc[r][j + 1] += t.y; acc[r][j + 2] += t.z; acc[r][j + 3] += t.w;          \
-    }                                                                                              \
-  }
 
 // acc[r][j] = bias + sum_k x[r][k] W[k][n0 + j] for j < BLK, then activation and store.
 #define DENSE_BLOCK(BLK, n0)                                                                       \
   {                                                                                                \
     float acc[R][BLK];                                                                             \
-    [[unroll]] for (uint j = 0; j < BLK; j += 4) {                                                 \
-      vec4 b4 = imageLoad(P, int(BOFF4 + ((n0) + j) / 4u));                                        \
-      [[unroll]] for (uint r = 0; r < R; r++) {                                                    \
-        acc[r][j] = b4.x; acc[r][j + 1] = b4.y; acc[r][j + 2] = b4.z; acc[r][j + 3] = b4.w;        \
-      }                                                                                            \
-    }                                                                                              \
-    [[unroll]] for (uint k = 0; k < KA4; k += 4)                                                   \
-      [[unroll]] for (uint j = 0; j < BLK; j += 4) DENSE_K4(xa, k, k, n0, j)                       \
-    [[unroll]] for (uint k = 0; k < KB4; k += 4)                                                   \
-      [[unroll]] for (uint j = 0; j < BLK; j += 4) DENSE_K4(xb, k, KA4 + k, n0, j)                 \
+    DENSE_ACCUMULATE(acc, BLK, n0, xa, KA4, xb, KB4, WOFF4, N4)                                    \
     [[unroll]] for (uint r = 0; r < R; r++) {                                                      \
       uint row = row0 + r * G;                                                                     \
       if (row < count)                                                                          \
@@ -81,27 +57,14 @@ const uint BOFF4 = WOFF4 + K4 * N4 / 4u;
   }
 
 void main() {
-  uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   uint row0 = gl_GlobalInvocationID.x;
   uint count = limitedRows(pc.count, pc.limitBase);
-  // Under a device row limit only the invocations that the limited rows need run, R rows each,
-  // strided by their own count (the dispatch is indirect, sized for the limit, or direct, for the
-  // whole batch).
-  if (count < pc.count) G = min(G, (((count + R - 1u) / R) + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x * gl_WorkGroupSize.x);
+  uint G = denseRowStride(count, pc.count);
   if (row0 >= G) return;
   float xa[R][KA4];
   float xb[R][KB4 > 0u ? KB4 : 1u];
-  [[unroll]] for (uint r = 0; r < R; r++) {
-    uint row = min(row0 + r * G, count - 1u);
-    [[unroll]] for (uint q = 0; q < KA4 / 4u; q++) {
-      vec4 v = imageLoad(A, int(row * pc.strideA4 + q));
-      xa[r][4 * q] = v.x; xa[r][4 * q + 1] = v.y; xa[r][4 * q + 2] = v.z; xa[r][4 * q + 3] = v.w;
-    }
-    [[unroll]] for (uint q = 0; q < KB4 / 4u; q++) {
-      vec4 v = imageLoad(B, int(row * pc.strideB4 + q));
-      xb[r][4 * q] = v.x; xb[r][4 * q + 1] = v.y; xb[r][4 * q + 2] = v.z; xb[r][4 * q + 3] = v.w;
-    }
-  }
+  DENSE_LOAD_ROWS(xa, A, KA4, pc.strideA4, row0, G, count)
+  DENSE_LOAD_ROWS(xb, B, KB4, pc.strideB4, row0, G, count)
   [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
   [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
 }

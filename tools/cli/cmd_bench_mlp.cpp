@@ -189,13 +189,105 @@ nlohmann::json benchNerf(Context& ctx, uint32_t batch, int reps) {
           {"ms", allMs}, {"samples_per_s", batch / (allMs * 1e-3)}, {"gflops", (flops + bwdFlops) / (allMs * 1e6)}};
 }
 
+// The fast model's network (hash features -> 1 x 64 trunk -> 16 features + sigma -> colour 32 ->
+// rgb), the one training and rendering run: its forward with the activations kept for backward
+// (training) and without (rendering), run layer by layer and fused into one kernel, next to OpenBLAS
+// doing the same products (each layer's padded K x N) in the same run.
+nlohmann::json benchFastNerf(Context& ctx, uint32_t batch, int reps) {
+  nerf::MlpConfig cfg;
+  cfg.depth = 1, cfg.width = 64, cfg.skipLayer = 0, cfg.posDims = 16, cfg.dirDims = 16, cfg.featureWidth = 16;
+  cfg.density = DensityActivation::TruncExp;
+  auto feat = [&](uint32_t stride, uint32_t dims, uint32_t seed) {
+    std::vector<float> v(size_t(batch) * stride, 0.0f);
+    for (uint32_t r = 0; r < batch; ++r)
+      for (uint32_t k = 0; k < dims; ++k) v[size_t(r) * stride + k] = 2.0f * ref::rng01(seed, r, k) - 1.0f;
+    return v;
+  };
+  auto tuning = nerf::MlpTuning::forDevice(ctx);
+  struct Path {
+    const char* name;
+    std::unique_ptr<nerf::NerfMlp> mlp;
+    std::unique_ptr<nerf::NerfMlp::Workspace> ws;
+    std::unique_ptr<gpu::Recorder> keep, infer;
+    double keepMs = 1e30, inferMs = 1e30;
+  };
+  std::vector<Path> paths(2);
+  paths[0].name = "layered", paths[1].name = "fused";
+  for (uint32_t i = 0; i < 2; ++i) {
+    tuning.fused = i;
+    paths[i].mlp = std::make_unique<nerf::NerfMlp>(ctx, cfg, tuning);
+  }
+  const auto& shape = paths[0].mlp->shape();
+  auto params = gpu::Buffer::of(ctx, paths[0].mlp->initialParameters());
+  auto pos = gpu::Buffer::of(ctx, feat(paths[0].mlp->posStride(), cfg.posDims, 1));
+  auto dir = gpu::Buffer::of(ctx, feat(paths[0].mlp->dirStride(), cfg.dirDims, 2));
+  gpu::Buffer out(ctx, uint64_t(batch) * 16);
+  for (auto& p : paths) {
+    p.ws = std::make_unique<nerf::NerfMlp::Workspace>(ctx, *p.mlp, batch);
+    p.keep = std::make_unique<gpu::Recorder>(ctx, true);
+    p.infer = std::make_unique<gpu::Recorder>(ctx, true);
+    for (auto* rec : {p.keep.get(), p.infer.get()}) {
+      rec->begin();
+      p.mlp->recordForward(*rec, batch, params, pos, dir, out, rec == p.keep.get() ? p.ws.get() : nullptr);
+      rec->end();
+      rec->submitAndWait();  // the first submission compiles the pipelines
+    }
+  }
+  double flops = 0;  // multiply-adds of the padded layers
+  for (const auto& l : shape.layers) flops += 2.0 * batch * l.k4() * l.n4();
+  double blasMs = 1e30;
+#ifdef VKNERF_HAVE_BLAS
+  std::vector<std::vector<float>> acts;  // each layer's input, then the last output
+  for (const auto& l : shape.layers) acts.emplace_back(size_t(batch) * l.k4(), 0.5f);
+  acts.emplace_back(size_t(batch) * shape.layers.back().n4());
+  std::vector<float> weights(shape.total, 0.01f);
+  auto gemm = [&] {
+    for (size_t i = 0; i < shape.layers.size(); ++i) {
+      const auto& l = shape.layers[i];
+      std::vector<float>& y = i + 1 < shape.layers.size() ? acts[i + 1] : acts.back();
+      cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, int(batch), int(l.n4()), int(l.k4()), 1.0f, acts[i].data(),
+                  int(l.k4()), weights.data() + l.offset, int(l.n4()), 0.0f, y.data(), int(l.n4()));
+    }
+  };
+  gemm();
+#endif
+  auto wall = [](auto&& fn) {
+    auto t0 = std::chrono::steady_clock::now();
+    fn();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  // Interleaved, each keeping its best: a ratio compares like with like on a shared machine.
+  for (int rep = 0; rep < reps; ++rep) {
+    for (auto& p : paths) {
+      p.keep->submitAndWait();
+      p.keepMs = std::min(p.keepMs, sumLabel(p.keep->timings(), "nerf"));
+      p.infer->submitAndWait();
+      p.inferMs = std::min(p.inferMs, sumLabel(p.infer->timings(), "nerf"));
+    }
+#ifdef VKNERF_HAVE_BLAS
+    blasMs = std::min(blasMs, wall(gemm));
+#endif
+  }
+  auto json = nlohmann::json{{"network", "fast: 16 -> 64 -> 16 + sigma, + 16 SH -> 32 -> 3"},
+                             {"batch", batch},
+                             {"gflop", flops * 1e-9},
+                             {"blas_gflops", flops / (blasMs * 1e6)}};
+  for (auto& p : paths)
+    json[p.name] = {{"keep_ms", p.keepMs},
+                    {"keep_gflops", flops / (p.keepMs * 1e6)},
+                    {"inference_ms", p.inferMs},
+                    {"inference_gflops", flops / (p.inferMs * 1e6)},
+                    {"inference_ratio", blasMs / p.inferMs}};
+  return json;
+}
+
 Registration benchMlp("bench mlp", "Throughput of the MLP kernels against OpenBLAS sgemm", [](CLI::App& app, const Globals& g) {
   struct Opts {
     bool json = false;
     uint32_t batch = 1u << 16;
     int reps = 7;
     std::vector<uint32_t> widths{64, 128, 256};
-    bool nerf = false;
+    bool nerf = false, fast = false;
   };
   auto o = std::make_shared<Opts>();
   app.add_flag("--json", o->json, "Print a JSON list, one object per width");
@@ -203,6 +295,7 @@ Registration benchMlp("bench mlp", "Throughput of the MLP kernels against OpenBL
   app.add_option("--reps", o->reps, "Repetitions (the best is reported)")->check(CLI::Range(1, 100));
   app.add_option("--widths", o->widths, "MLP widths (multiples of 4)");
   app.add_flag("--nerf", o->nerf, "Also time the NeRF network (8 x 256, skip, colour branch) forward + backward");
+  app.add_flag("--fast-nerf", o->fast, "Also time the fast model's network forward, layer by layer and fused");
   return [o, &g] {
     auto ctx = g.context();
     auto json = nlohmann::json::array();
@@ -249,6 +342,21 @@ Registration benchMlp("bench mlp", "Throughput of the MLP kernels against OpenBL
                     "(%.0f samples/s, %.1f GFLOP/s)\n",
                     o->batch, n["fwd_ms"].get<double>(), n["fwd_samples_per_s"].get<double>(), n["fwd_gflops"].get<double>(),
                     n["ms"].get<double>(), n["samples_per_s"].get<double>(), n["gflops"].get<double>());
+      json.push_back(n);
+    }
+    if (o->fast) {
+      auto n = benchFastNerf(*ctx, o->batch, o->reps);
+      if (!o->json) {
+        std::printf("fast model's MLP (%s), batch %u, %.3f GFLOP; OpenBLAS %.1f GFLOP/s\n",
+                    n["network"].get<std::string>().c_str(), o->batch, n["gflop"].get<double>(),
+                    n["blas_gflops"].get<double>());
+        for (const char* path : {"layered", "fused"})
+          std::printf("  %-8s forward keeping activations %7.2f ms (%5.1f GFLOP/s), inference %7.2f ms (%5.1f GFLOP/s, "
+                      "%.2f of OpenBLAS)\n",
+                      path, n[path]["keep_ms"].get<double>(), n[path]["keep_gflops"].get<double>(),
+                      n[path]["inference_ms"].get<double>(), n[path]["inference_gflops"].get<double>(),
+                      n[path]["inference_ratio"].get<double>());
+      }
       json.push_back(n);
     }
     if (o->json) std::printf("%s\n", json.dump(2).c_str());

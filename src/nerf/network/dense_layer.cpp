@@ -44,13 +44,16 @@ MlpTuning MlpTuning::forDevice(const Context& ctx) {
     t.dwKT = t.dwNT = 4;
     t.dwU = 4;
     t.dwRows = 64;
+    t.fusedRows = 1;
   }
   // VKNERF_MLP_TUNING="rows=4,block=8,dwKT=8,..." overrides fields, for benchmarking shapes.
   if (const char* env = std::getenv("VKNERF_MLP_TUNING")) {
     std::map<std::string, uint32_t*> fields{{"local", &t.local},   {"rows", &t.rows},       {"block", &t.block},
                                             {"dxRows", &t.dxRows},
                                             {"dxBlock", &t.dxBlock}, {"dwLocal", &t.dwLocal}, {"dwKT", &t.dwKT},
-                                            {"dwNT", &t.dwNT},     {"dwU", &t.dwU},         {"dwRows", &t.dwRows}};
+                                            {"dwNT", &t.dwNT},     {"dwU", &t.dwU},         {"dwRows", &t.dwRows},
+                                            {"fused", &t.fused},   {"fusedRows", &t.fusedRows},
+                                            {"fusedBlock", &t.fusedBlock}, {"fusedUnroll", &t.fusedUnroll}};
     std::string spec = env;
     for (size_t at = 0; at < spec.size();) {
       size_t end = std::min(spec.find(',', at), spec.size()), eq = spec.find('=', at);
@@ -60,7 +63,8 @@ MlpTuning MlpTuning::forDevice(const Context& ctx) {
       *it->second = uint32_t(std::stoul(spec.substr(eq + 1, end - eq - 1)));
       at = end + 1;
     }
-    if (t.block % 4 || t.dxBlock % 4 || t.dwKT % 4 || t.dwNT % 4 || t.dwU == 0 || t.rows == 0 || t.dxRows == 0)
+    if (t.block % 4 || t.dxBlock % 4 || t.dwKT % 4 || t.dwNT % 4 || t.fusedBlock % 4 || t.fusedBlock == 0 ||
+        t.dwU == 0 || t.rows == 0 || t.dxRows == 0 || t.fusedRows == 0)
       throw Error("VKNERF_MLP_TUNING: blocks and tiles must be multiples of 4, row counts positive");
   }
   return t;

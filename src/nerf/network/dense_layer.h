@@ -26,6 +26,13 @@ struct MlpTuning {
   uint32_t dwKT = 16, dwNT = 16;  // weight-gradient tile per invocation (multiples of 4)
   uint32_t dwU = 2;          // rows summed per loop iteration
   uint32_t dwRows = 512;     // rows per invocation (a multiple of dwU)
+  uint32_t fused = 1;        // 1: a narrow NeRF MLP's forward runs as one kernel (mlp_nerf_fused.comp)
+  uint32_t fusedRows = 8;    // rows per invocation, fused forward
+  uint32_t fusedBlock = 4;   // output columns per block, fused forward (multiple of 4)
+  // Bit 0: unroll the fused forward's output blocks for inference, bit 1: when keeping activations.
+  // On lavapipe unrolling makes inference ~1.4x faster; with the activations kept (training) it
+  // gained ~10%, not worth another ~25 s of first-run compile on every fresh machine.
+  uint32_t fusedUnroll = 1;
   static MlpTuning forDevice(const Context& ctx);
 };
 

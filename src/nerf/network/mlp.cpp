@@ -12,6 +12,10 @@ struct HeadPush {  // mlp_nerf_head.comp
   uint32_t count, strideC4, strideF4, strideOut4, limitBase;
 };
 
+struct FusedPush {  // mlp_nerf_fused.comp
+  uint32_t count, strideP4, strideD4, strideOut4, limitBase;
+};
+
 struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
   uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4, limitBase;
 };
@@ -89,6 +93,13 @@ void NerfMlp::setChunkRows(uint32_t rows) {
   scratch_.reset();
 }
 
+bool NerfMlp::fusedForward() const {
+  uint64_t multiplyAdds = 0;
+  for (const auto& l : shape_.layers) multiplyAdds += uint64_t(l.k4()) * l.n4();
+  return tuning_.fused && config_.skipLayer == 0 && config_.depth <= kMaxFusedDepth && config_.width <= kMaxFusedWidth &&
+         multiplyAdds * tuning_.fusedRows <= kMaxFusedMultiplyAdds;
+}
+
 void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
                             const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
                             Workspace* keep, const gpu::BufferRange* rowLimit) {
@@ -96,6 +107,7 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (keep && keep->capacity_ < count)
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
+  if (fusedForward()) return recordFusedForward(rec, count, params, pos, dir, out, keep, rowLimit);
   if (!keep && !scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
   Workspace& ws = keep ? *keep : *scratch_;
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
@@ -123,6 +135,41 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     layers_[D + 1].recordForward(rec, n, params, F, d, C, L, "nerf colour");
     gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range}, HeadPush{n, C.stride / 4, F.stride / 4, 1, 0},
                          head, gpu::groupsFor(n, kHeadLocal), "nerf head");
+  });
+}
+
+void NerfMlp::recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
+                                 const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
+                                 Workspace* keep, const gpu::BufferRange* rowLimit) {
+  const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
+  auto& kernel = fused_[keep ? 1 : 0];
+  if (!kernel) {
+    auto off4 = [&](const ref::DenseShape& l) { return uint32_t(l.offset / 4); };
+    std::vector<gpu::Binding> b(3, gpu::Binding::TexelRgba32f);
+    b.insert(b.end(), 6, gpu::Binding::Storage);
+    kernel = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_fused, b, sizeof(FusedPush),
+                              {tuning_.local, tuning_.fusedRows, posStride(), dirStride(), W, D, V, uint32_t(config_.density),
+                               keep ? 1u : 0u, tuning_.fusedBlock, off4(shape_.trunk(0)), off4(shape_.trunk(D > 1 ? 1 : 0)),
+                               off4(shape_.feature()), off4(shape_.colour()), off4(shape_.head()),
+                               (tuning_.fusedUnroll >> (keep ? 1 : 0)) & 1u}});
+  }
+  // The rows of one chunk bind within the device's limits; nothing lives between layers, so a batch
+  // without a workspace needs no scratch rows either.
+  const uint32_t rowsPerGroup = tuning_.local * tuning_.fusedRows;
+  limited_.begin(rec, rowLimit, count, chunkRows_, {rowsPerGroup});
+  gpu::forRowChunks(count, chunkRows_, [&](uint32_t first, uint32_t n, uint32_t c) {
+    Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
+    Mat o = Mat{out, 4}.rows(first, n);
+    // Without a workspace the kept-activation bindings are never written: any buffer will do.
+    auto kept = [&](const gpu::Buffer& b, uint32_t stride) { return Mat{b, stride}.rows(first, n).range; };
+    const gpu::BufferRange none = o.range;
+    FusedPush push{n, p.stride / 4, d.stride / 4, 1, 0};
+    gpu::dispatchLimited(rec, *kernel,
+                         {p.range, d.range, params, o.range, keep ? kept(keep->h_[0], W) : none,
+                          keep && D > 1 ? kept(keep->h_[1], W) : none, keep ? kept(keep->f_, V + 4) : none,
+                          keep ? kept(keep->c_, W / 2) : none},
+                         push, limited_.rows(c, 0), gpu::groupsFor(n, rowsPerGroup), "nerf mlp fused");
   });
 }
 

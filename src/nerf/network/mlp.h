@@ -81,13 +81,29 @@ class NerfMlp {
   uint32_t chunkRows() const { return chunkRows_; }
   void setChunkRows(uint32_t rows);
 
+  // Whether the forward runs as one kernel (mlp_nerf_fused.comp): a network without a skip
+  // connection (the fast model's) of at most kMaxFusedDepth trunk layers of at most kMaxFusedWidth,
+  // unless the tuning turns it off. Its activations live in registers, which bounds the widths, and
+  // its layers may be unrolled (MlpTuning::fusedUnroll): an invocation's multiply-adds (rows x the
+  // padded layers' K x N) are held to kMaxFusedMultiplyAdds, since the driver's compile time grows
+  // faster than the code (on lavapipe the fast model's 8 x 3456, unrolled, take ~25 s once, then
+  // come from Mesa's disk cache; 8 x 8064, its network with a 64-wide feature, took minutes).
+  // Larger networks run layer by layer.
+  static constexpr uint32_t kMaxFusedDepth = 2, kMaxFusedWidth = 64, kMaxFusedMultiplyAdds = 32768;
+  bool fusedForward() const;
+
  private:
+  void recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
+                          const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keep,
+                          const gpu::BufferRange* rowLimit);
+
   Context& ctx_;
   MlpConfig config_;
   ref::NerfShape shape_;
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_;
+  std::unique_ptr<gpu::Kernel> fused_[2];  // the fused forward without / with the activations kept
   gpu::LimitedDispatch limited_;          // the forward's workgroup counts under a row limit
   gpu::LimitedDispatch limitedBackward_;  // the backward's
   std::unique_ptr<Workspace> scratch_;

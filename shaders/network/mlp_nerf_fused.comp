@@ -1,0 +1,126 @@
+#version 450
+// The whole NeRF MLP forward in one kernel, for narrow networks without a skip connection (the fast
+// model's): trunk (DEPTH <= 2 layers of W, ReLU) -> feature + sigma (V + 1, no activation) ->
+// colour (concat(feature, dir) -> W/2, ReLU) -> head (3, sigmoid), out = vec4(rgb, density(sigma)).
+// The same arithmetic as mlp_dense.comp + mlp_nerf_head.comp layer by layer (dense_block.glsl,
+// the same order of sums), but every activation stays in registers: nothing is written between
+// layers and nothing read back, and the network costs one dispatch instead of DEPTH + 3.
+// KEEP = 1 also stores the activations the backward pass reads (NerfMlp::Workspace: the trunk
+// outputs, the feature + sigma pre-activation, the colour hidden layer), as the layered path does.
+//
+// Layouts: src/reference/network/mlp.h (NerfShape). Rows past `count` read the last row and store
+// nothing (row_limit.glsl cuts `count` on the device).
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
+#include "network/mlp_common.glsl"
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint R = 4;          // rows per invocation
+layout(constant_id = 2) const uint KP4 = 16;       // padded width of the position features
+layout(constant_id = 3) const uint KD4 = 16;       // padded width of the direction features
+layout(constant_id = 4) const uint W = 64;         // trunk width (multiple of 8)
+layout(constant_id = 5) const uint DEPTH = 1;      // trunk layers, 1 or 2
+layout(constant_id = 6) const uint V = 16;         // feature width (multiple of 4); sigma is column V
+layout(constant_id = 7) const uint DENSITY = 0;    // MLP_DENSITY_*
+layout(constant_id = 8) const uint KEEP = 0;       // 1: store the activations for backward
+layout(constant_id = 9) const uint NB = 8;         // output columns per block (multiple of 4)
+// vec4 offsets of each layer's weights in the parameter buffer (NerfShape::layers)
+layout(constant_id = 10) const uint T0OFF4 = 0;
+layout(constant_id = 11) const uint T1OFF4 = 0;
+layout(constant_id = 12) const uint FOFF4 = 0;
+layout(constant_id = 13) const uint COFF4 = 0;
+layout(constant_id = 14) const uint HOFF4 = 0;
+layout(constant_id = 15) const uint UNROLL = 1;     // 1: unroll the output blocks (FUSED_LAYER)
+
+layout(binding = 0, rgba32f) uniform readonly imageBuffer Pos;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer Dir;
+layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
+layout(std430, binding = 3) writeonly buffer Out { vec4 out4[]; };
+// KEEP: rows of W (each trunk layer), V + 4 (feature + sigma pre-activation) and W/2 (colour hidden)
+layout(std430, binding = 4) writeonly buffer H0 { vec4 h0Kept[]; };
+layout(std430, binding = 5) writeonly buffer H1 { vec4 h1Kept[]; };
+layout(std430, binding = 6) writeonly buffer F { vec4 fKept[]; };
+layout(std430, binding = 7) writeonly buffer C { vec4 cKept[]; };
+#include "network/dense_block.glsl"  // after R and P
+#define ROW_LIMIT_BINDING 8
+#include "gpu/row_limit.glsl"
+
+layout(push_constant) uniform Push {
+  uint count;
+  uint strideP4, strideD4, strideOut4;  // row strides in vec4
+  uint limitBase;                       // row_limit.glsl
+} pc;
+
+const uint V4 = V + 4u;   // the feature layer's padded output: V features, sigma, 3 zero columns
+const uint W2 = W / 2u;
+// Output columns per block: NB where it divides the layer's width, else 8 or 4.
+const uint FB = V4 % NB == 0u ? NB : (V4 % 8u == 0u ? 8u : 4u);
+const uint CB = W2 % NB == 0u ? NB : (W2 % 8u == 0u ? 8u : 4u);
+
+// YOUT[r][n] = act(layer(XA, XB)) for every output column n < N4, BLK columns a block. UNROLL: the
+// block loop is unrolled, so every register index is a constant (the faster code, and the longer
+// compile); otherwise the blocks index the output by a uniform loop counter.
+#define FUSED_BLOCK(YOUT, N4, BLK, n0, XA, KA4, XB, KB4, WOFF4, ACT)                              \
+  {                                                                                              \
+    float acc[R][BLK];                                                                           \
+    DENSE_ACCUMULATE(acc, BLK, n0, XA, KA4, XB, KB4, WOFF4, N4)                                  \
+    [[unroll]] for (uint r = 0; r < R; r++)                                                      \
+      [[unroll]] for (uint j = 0; j < (BLK); j++)                                                \
+        YOUT[r][(n0) + j] = (ACT) == MLP_ACT_RELU ? max(acc[r][j], 0.0) : acc[r][j];             \
+  }
+#define FUSED_LAYER(YOUT, N4, BLK, XA, KA4, XB, KB4, WOFF4, ACT)                                  \
+  if (UNROLL != 0u) {                                                                            \
+    [[unroll]] for (uint n0_ = 0; n0_ < (N4); n0_ += (BLK))                                      \
+      FUSED_BLOCK(YOUT, N4, BLK, n0_, XA, KA4, XB, KB4, WOFF4, ACT)                              \
+  } else {                                                                                       \
+    [[dont_unroll]] for (uint n0_ = 0; n0_ < (N4); n0_ += (BLK))                                 \
+      FUSED_BLOCK(YOUT, N4, BLK, n0_, XA, KA4, XB, KB4, WOFF4, ACT)                              \
+  }
+
+// Stores YOUT's K4 columns of each owned row below `count` into BUF (K4 / 4 vec4s a row).
+#define FUSED_KEEP(BUF, YOUT, K4)                                                                \
+  if (KEEP != 0u)                                                                                \
+    [[unroll]] for (uint r = 0; r < R; r++) {                                                    \
+      uint row = min(row0 + r * G, count - 1u);                                                  \
+      [[unroll]] for (uint q = 0; q < (K4) / 4u; q++)                                            \
+        BUF[row * ((K4) / 4u) + q] = vec4(YOUT[r][4u * q], YOUT[r][4u * q + 1u], YOUT[r][4u * q + 2u], YOUT[r][4u * q + 3u]); \
+    }
+
+void main() {
+  uint row0 = gl_GlobalInvocationID.x;
+  uint count = limitedRows(pc.count, pc.limitBase);
+  uint G = denseRowStride(count, pc.count);
+  if (row0 >= G) return;
+
+  float x[R][KP4];
+  DENSE_LOAD_ROWS(x, Pos, KP4, pc.strideP4, row0, G, count)
+  float h[R][W];
+  FUSED_LAYER(h, W, CB, x, KP4, x, 0u, T0OFF4, MLP_ACT_RELU)
+  FUSED_KEEP(h0Kept, h, W)
+  if (DEPTH == 2u) {
+    float h2[R][W];
+    FUSED_LAYER(h2, W, CB, h, W, h, 0u, T1OFF4, MLP_ACT_RELU)
+    FUSED_KEEP(h1Kept, h2, W)
+    [[unroll]] for (uint r = 0; r < R; r++) [[unroll]] for (uint k = 0; k < W; k++) h[r][k] = h2[r][k];
+  }
+  // The feature layer: V + 4 columns, of which V + 1 are real; the padding weights and biases are
+  // zero, so the 3 padding columns come out exactly 0, as the layered path stores them.
+  float f[R][V4];
+  FUSED_LAYER(f, V4, FB, h, W, h, 0u, FOFF4, MLP_ACT_NONE)
+  FUSED_KEEP(fKept, f, V4)
+
+  float d[R][KD4];
+  DENSE_LOAD_ROWS(d, Dir, KD4, pc.strideD4, row0, G, count)
+  float c[R][W2];
+  FUSED_LAYER(c, W2, CB, f, V, d, KD4, COFF4, MLP_ACT_RELU)
+  FUSED_KEEP(cKept, c, W2)
+
+  float rgb[R][4];
+  DENSE_ACCUMULATE(rgb, 4u, 0u, c, W2, c, 0u, HOFF4, 4u)
+  [[unroll]] for (uint r = 0; r < R; r++) {
+    uint row = row0 + r * G;
+    if (row < count)
+      out4[row * pc.strideOut4] =
+          vec4(mlpSigmoid(vec4(rgb[r][0], rgb[r][1], rgb[r][2], rgb[r][3])).xyz, mlpDensity(DENSITY, f[r][V]));
+  }
+}

@@ -283,13 +283,16 @@ TEST_F(MlpNerf, InferenceWithoutWorkspaceMatchesTraining) {
 }
 
 // The fused forward (mlp_nerf_fused.comp) sums each layer in the layered kernels' order
-// (network/dense_block.glsl), so its outputs and the activations it keeps for backward are bit for
-// bit the layered path's. dPos is per sample and reads every kept activation (the ReLU masks, the
-// feature, the colour layer), so it must be equal too; the weight gradients sum with float atomics
-// in any order and get the reference tolerance. Cases, over 128-row chunks: the fast model's shape
-// with the CPU's tuning (8 rows an invocation) and a GPU's (1); two trunk layers with padded inputs
-// and 3 rows an invocation (not a divisor of the workgroup's); a width of 8.
-TEST_F(MlpNerf, FusedForwardEqualsTheLayeredOne) {
+// (network/dense_block.glsl), so it agrees with the layered path to the rounding of a single
+// operation: the driver may contract a multiply and an add into one fused multiply-add in one
+// kernel and not in the other (seen: 1 ulp, with a fused backward). The outputs, and dPos,
+// which is per sample and reads every activation the forward kept (the ReLU masks, the feature,
+// the colour layer), are held to 1e-6 relative (8 ulps) plus 1e-6 of the largest value; the weight
+// gradients sum with float atomics in any order and get the reference tolerance. Cases, over
+// 128-row chunks: the fast model's shape with the CPU's tuning (8 rows an invocation) and a GPU's
+// (1); two trunk layers with padded inputs and 3 rows an invocation (not a divisor of the
+// workgroup's); a width of 8.
+TEST_F(MlpNerf, FusedForwardMatchesTheLayeredOne) {
   struct Case {
     uint32_t depth, width, posDims, dirDims, featureWidth;
     DensityActivation density;
@@ -316,13 +319,16 @@ TEST_F(MlpNerf, FusedForwardEqualsTheLayeredOne) {
     NerfCase c{cfg, 301};
     const auto data = makeData(layered, c);
     const auto want = runNerf(ctx(), layered, c, data), got = runNerf(ctx(), fused, c, data);
-    ASSERT_EQ(got.out, want.out);
-    ASSERT_EQ(got.dPos, want.dPos);
-    // Inference (no workspace): the fused kernel's other variant (MlpTuning::fusedUnroll).
-    EXPECT_EQ(inferNerf(ctx(), fused, c.count, data), want.out);
+    auto asDouble = [](const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); };
+    auto maxOf = [&](const std::vector<float>& v) { return maxAbs(asDouble(v)); };
+    constexpr double kRounding = 1e-6;
+    expectNear(got.out, asDouble(want.out), kRounding, kRounding * maxOf(want.out), "out");
+    expectNear(got.dPos, asDouble(want.dPos), kRounding, kRounding * maxOf(want.dPos), "dPos");
+    // Inference (no workspace): the fused forward's other variant (MlpTuning::fusedUnroll).
+    expectNear(inferNerf(ctx(), fused, c.count, data), asDouble(want.out), kRounding, kRounding * maxOf(want.out),
+               "inference out");
     const double gScale = maxAbs(referenceNerf(layered, c, data).grads);
-    expectNear(got.grads, std::vector<double>(want.grads.begin(), want.grads.end()), kGradRel, kGradAbsScale * gScale,
-               "grads");
+    expectNear(got.grads, asDouble(want.grads), kGradRel, kGradAbsScale * gScale, "grads");
   }
   // The paper's network (8 x 256, a skip connection) runs layer by layer.
   EXPECT_FALSE(nerf::NerfMlp(ctx(), nerf::MlpConfig{}).fusedForward());

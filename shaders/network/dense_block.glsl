@@ -1,5 +1,6 @@
 // One block of a dense layer's outputs for R rows held in registers, shared by mlp_dense.comp (one
-// layer a dispatch) and mlp_nerf_fused.comp (the whole network in one): lanes are rows, the k loop
+// layer a dispatch) and mlp_nerf_fused.comp (the whole network in one), and the row handling of
+// the row-parallel MLP kernels (mlp_dense_dx.comp too): lanes are rows, the k loop
 // is unrolled so every weight is one uniform imageLoad of the parameter texel buffer P (a
 // branch-free broadcast reused by R rows, shared/LAVAPIPE.md), and four input columns are summed
 // before touching an accumulator, so (spilled) accumulators are loaded and stored once per 4

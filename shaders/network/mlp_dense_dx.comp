@@ -23,6 +23,7 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer A;  // for MODE_A == 2
 layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) buffer DA { vec4 da4[]; };
 layout(std430, binding = 4) buffer DB { vec4 db4[]; };
+#include "network/dense_block.glsl"  // after R and P
 #define ROW_LIMIT_BINDING 5
 #include "gpu/row_limit.glsl"
 
@@ -45,21 +46,13 @@ layout(push_constant) uniform Push {
     }
 
 void main() {
-  uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   uint row0 = gl_GlobalInvocationID.x;
-  // Under a device row limit only the invocations the limited rows need run, strided by their own
-  // count (as mlp_dense.comp); the rows past the limit are left untouched.
+  // The rows past a device row limit are left untouched.
   uint count = limitedRows(pc.count, pc.limitBase);
-  if (count < pc.count) G = min(G, (((count + R - 1u) / R) + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x * gl_WorkGroupSize.x);
+  uint G = denseRowStride(count, pc.count);
   if (row0 >= G || count == 0u) return;
   float dz[R][N4];
-  [[unroll]] for (uint r = 0; r < R; r++) {
-    uint row = min(row0 + r * G, count - 1u);
-    [[unroll]] for (uint q = 0; q < N4 / 4u; q++) {
-      vec4 v = imageLoad(DZ, int(row * pc.strideZ4 + q));
-      dz[r][4 * q] = v.x; dz[r][4 * q + 1] = v.y; dz[r][4 * q + 2] = v.z; dz[r][4 * q + 3] = v.w;
-    }
-  }
+  DENSE_LOAD_ROWS(dz, DZ, N4, pc.strideZ4, row0, G, count)
   if (MODE_A != 0u) {
     [[dont_unroll]] for (uint k0 = 0; k0 < KA4; k0 += KBLK) {
       DX_BLOCK(KBLK, 0u, k0)

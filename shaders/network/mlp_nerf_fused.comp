@@ -53,13 +53,14 @@ layout(push_constant) uniform Push {
 
 const uint V4 = V + 4u;   // the feature layer's padded output: V features, sigma, 3 zero columns
 const uint W2 = W / 2u;
-// Output columns per block: NB where it divides the layer's width, else 8 or 4.
-const uint FB = V4 % NB == 0u ? NB : (V4 % 8u == 0u ? 8u : 4u);
-const uint CB = W2 % NB == 0u ? NB : (W2 % 8u == 0u ? 8u : 4u);
 
-// YOUT[r][n] = act(layer(XA, XB)) for every output column n < N4, BLK columns a block. UNROLL: the
-// block loop is unrolled, so every register index is a constant (the faster code, and the longer
-// compile); otherwise the blocks index the output by a uniform loop counter.
+// Columns per block for a layer N wide: NB where it divides N, else 8 or 4.
+#define FUSED_BLOCK_FOR(N) ((N) % NB == 0u ? NB : ((N) % 8u == 0u ? 8u : 4u))
+
+// YOUT[r][n] = act(concat(XA, XB) W + bias)[n] for every output column n < N4 (ACT: MLP_ACT_NONE or
+// MLP_ACT_RELU), a block of columns at a time. UNROLL: the block loop is unrolled, so that every
+// register index is a constant (the faster code on lavapipe, and the longer compile); otherwise the
+// blocks index the output by a uniform loop counter.
 #define FUSED_BLOCK(YOUT, N4, BLK, n0, XA, KA4, XB, KB4, WOFF4, ACT)                              \
   {                                                                                              \
     float acc[R][BLK];                                                                           \
@@ -68,22 +69,24 @@ const uint CB = W2 % NB == 0u ? NB : (W2 % 8u == 0u ? 8u : 4u);
       [[unroll]] for (uint j = 0; j < (BLK); j++)                                                \
         YOUT[r][(n0) + j] = (ACT) == MLP_ACT_RELU ? max(acc[r][j], 0.0) : acc[r][j];             \
   }
-#define FUSED_LAYER(YOUT, N4, BLK, XA, KA4, XB, KB4, WOFF4, ACT)                                  \
+#define FUSED_LAYER(YOUT, N4, XA, KA4, XB, KB4, WOFF4, ACT)                                       \
   if (UNROLL != 0u) {                                                                            \
-    [[unroll]] for (uint n0_ = 0; n0_ < (N4); n0_ += (BLK))                                      \
-      FUSED_BLOCK(YOUT, N4, BLK, n0_, XA, KA4, XB, KB4, WOFF4, ACT)                              \
+    [[unroll]] for (uint n0_ = 0; n0_ < (N4); n0_ += FUSED_BLOCK_FOR(N4))                        \
+      FUSED_BLOCK(YOUT, N4, FUSED_BLOCK_FOR(N4), n0_, XA, KA4, XB, KB4, WOFF4, ACT)              \
   } else {                                                                                       \
-    [[dont_unroll]] for (uint n0_ = 0; n0_ < (N4); n0_ += (BLK))                                 \
-      FUSED_BLOCK(YOUT, N4, BLK, n0_, XA, KA4, XB, KB4, WOFF4, ACT)                              \
+    [[dont_unroll]] for (uint n0_ = 0; n0_ < (N4); n0_ += FUSED_BLOCK_FOR(N4))                   \
+      FUSED_BLOCK(YOUT, N4, FUSED_BLOCK_FOR(N4), n0_, XA, KA4, XB, KB4, WOFF4, ACT)              \
   }
 
-// Stores YOUT's K4 columns of each owned row below `count` into BUF (K4 / 4 vec4s a row).
-#define FUSED_KEEP(BUF, YOUT, K4)                                                                \
+// Stores Y's K4 columns of the invocation's rows into BUF (K4 / 4 vec4s a row). A row past `count`
+// computed the last row from the same inputs: it writes the same values there, with no branch
+// around the store.
+#define FUSED_KEEP(BUF, Y, K4)                                                                   \
   if (KEEP != 0u)                                                                                \
     [[unroll]] for (uint r = 0; r < R; r++) {                                                    \
-      uint row = min(row0 + r * G, count - 1u);                                                  \
+      uint row_ = min(row0 + r * G, count - 1u);                                                 \
       [[unroll]] for (uint q = 0; q < (K4) / 4u; q++)                                            \
-        BUF[row * ((K4) / 4u) + q] = vec4(YOUT[r][4u * q], YOUT[r][4u * q + 1u], YOUT[r][4u * q + 2u], YOUT[r][4u * q + 3u]); \
+        BUF[row_ * ((K4) / 4u) + q] = vec4(Y[r][4u * q], Y[r][4u * q + 1u], Y[r][4u * q + 2u], Y[r][4u * q + 3u]); \
     }
 
 void main() {
@@ -95,24 +98,24 @@ void main() {
   float x[R][KP4];
   DENSE_LOAD_ROWS(x, Pos, KP4, pc.strideP4, row0, G, count)
   float h[R][W];
-  FUSED_LAYER(h, W, CB, x, KP4, x, 0u, T0OFF4, MLP_ACT_RELU)
+  FUSED_LAYER(h, W, x, KP4, x, 0u, T0OFF4, MLP_ACT_RELU)
   FUSED_KEEP(h0Kept, h, W)
   if (DEPTH == 2u) {
     float h2[R][W];
-    FUSED_LAYER(h2, W, CB, h, W, h, 0u, T1OFF4, MLP_ACT_RELU)
+    FUSED_LAYER(h2, W, h, W, h, 0u, T1OFF4, MLP_ACT_RELU)
     FUSED_KEEP(h1Kept, h2, W)
     [[unroll]] for (uint r = 0; r < R; r++) [[unroll]] for (uint k = 0; k < W; k++) h[r][k] = h2[r][k];
   }
   // The feature layer: V + 4 columns, of which V + 1 are real; the padding weights and biases are
   // zero, so the 3 padding columns come out exactly 0, as the layered path stores them.
   float f[R][V4];
-  FUSED_LAYER(f, V4, FB, h, W, h, 0u, FOFF4, MLP_ACT_NONE)
+  FUSED_LAYER(f, V4, h, W, h, 0u, FOFF4, MLP_ACT_NONE)
   FUSED_KEEP(fKept, f, V4)
 
   float d[R][KD4];
   DENSE_LOAD_ROWS(d, Dir, KD4, pc.strideD4, row0, G, count)
   float c[R][W2];
-  FUSED_LAYER(c, W2, CB, f, V, d, KD4, COFF4, MLP_ACT_RELU)
+  FUSED_LAYER(c, W2, f, V, d, KD4, COFF4, MLP_ACT_RELU)
   FUSED_KEEP(cKept, c, W2)
 
   float rgb[R][4];

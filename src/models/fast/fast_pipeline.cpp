@@ -51,6 +51,15 @@ uint32_t sampleCapacityFor(const FastModel& m, uint32_t rayCapacity, bool traini
   return uint32_t(std::min<uint64_t>(std::max(minimum, wanted), 1ull << 28));
 }
 
+// A training pipeline runs its forward with the activations kept layer by layer (MlpTuning::fused),
+// and its inference (the occupancy update) with the same kernels: a fused inference kernel would
+// be another pipeline to compile (~20 s on a fresh lavapipe) for ~1% of the step's time.
+MlpTuning mlpTuningFor(const Context& ctx, bool training) {
+  MlpTuning t = MlpTuning::forDevice(ctx);
+  if (training && !(t.fused & 2u)) t.fused = 0;
+  return t;
+}
+
 AdamConfig tableAdamOf(const TrainConfig& config) {
   AdamConfig ac = adamConfigOf(config, config.fastModel().hashLearningRateScale);
   ac.skipZeroGradients = true;  // table entries no sample touched keep their moments (instant-ngp)
@@ -98,7 +107,8 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                           .dirDims = sh_.outputDims(),
                           .density = model_.density,
                           .seed = config.seed,
-                          .featureWidth = model_.featureWidth}),
+                          .featureWidth = model_.featureWidth},
+           mlpTuningFor(ctx, training)),
       table_(ctx, "encoding", hash_.initialParameters(config.seed),
              training ? std::optional(tableAdamOf(config)) : std::nullopt),
       network_(ctx, "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),

@@ -26,13 +26,18 @@ struct MlpTuning {
   uint32_t dwKT = 16, dwNT = 16;  // weight-gradient tile per invocation (multiples of 4)
   uint32_t dwU = 2;          // rows summed per loop iteration
   uint32_t dwRows = 512;     // rows per invocation (a multiple of dwU)
-  uint32_t fused = 1;        // 1: a narrow NeRF MLP's forward runs as one kernel (mlp_nerf_fused.comp)
+  // Bit 0: a narrow NeRF MLP's inference (rendering, the occupancy update) runs as one kernel
+  // (mlp_nerf_fused.comp), bit 1: its forward with the activations kept (training) too. On
+  // lavapipe the fused inference is ~1.35x faster than the layers; with the activations kept it
+  // was no faster and costs ~10 s more first-run compile, so training stays layered.
+  uint32_t fused = 1;
   uint32_t fusedRows = 8;    // rows per invocation, fused forward
   uint32_t fusedBlock = 4;   // output columns per block, fused forward (multiple of 4)
   // Bit 0: unroll the fused forward's output blocks for inference, bit 1: when keeping activations.
-  // On lavapipe unrolling makes inference ~1.4x faster; with the activations kept (training) it
-  // gained ~10%, not worth another ~25 s of first-run compile on every fresh machine.
-  uint32_t fusedUnroll = 1;
+  // On lavapipe unrolling makes inference another ~1.45x faster, but its first compile takes ~45 s
+  // and ~190 MB on a fresh machine, and loading it from Mesa's cache ~1.2 s a process: it pays
+  // only for long renders, so it is off by default (docs/performance.md).
+  uint32_t fusedUnroll = 0;
   static MlpTuning forDevice(const Context& ctx);
 };
 

@@ -93,10 +93,10 @@ void NerfMlp::setChunkRows(uint32_t rows) {
   scratch_.reset();
 }
 
-bool NerfMlp::fusedForward() const {
+bool NerfMlp::fusedForward(bool keep) const {
   uint64_t multiplyAdds = 0;
   for (const auto& l : shape_.layers) multiplyAdds += uint64_t(l.k4()) * l.n4();
-  return tuning_.fused && config_.skipLayer == 0 && config_.depth <= kMaxFusedDepth && config_.width <= kMaxFusedWidth &&
+  return ((tuning_.fused >> (keep ? 1 : 0)) & 1u) && config_.skipLayer == 0 && config_.depth <= kMaxFusedDepth && config_.width <= kMaxFusedWidth &&
          multiplyAdds * tuning_.fusedRows <= kMaxFusedMultiplyAdds;
 }
 
@@ -107,7 +107,7 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (keep && keep->capacity_ < count)
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
-  if (fusedForward()) return recordFusedForward(rec, count, params, pos, dir, out, keep, rowLimit);
+  if (fusedForward(keep != nullptr)) return recordFusedForward(rec, count, params, pos, dir, out, keep, rowLimit);
   if (!keep && !scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
   Workspace& ws = keep ? *keep : *scratch_;
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;

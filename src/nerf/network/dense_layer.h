@@ -29,7 +29,7 @@ struct MlpTuning {
   // Bit 0: a narrow NeRF MLP's inference (rendering, the occupancy update) runs as one kernel
   // (mlp_nerf_fused.comp), bit 1: its forward with the activations kept (training) too. On
   // lavapipe the fused inference is ~1.35x faster than the layers; with the activations kept it
-  // was no faster and costs ~10 s more first-run compile, so training stays layered.
+  // was no faster, so training stays layered (docs/performance.md).
   uint32_t fused = 1;
   uint32_t fusedRows = 8;    // rows per invocation, fused forward
   uint32_t fusedBlock = 4;   // output columns per block, fused forward (multiple of 4)

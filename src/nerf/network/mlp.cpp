@@ -16,6 +16,9 @@ struct FusedPush {  // mlp_nerf_fused.comp
   uint32_t count, strideP4, strideD4, strideOut4, limitBase;
 };
 
+// MlpTuning's per-variant masks: bit 0 inference, bit 1 with the activations kept.
+uint32_t variantBit(uint32_t mask, bool keep) { return (mask >> (keep ? 1 : 0)) & 1u; }
+
 struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
   uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4, limitBase;
 };
@@ -96,8 +99,8 @@ void NerfMlp::setChunkRows(uint32_t rows) {
 bool NerfMlp::fusedForward(bool keep) const {
   uint64_t multiplyAdds = 0;
   for (const auto& l : shape_.layers) multiplyAdds += uint64_t(l.k4()) * l.n4();
-  return ((tuning_.fused >> (keep ? 1 : 0)) & 1u) && config_.skipLayer == 0 && config_.depth <= kMaxFusedDepth && config_.width <= kMaxFusedWidth &&
-         multiplyAdds * tuning_.fusedRows <= kMaxFusedMultiplyAdds;
+  return variantBit(tuning_.fused, keep) && config_.skipLayer == 0 && config_.depth <= kMaxFusedDepth &&
+         config_.width <= kMaxFusedWidth && multiplyAdds * tuning_.fusedRows <= kMaxFusedMultiplyAdds;
 }
 
 void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
@@ -152,7 +155,7 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::
                               {tuning_.local, tuning_.fusedRows, posStride(), dirStride(), W, D, V, uint32_t(config_.density),
                                keep ? 1u : 0u, tuning_.fusedBlock, off4(shape_.trunk(0)), off4(shape_.trunk(D > 1 ? 1 : 0)),
                                off4(shape_.feature()), off4(shape_.colour()), off4(shape_.head()),
-                               (tuning_.fusedUnroll >> (keep ? 1 : 0)) & 1u}});
+                               variantBit(tuning_.fusedUnroll, keep)}});
   }
   // The rows of one chunk bind within the device's limits; nothing lives between layers, so a batch
   // without a workspace needs no scratch rows either.

@@ -282,6 +282,49 @@ TEST_F(MlpNerf, InferenceWithoutWorkspaceMatchesTraining) {
   expectNear(inferNerf(ctx(), mlp, c.count, data), ref.out, kFwdRel, kFwdAbs, "out");
 }
 
+// The density alone (mlp_nerf_density.comp after the trunk): against the reference's sigma with the
+// forward tolerance, and against the full forward's sigma to the rounding of one operation (the same
+// sums in another kernel: the driver may contract a multiply-add in one and not the other, as in
+// FusedForwardMatchesTheLayeredOne). Shapes: a skip connection and softplus density over 64-row
+// chunks (3 chunks, the last partial); the fast model's narrow feature with truncated exp; two trunk
+// layers and a full-width feature, truncated exp. (ReLU would leave these initial fields at 0.)
+// The floats past the batch keep their sentinel.
+TEST_F(MlpNerf, DensityAloneMatchesTheForward) {
+  struct Case {
+    nerf::MlpConfig cfg;
+    uint32_t chunkRows;
+  };
+  nerf::MlpConfig fast;
+  fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
+  fast.density = DensityActivation::TruncExp, fast.seed = 5;
+  nerf::MlpConfig wide = smallNerf(DensityActivation::TruncExp);
+  wide.skipLayer = 0, wide.depth = 2;
+  const Case cases[] = {{smallNerf(DensityActivation::Softplus), 64}, {fast, 0}, {wide, 0}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(testing::Message() << "depth " << k.cfg.depth << ", width " << k.cfg.width << ", feature "
+                                    << k.cfg.featureWidth << ", skip " << k.cfg.skipLayer);
+    nerf::NerfMlp mlp(ctx(), k.cfg);
+    if (k.chunkRows) mlp.setChunkRows(k.chunkRows);
+    NerfCase c{k.cfg, 150, 1.0f, 1.0f, 0, false};
+    const auto data = makeData(mlp, c);
+    auto params = gpu::Buffer::of(ctx(), data.params);
+    auto pos = gpu::Buffer::of(ctx(), data.pos);
+    auto density = gpu::Buffer::of(ctx(), std::vector<float>(c.count + 5, -7.0f));
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { mlp.recordDensity(rec, c.count, params, pos, density); });
+    const auto got = density.download<float>(c.count + 5);
+    const auto ref = referenceNerf(mlp, c, data);
+    const auto full = inferNerf(ctx(), mlp, c.count, data);
+    std::vector<double> refSigma(c.count), fullSigma(c.count);
+    for (uint32_t i = 0; i < c.count; ++i) refSigma[i] = ref.out[4 * i + 3], fullSigma[i] = full[4 * i + 3];
+    const std::vector<float> gotSigma(got.begin(), got.begin() + c.count);
+    expectNear(gotSigma, refSigma, kFwdRel, kFwdAbs, "density against the reference");
+    constexpr double kRounding = 1e-6;
+    expectNear(gotSigma, fullSigma, kRounding, kRounding * maxAbs(fullSigma), "density against the full forward");
+    EXPECT_GT(maxAbs(refSigma), 0.0);  // not a field of zeros
+    for (uint32_t i = c.count; i < c.count + 5; ++i) EXPECT_EQ(got[i], -7.0f) << i;
+  }
+}
+
 // The fused forward (mlp_nerf_fused.comp) sums each layer in the layered kernels' order
 // (network/dense_block.glsl), so it agrees with the layered path to the rounding of a single
 // operation: the driver may contract a multiply and an add into one fused multiply-add in one

@@ -12,6 +12,10 @@ struct HeadPush {  // mlp_nerf_head.comp
   uint32_t count, strideC4, strideF4, strideOut4, limitBase;
 };
 
+struct DensityPush {  // mlp_nerf_density.comp
+  uint32_t count, strideH4, limitBase;
+};
+
 struct FusedPush {  // mlp_nerf_fused.comp
   uint32_t count, strideP4, strideD4, strideOut4, limitBase;
 };
@@ -138,6 +142,37 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     layers_[D + 1].recordForward(rec, n, params, F, d, C, L, "nerf colour");
     gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range}, HeadPush{n, C.stride / 4, F.stride / 4, 1, 0},
                          head, gpu::groupsFor(n, kHeadLocal), "nerf head");
+  });
+}
+
+void NerfMlp::recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
+                            const gpu::BufferRange& pos, const gpu::BufferRange& density) {
+  if (count == 0) return;
+  if (gpu::boundBytes(density) < VkDeviceSize(count) * 4)
+    throw Error("NeRF MLP: the density buffer holds fewer than " + std::to_string(count) + " floats");
+  if (!scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
+  const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
+  const ref::DenseShape& feature = shape_.feature();
+  if (!density_) {
+    if (feature.kb != 0) throw Error("NeRF MLP: the density alone needs a feature layer with one input");
+    density_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_density,
+                              {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
+                               gpu::Binding::Storage},
+                              sizeof(DensityPush),
+                              {tuning_.local, tuning_.rows, feature.ka4(), feature.n4(), V, uint32_t(feature.offset / 4),
+                               uint32_t(config_.density)}});
+  }
+  const uint32_t chunk = std::min(chunkRows_, scratch_->capacity_);
+  const uint32_t rowsPerGroup = tuning_.local * tuning_.rows;  // the dense layers' and the density kernel's
+  limited_.begin(rec, nullptr, count, chunk, {rowsPerGroup});
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
+    Mat p = Mat{pos, posStride()}.rows(first, n);
+    const gpu::LimitedRows L = limited_.rows(c, 0);
+    auto H = [&](uint32_t l) { return Mat{scratch_->h_[l % 2], W}.rows(0, n); };
+    for (uint32_t l = 0; l < D; ++l) layers_[l].recordForward(rec, n, params, l ? H(l - 1) : p, p, H(l), L, "nerf trunk");
+    gpu::dispatchLimited(rec, *density_, {H(D - 1).range, params, gpu::rowsOf(density, 4, first, n)},
+                         DensityPush{n, W / 4, 0}, L, gpu::groupsFor(n, rowsPerGroup), "nerf density");
   });
 }
 

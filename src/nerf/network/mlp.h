@@ -68,6 +68,12 @@ class NerfMlp {
   void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
                      const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keepForBackward,
                      const gpu::BufferRange* rowLimit = nullptr);
+  // density[i] = the density of row i (after the density activation), one float a row: the trunk
+  // and the feature layer's sigma column only (mlp_nerf_density.comp), for callers that need no
+  // colour (the occupancy update, a mesh's density grid). The same sums as recordForward's sigma;
+  // uses the internal scratch, as recordForward without a workspace does.
+  void recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
+                     const gpu::BufferRange& density);
   // grads += dL/dparams for the batch last run forward into `ws` (out: what that forward wrote).
   // dPos (optional, posStride() per row) receives dL/dgamma(x), overwritten. rowLimit (optional): as
   // recordForward; the rows at and past it add nothing to grads and leave dPos untouched.
@@ -102,7 +108,7 @@ class NerfMlp {
   ref::NerfShape shape_;
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
-  std::unique_ptr<gpu::Kernel> head_, headBackward_;
+  std::unique_ptr<gpu::Kernel> head_, headBackward_, density_;
   std::unique_ptr<gpu::Kernel> fused_[2];  // the fused forward without / with the activations kept
   gpu::LimitedDispatch limited_;          // the forward's workgroup counts under a row limit
   gpu::LimitedDispatch limitedBackward_;  // the backward's

@@ -1,0 +1,49 @@
+#version 450
+// The NeRF MLP's density alone, from the trunk's last output: sigma is column V of the feature
+// layer (its bias plus h . W[:, V]), through the density activation. The occupancy update and a
+// mesh's density grid need nothing else, so the other feature columns, the colour layer and the
+// head are skipped: for the fast model that is 4 of the feature layer's V + 4 columns, and no
+// colour work at all. The sums are mlp_dense.comp's (dense_block.glsl, the 4-column block that
+// holds sigma), so sigma comes out as the full forward computes it.
+//
+// Layouts: src/reference/network/mlp.h (NerfShape). Rows past `count` read the last row and store
+// nothing.
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
+#include "network/mlp_common.glsl"
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint R = 4;        // rows per invocation
+layout(constant_id = 2) const uint K4 = 64;      // the trunk's width: the feature layer's input
+layout(constant_id = 3) const uint N4 = 68;      // the feature layer's padded width (V + 4)
+layout(constant_id = 4) const uint V = 64;       // sigma's column (a multiple of 4)
+layout(constant_id = 5) const uint WOFF4 = 0;    // vec4 offset of the feature layer's weights
+layout(constant_id = 6) const uint DENSITY = 0;  // MLP_DENSITY_*
+
+layout(binding = 0, rgba32f) uniform readonly imageBuffer H;  // the trunk's last output
+layout(binding = 1, rgba32f) uniform readonly imageBuffer P;
+layout(std430, binding = 2) writeonly buffer Density { float density[]; };
+#include "network/dense_block.glsl"  // after R and P
+#define ROW_LIMIT_BINDING 3
+#include "gpu/row_limit.glsl"
+
+layout(push_constant) uniform Push {
+  uint count;
+  uint strideH4;   // row stride of H in vec4
+  uint limitBase;  // row_limit.glsl
+} pc;
+
+void main() {
+  uint row0 = gl_GlobalInvocationID.x;
+  uint count = limitedRows(pc.count, pc.limitBase);
+  uint G = denseRowStride(count, pc.count);
+  if (row0 >= G) return;
+  float x[R][K4];
+  DENSE_LOAD_ROWS(x, H, K4, pc.strideH4, row0, G, count)
+  float acc[R][4];  // sigma, then the feature layer's 3 zero padding columns
+  DENSE_ACCUMULATE(acc, 4u, V, x, K4, x, 0u, WOFF4, N4)
+  [[unroll]] for (uint r = 0; r < R; r++) {
+    uint row = row0 + r * G;
+    if (row < count) density[row] = mlpDensity(DENSITY, acc[r][0]);
+  }
+}

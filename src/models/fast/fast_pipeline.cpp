@@ -51,9 +51,9 @@ uint32_t sampleCapacityFor(const FastModel& m, uint32_t rayCapacity, bool traini
   return uint32_t(std::min<uint64_t>(std::max(minimum, wanted), 1ull << 28));
 }
 
-// A training pipeline runs its forward with the activations kept layer by layer (MlpTuning::fused),
-// and its inference (the occupancy update) with the same kernels: a fused inference kernel would
-// be another pipeline to compile (~20 s on a fresh lavapipe) for ~1% of the step's time.
+// A training pipeline runs its forward with the activations kept layer by layer (MlpTuning::fused);
+// its occupancy update needs only the density (NerfMlp::recordDensity: the same trunk kernels and
+// a small sigma kernel), so no fused inference kernel is compiled for it (~20 s on a fresh lavapipe).
 MlpTuning mlpTuningFor(const Context& ctx, bool training) {
   MlpTuning t = MlpTuning::forDevice(ctx);
   if (training && !(t.fused & 2u)) t.fused = 0;
@@ -135,11 +135,11 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
     partials_ = gpu::Buffer::zeros(ctx, gpu::groupsFor(rayCapacity_, PhotometricLoss::kRaysPerPartial) * 4);
     dPos_ = gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * mlp_.posStride() * 4, "the encoding gradients");
     occPoints_ = std::min(grid_.numCells(), kMaxOccupancyPoints);
-    occField_ = FieldBatch(ctx, mlp_, occPoints_, false);
+    occPositions_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * kPointBytes, "the occupancy update's points");
+    occFeatures_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * mlp_.posStride() * 4,
+                                      "the occupancy update's position encodings");
+    occDensity_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4, "the occupancy update's densities");
     occCells_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4);
-    std::vector<float> up(size_t(occPoints_) * 4, 0.0f);
-    for (size_t i = 0; i < occPoints_; ++i) up[i * 4 + 2] = 1.0f;  // any unit direction: sigma ignores it
-    occField_.directions.upload(up);
     if (model_.earlyTermination) keptCounts_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4);
   }
   gpu::Recorder rec(ctx);
@@ -225,23 +225,24 @@ void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t cou
 
 void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   const uint32_t seed = ref::pcgHash(config_.seed * 31u + step + 0x5bd1e995u);
-  FieldBatch& f = occField_;
   uint32_t count;
   if (step < model_.gridWarmupSteps && grid_.numCells() <= occPoints_) {
     count = grid_.numCells();
-    grid_.recordAllCellPoints(rec, seed, f.positions, occCells_);
+    grid_.recordAllCellPoints(rec, seed, occPositions_, occCells_);
   } else {
     // After warm-up a quarter of the cells per update (with repetition) keeps up with the field.
     count = step < model_.gridWarmupSteps ? occPoints_ : std::max(1u, occPoints_ / 4);
-    grid_.recordRandomCellPoints(rec, seed, count, f.positions, occCells_);
+    grid_.recordRandomCellPoints(rec, seed, count, occPositions_, occCells_);
   }
   // instant-ngp's threshold: the density at which one step is 1% opaque, or the grid's mean density
   // (before this update, computed on the device; a cell no camera sees counts as 0) when that is
   // lower, so that a young field whose densities are all small is not declared empty everywhere
   // (nothing would be sampled, and nothing learnt).
   const float threshold = OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
-  recordFieldAt(rec, f, count);
-  grid_.recordUpdate(rec, occCells_, f.field, count, kOccupancyDecay, threshold, 4, 3, true);
+  // The density alone: the colour branch would cost more than the trunk and is not looked at.
+  hash_.recordForward(rec, count, occPositions_, table_.params(), occFeatures_, mlp_.posStride(), 0);
+  mlp_.recordDensity(rec, count, network_.params(), occFeatures_, occDensity_);
+  grid_.recordUpdate(rec, occCells_, occDensity_, count, kOccupancyDecay, threshold, 1, 0, true);
 }
 
 FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {

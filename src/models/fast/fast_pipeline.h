@@ -109,10 +109,9 @@ class FastPipeline final : public FieldPipeline {
   gpu::Buffer weights_, dPos_;
   gpu::Buffer wholeRays_;  // a batch's rays that fit the sample capacity whole (device-written; training and render)
   uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;
-  // occupancy update (training): jittered points in cells and the field there
+  // occupancy update (training): jittered points in cells, their encodings and the density there
   uint32_t occPoints_ = 0;
-  FieldBatch occField_;
-  gpu::Buffer occCells_;
+  gpu::Buffer occPositions_, occFeatures_, occDensity_, occCells_;
 
   uint32_t raysNext_;  // adaptive ray count of the next training step
   double lastSamplesPerRay_ = 0;

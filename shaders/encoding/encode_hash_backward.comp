@@ -56,6 +56,9 @@ void main() {
   for (uint g = 0u; g < GROUPS; ++g) {
     vec4 d = imageLoad(dFeatures, int(src + g * GROUP_VEC4));
     vec4 d2 = GROUP_VEC4 == 2u ? imageLoad(dFeatures, int(src + g * GROUP_VEC4 + 1u)) : vec4(0.0);
+    // A sample behind a ray's early-termination cut has a gradient of exactly 0: its lane issues
+    // none of the group's atomics (each is a loop over the active lanes on lavapipe).
+    if (all(equal(d, vec4(0.0))) && all(equal(d2, vec4(0.0)))) continue;
     [[unroll]] for (uint lg = 0u; lg < GROUP; ++lg) {
       uint l = g * GROUP + lg;
       if (l < LEVELS) {

@@ -31,7 +31,7 @@ using HashGridConfig = ref::HashGridConfig;
 // SortReduce is for devices without float atomics (it needs none) and where a deterministic
 // gradient matters; SubgroupMerged for devices where contended coarse-level atomics are slow.
 enum class HashBackwardMode : uint32_t {
-  Atomic = 0,          // one float atomicAdd per lane, corner and feature
+  Atomic = 0,          // one float atomicAdd per lane, corner and feature (none for an all-zero level group)
   SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic
   // Counting sort of the contributions by table entry (uint atomics), then a per-entry sum in exact
   // fixed point: deterministic, no float atomics (so also on devices without them). A non-finite

@@ -26,7 +26,7 @@ struct MlpTuning {
   uint32_t dwKT = 16, dwNT = 16;  // weight-gradient tile per invocation (multiples of 4)
   uint32_t dwU = 2;          // rows summed per loop iteration
   uint32_t dwRows = 512;     // rows per invocation (a multiple of dwU)
-  // Bit 0: a narrow NeRF MLP's inference (rendering, the occupancy update) runs as one kernel
+  // Bit 0: a narrow NeRF MLP's inference (rendering, exporters' queries) runs as one kernel
   // (mlp_nerf_fused.comp), bit 1: its forward with the activations kept (training) too. On
   // lavapipe the fused inference is ~1.35x faster than the layers; with the activations kept it
   // was no faster, so training stays layered (docs/performance.md).

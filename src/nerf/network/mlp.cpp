@@ -115,10 +115,9 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
   if (keep && keep->capacity_ < count)
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
   if (fusedForward(keep != nullptr)) return recordFusedForward(rec, count, params, pos, dir, out, keep, rowLimit);
-  if (!keep && !scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
-  Workspace& ws = keep ? *keep : *scratch_;
+  Workspace& ws = keep ? *keep : inferenceScratch();
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
-  const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, scratch_->capacity_);
+  const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, ws.capacity_);
   if (!head_) {
     const auto& h = shape_.head();
     head_ = std::make_unique<gpu::Kernel>(
@@ -135,10 +134,9 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     Mat p = Mat{pos, posStride()}.rows(first, n), d = Mat{dir, dirStride()}.rows(first, n);
     Mat o = Mat{out, 4}.rows(first, n);
     const gpu::LimitedRows L = limited_.rows(c, 0), head = limited_.rows(c, 1);
-    auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], W}.rows(row, n); };
     Mat F = Mat{ws.f_, V + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
-    for (uint32_t l = 0; l < D; ++l) layers_[l].recordForward(rec, n, params, l ? H(l - 1) : p, p, H(l), L, "nerf trunk");
-    layers_[D].recordForward(rec, n, params, H(D - 1), H(D - 1), F, L, "nerf feature+sigma");
+    const Mat h = recordTrunk(rec, n, params, p, ws, row, L);
+    layers_[D].recordForward(rec, n, params, h, h, F, L, "nerf feature+sigma");
     layers_[D + 1].recordForward(rec, n, params, F, d, C, L, "nerf colour");
     gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range}, HeadPush{n, C.stride / 4, F.stride / 4, 1, 0},
                          head, gpu::groupsFor(n, kHeadLocal), "nerf head");
@@ -150,8 +148,8 @@ void NerfMlp::recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
   if (count == 0) return;
   if (gpu::boundBytes(density) < VkDeviceSize(count) * 4)
     throw Error("NeRF MLP: the density buffer holds fewer than " + std::to_string(count) + " floats");
-  if (!scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
-  const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
+  Workspace& ws = inferenceScratch();
+  const uint32_t W = config_.width, V = shape_.featureWidth;
   const ref::DenseShape& feature = shape_.feature();
   if (!density_) {
     if (feature.kb != 0) throw Error("NeRF MLP: the density alone needs a feature layer with one input");
@@ -163,17 +161,29 @@ void NerfMlp::recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
                               {tuning_.local, tuning_.rows, feature.ka4(), feature.n4(), V, uint32_t(feature.offset / 4),
                                uint32_t(config_.density)}});
   }
-  const uint32_t chunk = std::min(chunkRows_, scratch_->capacity_);
-  const uint32_t rowsPerGroup = tuning_.local * tuning_.rows;  // the dense layers' and the density kernel's
+  const uint32_t chunk = std::min(chunkRows_, ws.capacity_);
+  const uint32_t rowsPerGroup = layers_[0].rowsPerGroup();  // the density kernel's too (same tuning)
   limited_.begin(rec, nullptr, count, chunk, {rowsPerGroup});
   gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
-    Mat p = Mat{pos, posStride()}.rows(first, n);
     const gpu::LimitedRows L = limited_.rows(c, 0);
-    auto H = [&](uint32_t l) { return Mat{scratch_->h_[l % 2], W}.rows(0, n); };
-    for (uint32_t l = 0; l < D; ++l) layers_[l].recordForward(rec, n, params, l ? H(l - 1) : p, p, H(l), L, "nerf trunk");
-    gpu::dispatchLimited(rec, *density_, {H(D - 1).range, params, gpu::rowsOf(density, 4, first, n)},
+    const Mat h = recordTrunk(rec, n, params, Mat{pos, posStride()}.rows(first, n), ws, 0, L);
+    gpu::dispatchLimited(rec, *density_, {h.range, params, gpu::rowsOf(density, 4, first, n)},
                          DensityPush{n, W / 4, 0}, L, gpu::groupsFor(n, rowsPerGroup), "nerf density");
   });
+}
+
+NerfMlp::Workspace& NerfMlp::inferenceScratch() {
+  if (!scratch_) scratch_.reset(new Workspace(ctx_, *this, std::min(chunkRows_, kInferenceRows), false));
+  return *scratch_;
+}
+
+Mat NerfMlp::recordTrunk(gpu::Recorder& rec, uint32_t n, const gpu::BufferRange& params, const Mat& pos, Workspace& ws,
+                         uint32_t row, const gpu::LimitedRows& limited) {
+  // Kept activations: one buffer a layer; otherwise two, alternating.
+  auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], config_.width}.rows(row, n); };
+  for (uint32_t l = 0; l < config_.depth; ++l)
+    layers_[l].recordForward(rec, n, params, l ? H(l - 1) : pos, pos, H(l), limited, "nerf trunk");
+  return H(config_.depth - 1);
 }
 
 void NerfMlp::recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,

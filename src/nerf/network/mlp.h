@@ -70,8 +70,8 @@ class NerfMlp {
                      const gpu::BufferRange* rowLimit = nullptr);
   // density[i] = the density of row i (after the density activation), one float a row: the trunk
   // and the feature layer's sigma column only (mlp_nerf_density.comp), for callers that need no
-  // colour (the occupancy update, a mesh's density grid). The same sums as recordForward's sigma;
-  // uses the internal scratch, as recordForward without a workspace does.
+  // colour (the occupancy update). The same sums as recordForward's sigma; uses the internal
+  // scratch, as recordForward without a workspace does.
   void recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
                      const gpu::BufferRange& density);
   // grads += dL/dparams for the batch last run forward into `ws` (out: what that forward wrote).
@@ -99,6 +99,11 @@ class NerfMlp {
   bool fusedForward(bool keep) const;
 
  private:
+  Workspace& inferenceScratch();  // the activations of a forward without a workspace
+  // The trunk over rows [row, row + n) of ws's activations (pos: those rows' encodings); returns
+  // the last trunk layer's output.
+  Mat recordTrunk(gpu::Recorder& rec, uint32_t n, const gpu::BufferRange& params, const Mat& pos, Workspace& ws,
+                  uint32_t row, const gpu::LimitedRows& limited);
   void recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
                           const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keep,
                           const gpu::BufferRange* rowLimit);

@@ -1,9 +1,10 @@
 #version 450
 // The NeRF MLP's density alone, from the trunk's last output: sigma is column V of the feature
 // layer (its bias plus h . W[:, V]), through the density activation. The occupancy update needs
-// nothing else, so the other feature columns, the colour layer and the head are skipped: for the fast model that is 4 of the feature layer's V + 4 columns, and no
-// colour work at all. The sums are mlp_dense.comp's (dense_block.glsl, the 4-column block that
-// holds sigma), so sigma comes out as the full forward computes it.
+// nothing else, so the other feature columns, the colour layer and the head are skipped: for the
+// fast model that is 4 of the feature layer's V + 4 columns, and no colour work at all. The sums
+// are mlp_dense.comp's (dense_block.glsl, the 4-column block that holds sigma), so sigma comes
+// out as the full forward computes it.
 //
 // Layouts: src/reference/network/mlp.h (NerfShape). Rows past `count` read the last row and store
 // nothing.

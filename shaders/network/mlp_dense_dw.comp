@@ -28,13 +28,16 @@ layout(constant_id = 9) const bool ONES = false;
 layout(binding = 0, rgba32f) uniform readonly imageBuffer X;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer DZ;
 layout(std430, binding = 2) buffer Grads { float g[]; };
-#define ROW_LIMIT_BINDING 3
+#define ROW_GATHER_BINDING 3
+#include "gpu/row_gather.glsl"  // X (the forward's activations) at the gathered rows
+#define ROW_LIMIT_BINDING 4
 #include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideX4, strideZ4;  // row strides in vec4
   uint iters;
+  uint gather;              // row_gather.glsl
   uint limitBase;           // row_limit.glsl
 } pc;
 
@@ -60,8 +63,9 @@ void main() {
       if (ONES) {
         x[u][0] = valid;
       } else {
+        uint bx = gatheredRow(bc, pc.gather);
         [[unroll]] for (uint q = 0; q < KT / 4u; q++) {
-          vec4 v = imageLoad(X, int(bc * pc.strideX4 + k0 / 4u + q)) * valid;
+          vec4 v = imageLoad(X, int(bx * pc.strideX4 + k0 / 4u + q)) * valid;
           x[u][4 * q] = v.x; x[u][4 * q + 1] = v.y; x[u][4 * q + 2] = v.z; x[u][4 * q + 3] = v.w;
         }
       }

@@ -24,12 +24,15 @@ layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) buffer DA { vec4 da4[]; };
 layout(std430, binding = 4) buffer DB { vec4 db4[]; };
 #include "network/dense_block.glsl"  // after R and P
-#define ROW_LIMIT_BINDING 5
+#define ROW_GATHER_BINDING 5
+#include "gpu/row_gather.glsl"  // A (the forward's activations) at the gathered rows
+#define ROW_LIMIT_BINDING 6
 #include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideZ4, strideA4, strideDA4, strideDB4;  // row strides in vec4
+  uint gather;                                    // row_gather.glsl
   uint limitBase;                                 // row_limit.glsl
 } pc;
 
@@ -54,6 +57,9 @@ void main() {
   float dz[R][N4];
   DENSE_LOAD_ROWS(dz, DZ, N4, pc.strideZ4, row0, G, count)
   if (MODE_A != 0u) {
+    uint arow[R];  // the rows of A (read for the ReLU mask only)
+    [[unroll]] for (uint r = 0; r < R; r++)
+      arow[r] = MODE_A == 2u ? gatheredRow(min(row0 + r * G, count - 1u), pc.gather) : 0u;
     [[dont_unroll]] for (uint k0 = 0; k0 < KA4; k0 += KBLK) {
       DX_BLOCK(KBLK, 0u, k0)
       [[unroll]] for (uint r = 0; r < R; r++) {
@@ -62,7 +68,8 @@ void main() {
           [[unroll]] for (uint kk = 0; kk < KBLK; kk += 4) {
             vec4 v = vec4(acc[r][kk], acc[r][kk + 1], acc[r][kk + 2], acc[r][kk + 3]);
             uint i = row * pc.strideDA4 + (k0 + kk) / 4u;
-            if (MODE_A == 2u) v *= vec4(greaterThan(imageLoad(A, int(row * pc.strideA4 + (k0 + kk) / 4u)), vec4(0.0)));
+            if (MODE_A == 2u)
+              v *= vec4(greaterThan(imageLoad(A, int(arow[r] * pc.strideA4 + (k0 + kk) / 4u)), vec4(0.0)));
             if (MODE_A == 3u) v += da4[i];
             da4[i] = v;
           }

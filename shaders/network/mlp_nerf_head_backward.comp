@@ -21,12 +21,15 @@ layout(binding = 4, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 5) writeonly buffer DZH { vec4 dzh4[]; };
 layout(std430, binding = 6) writeonly buffer DF { vec4 df4[]; };
 layout(std430, binding = 7) writeonly buffer DC { vec4 dc4[]; };
-#define ROW_LIMIT_BINDING 8
+#define ROW_GATHER_BINDING 8
+#include "gpu/row_gather.glsl"  // the forward's rows (DOut, Out, C, F) at the gathered rows
+#define ROW_LIMIT_BINDING 9
 #include "gpu/row_limit.glsl"
 
 layout(push_constant) uniform Push {
   uint count;
   uint strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
+  uint gather;     // row_gather.glsl
   uint limitBase;  // row_limit.glsl: the rows at and past the device limit are left untouched
 } pc;
 
@@ -34,7 +37,7 @@ void main() {
   uint row = gl_GlobalInvocationID.x;
   uint count = limitedRows(pc.count, pc.limitBase);
   if (count == 0u) return;
-  uint rc = min(row, count - 1u);
+  uint rc = gatheredRow(min(row, count - 1u), pc.gather);
   vec4 g = imageLoad(DOut, int(rc * pc.strideDOut4));
   vec4 o = imageLoad(Out, int(rc * pc.strideOut4));
   vec4 dzh = vec4(g.xyz * o.xyz * (1.0 - o.xyz), 0.0);

@@ -14,10 +14,10 @@ struct RowPush {  // mlp_dense.comp
 };
 
 struct DxPush {  // mlp_dense_dx.comp
-  uint32_t count, strideZ4, strideA4, strideDA4, strideDB4, limitBase;
+  uint32_t count, strideZ4, strideA4, strideDA4, strideDB4, gather, limitBase;
 };
 struct DwPush {  // mlp_dense_dw.comp
-  uint32_t count, strideX4, strideZ4, iters, limitBase;
+  uint32_t count, strideX4, strideZ4, iters, gather, limitBase;
 };
 
 // Largest of `preferred`, 8, 4 that divides n (n is a multiple of 4).
@@ -103,7 +103,8 @@ void DenseLayer::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Bu
 
 void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz,
                                      const Mat& a, GradMode modeA, const Mat& da, GradMode modeB, const Mat& db,
-                                     const gpu::LimitedRows& limited, const char* label) {
+                                     const gpu::LimitedRows& limited, const gpu::BufferRange* gather,
+                                     const char* label) {
   const auto& s = shape_;
   if (s.kb == 0) modeB = GradMode::Skip;
   if (count == 0 || (modeA == GradMode::Skip && modeB == GradMode::Skip)) return;
@@ -113,7 +114,7 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const g
   if (it == dx_.end()) {
     gpu::KernelDesc d{gpu::shaders::mlp_dense_dx,
                       {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
-                       gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                       gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                       sizeof(DxPush),
                       {t_.local, s.ka4(), s.kb4(), s.n4(), u32(s.offset / 4, "weight offset"), t_.dxRows,
                        blockFor(s.ka4(), t_.dxBlock), uint32_t(modeA), uint32_t(modeB)}};
@@ -122,8 +123,9 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const g
   const Mat& aa = modeA == GradMode::StoreReluMasked ? a : dz;
   const Mat& daa = modeA != GradMode::Skip ? da : db;
   const Mat& dbb = modeB != GradMode::Skip ? db : da;
-  DxPush p{count, dz.stride / 4, aa.stride / 4, daa.stride / 4, dbb.stride / 4, 0};
-  gpu::dispatchLimited(rec, it->second, {dz.range, aa.range, params, daa.range, dbb.range}, p, limited,
+  DxPush p{count, dz.stride / 4, aa.stride / 4, daa.stride / 4, dbb.stride / 4, gather ? 1u : 0u, 0};
+  gpu::dispatchLimited(rec, it->second, {dz.range, aa.range, params, daa.range, dbb.range, gather ? *gather : dz.range},
+                       p, limited,
                        gpu::groupsFor(count, dxRowsPerGroup()), label);
 }
 
@@ -137,7 +139,7 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
     if (nw == 0) return;
     gpu::KernelDesc d{gpu::shaders::mlp_dense_dw,
                       {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
-                       gpu::Binding::Storage},
+                       gpu::Binding::Storage, gpu::Binding::Storage},
                       sizeof(DwPush),
                       {t_.dwLocal, k4, s.n4(), n0, nw, kt, ntile, t_.dwU, u32(goff, "gradient offset"), ones ? 1u : 0u}};
     parts.push_back(std::make_unique<DwPart>(DwPart{gpu::Kernel(ctx_, std::move(d)), (k4 / kt) * (nw / ntile)}));
@@ -148,7 +150,7 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
 
 void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const Mat& a, const Mat& b, const Mat& dz,
                                        const gpu::BufferRange& grads, const gpu::LimitedRows& limited,
-                                       const char* label) {
+                                       const gpu::BufferRange* gather, const char* label) {
   if (count == 0) return;
   const auto& s = shape_;
   if (dwA_.empty()) {
@@ -162,8 +164,9 @@ void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const
   iters = gpu::groupsFor(count, uint64_t(groups) * t_.dwLocal * t_.dwU);  // rebalance the last partial sweep
   auto run = [&](std::vector<std::unique_ptr<DwPart>>& parts, const Mat& x) {
     for (auto& part : parts) {
-      DwPush p{count, x.stride / 4, dz.stride / 4, iters, limited.base};
-      rec.dispatch(part->kernel, {x.range, dz.range, grads, limited.limit}, p, groups, part->tiles, 1, label);
+      DwPush p{count, x.stride / 4, dz.stride / 4, iters, gather ? 1u : 0u, limited.base};
+      rec.dispatch(part->kernel, {x.range, dz.range, grads, gather ? *gather : dz.range, limited.limit}, p, groups,
+                   part->tiles, 1, label);
     }
   };
   run(dwA_, a);

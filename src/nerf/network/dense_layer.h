@@ -65,16 +65,19 @@ class DenseLayer {
   // From dz = dL/d(pre-activation): da (ka4 columns) and db (kb4 columns) per GradMode; StoreReluMasked
   // multiplies by [a > 0]. Skipped parts need no buffer (pass any Mat). limited: as recordForward,
   // arguments recorded for dxRowsPerGroup() rows per workgroup; rows past the limit are untouched.
+  // gather (optional, uint per row): row i reads a's row gather[i] (the forward's activations of a
+  // packed batch, shaders/gpu/row_gather.glsl); dz, da and db stay packed.
   void recordBackwardInput(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz,
                            const Mat& a, GradMode modeA, const Mat& da, GradMode modeB, const Mat& db,
-                           const gpu::LimitedRows& limited, const char* label = "mlp dX");
+                           const gpu::LimitedRows& limited, const gpu::BufferRange* gather,
+                           const char* label = "mlp dX");
   uint32_t dxRowsPerGroup() const { return t_.local * t_.dxRows; }
   // grads[W, bias] += concat(a, b)^T dz, sum(dz) (float atomics: accumulates). limited: only its
   // limit and base are used (the reduction is dispatched for `count` rows, the rows at and past the
-  // limit add nothing and the sweep stops there).
+  // limit add nothing and the sweep stops there). gather: as recordBackwardInput, for a and b.
   void recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const Mat& a, const Mat& b, const Mat& dz,
                              const gpu::BufferRange& grads, const gpu::LimitedRows& limited,
-                             const char* label = "mlp dW");
+                             const gpu::BufferRange* gather, const char* label = "mlp dW");
 
  private:
   struct DwPart {

@@ -24,7 +24,7 @@ struct FusedPush {  // mlp_nerf_fused.comp
 uint32_t variantBit(uint32_t mask, bool keep) { return (mask >> (keep ? 1 : 0)) & 1u; }
 
 struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
-  uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4, limitBase;
+  uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4, gather, limitBase;
 };
 struct SigmoidBackwardPush {  // mlp_sigmoid_backward.comp
   uint32_t count, strideDY4, strideY4, strideDZ4;
@@ -224,21 +224,27 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::
 void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
                              const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
                              const gpu::BufferRange& dOut, const gpu::BufferRange& grads, Workspace& ws,
-                             const gpu::BufferRange* dPos, const gpu::BufferRange* rowLimit) {
+                             const gpu::BufferRange* dPos, const gpu::BufferRange* rowLimit,
+                             const gpu::BufferRange* rowGather) {
   if (count == 0) return;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
+
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
   if (!headBackward_) {
     const auto& h = shape_.head();
     std::vector<gpu::Binding> b(5, gpu::Binding::TexelRgba32f);
-    b.insert(b.end(), 4, gpu::Binding::Storage);
+    b.insert(b.end(), 5, gpu::Binding::Storage);
     headBackward_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head_backward, b, sizeof(HeadBackwardPush),
                               {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), V, uint32_t(config_.density)}});
   }
   const uint32_t chunk = std::min(chunkRows_, ws.scratchRows_);
+  if (rowGather && count > chunk)
+    throw Error("NeRF MLP: a gathered backward of " + std::to_string(count) + " rows does not fit one chunk of " +
+                std::to_string(chunk));
+  if (rowGather) gpu::requireBytes("NeRF MLP backward", "rowGather", *rowGather, uint64_t(count) * 4);
   // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
   limitedBackward_.begin(rec, rowLimit, count, chunk, {layers_[0].dxRowsPerGroup(), kHeadLocal});
   gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
@@ -250,26 +256,30 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], V + 4}.rows(0, n), dC = Mat{ws.dc_, W / 2}.rows(0, n);
     Mat dP = dPos ? Mat{*dPos, posStride()}.rows(first, n) : p;
 
-    HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4, 0};
-    gpu::dispatchLimited(rec, *headBackward_, {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range},
+    const gpu::BufferRange* gather = rowGather;  // one chunk: the gathered rows index the whole batch
+    HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4, gather ? 1u : 0u, 0};
+    gpu::dispatchLimited(rec, *headBackward_,
+                         {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range,
+                          gather ? *gather : dzh.range},
                          hp, head, gpu::groupsFor(n, kHeadLocal), "nerf head backward");
-    layers_[D + 2].recordBackwardWeights(rec, n, C, C, dzh, grads, L, "nerf head dW");
-    layers_[D + 1].recordBackwardWeights(rec, n, F, d, dC, grads, L, "nerf colour dW");
-    layers_[D + 1].recordBackwardInput(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, L, "nerf colour dX");
-    layers_[D].recordBackwardWeights(rec, n, H(D - 1), H(D - 1), dF, grads, L, "nerf feature+sigma dW");
+    layers_[D + 2].recordBackwardWeights(rec, n, C, C, dzh, grads, L, gather, "nerf head dW");
+    layers_[D + 1].recordBackwardWeights(rec, n, F, d, dC, grads, L, gather, "nerf colour dW");
+    layers_[D + 1].recordBackwardInput(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, L, gather,
+                                       "nerf colour dX");
+    layers_[D].recordBackwardWeights(rec, n, H(D - 1), H(D - 1), dF, grads, L, gather, "nerf feature+sigma dW");
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
     layers_[D].recordBackwardInput(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
-                                   L, "nerf feature+sigma dX");
+                                   L, gather, "nerf feature+sigma dX");
     for (uint32_t l = D; l-- > 0;) {
       Mat a = l ? H(l - 1) : p;
-      layers_[l].recordBackwardWeights(rec, n, a, p, cur, grads, L, "nerf trunk dW");
+      layers_[l].recordBackwardWeights(rec, n, a, p, cur, grads, L, gather, "nerf trunk dW");
       if (l > 0) {
         layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
-                                       dPos ? GradMode::Store : GradMode::Skip, dP, L, "nerf trunk dX");
+                                       dPos ? GradMode::Store : GradMode::Skip, dP, L, gather, "nerf trunk dX");
         std::swap(cur, other);
       } else if (dPos) {
         layers_[0].recordBackwardInput(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
-                                       GradMode::Skip, dP, L, "nerf trunk dX");
+                                       GradMode::Skip, dP, L, gather, "nerf trunk dX");
       }
     }
   });
@@ -355,17 +365,17 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buf
     int next = 0;
     for (uint32_t l = L; l-- > 0;) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].recordBackwardWeights(rec, n, a, a, cur, grads, uncut_.uncut(), "mlp dW");
+      layers_[l].recordBackwardWeights(rec, n, a, a, cur, grads, uncut_.uncut(), nullptr, "mlp dW");
       if (l > 0) {
         Mat da = Mat{ws.dz_[next], W}.rows(0, n);
         layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, uncut_.uncut(),
-                                       "mlp dX");
+                                       nullptr, "mlp dX");
         cur = da;
         next ^= 1;
       } else if (dIn) {
         Mat d = Mat{*dIn, inputStride()}.rows(first, n);
         layers_[0].recordBackwardInput(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, uncut_.uncut(),
-                                       "mlp dX");
+                                       nullptr, "mlp dX");
       }
     }
   });

@@ -77,10 +77,14 @@ class NerfMlp {
   // grads += dL/dparams for the batch last run forward into `ws` (out: what that forward wrote).
   // dPos (optional, posStride() per row) receives dL/dgamma(x), overwritten. rowLimit (optional): as
   // recordForward; the rows at and past it add nothing to grads and leave dPos untouched.
+  // rowGather (optional, uint per row): the backward runs over a packed batch whose row i is the
+  // forward's row rowGather[i] (pos, dir, out, dOut and the activations are read there; the rows
+  // early termination cut need not be computed), and dPos is written packed (row i). A gathered
+  // batch must fit one chunk (count <= chunkRows()).
   void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
                       const gpu::BufferRange& dir, const gpu::BufferRange& out, const gpu::BufferRange& dOut,
                       const gpu::BufferRange& grads, Workspace& ws, const gpu::BufferRange* dPos = nullptr,
-                      const gpu::BufferRange* rowLimit = nullptr);
+                      const gpu::BufferRange* rowLimit = nullptr, const gpu::BufferRange* rowGather = nullptr);
 
   // Rows per chunk (derived from device limits). Tests lower it to exercise chunking cheaply;
   // set it before creating workspaces.

@@ -26,6 +26,7 @@ class PackedLayout {
   PackedLayout(Context& ctx, uint32_t maxRays);
   // uint per ray: what the counting pass writes.
   const gpu::Buffer& counts() const { return counts_; }
+  gpu::Buffer& counts() { return counts_; }
   // Throws vknerf::Error for buffers too small for numRays; a stage checks them with
   // requireOutputs before it records anything, so that a bad call leaves nothing half recorded.
   static void requireOutputs(const char* stage, uint32_t numRays, const gpu::BufferRange& offsets,

@@ -140,7 +140,10 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                                       "the occupancy update's position encodings");
     occDensity_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4, "the occupancy update's densities");
     occCells_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4);
-    if (model_.earlyTermination) keptCounts_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4);
+    if (model_.earlyTermination) {
+      kept_.emplace(ctx, rayCapacity_, sampleCapacity_);
+      gatherBackward_ = sampleCapacity_ <= mlp_.chunkRows();
+    }
   }
   gpu::Recorder rec(ctx);
   rec.begin();
@@ -263,12 +266,14 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   // One field forward with activations kept over every marched sample. The compositor stops each
   // ray where the transmittance falls below 1e-4 (instant-ngp's early termination) and gives the
   // samples behind that zero gradient, so the step needs no separate pass (the field without
-  // gradients, then a compacted copy of the kept samples) and never evaluates the forward twice.
+  // gradients, then a compacted copy of the kept samples) and never evaluates the forward twice;
+  // the backward then runs over the kept samples alone, reading the forward's rows through their
+  // packed index (KeptRows).
   // The rays past the whole ones have no samples: the loss neither counts them nor gives them a gradient.
   const float maxDepth =
       model_.earlyTermination ? Compositor::maxOpticalDepth(kMinTransmittance) : Compositor::kNoTermination;
   std::optional<gpu::BufferRange> kept;
-  if (model_.earlyTermination) kept.emplace(keptCounts_, 0, VkDeviceSize(R) * 4);
+  if (kept_) kept.emplace(kept_->counts(), 0, VkDeviceSize(R) * 4);
   recordField(rec, 0, true);
   recordComposite(rec, 0, R, config_.background, maxDepth, kept ? &*kept : nullptr);
   loss_->record(rec, R, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
@@ -280,9 +285,20 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
                              &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth, model_.distortionLoss / float(R));
   if (farField_) farField_->recordBackward(rec, R, perRay, color_, dColor_);
   gpu::BufferRange dPos(dPos_);
-  mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
-                      field_.dField, network_.grads(), *field_.workspace, &dPos, &total);
-  hash_.recordBackward(rec, sampleCapacity_, field_.positions, dPos_, mlp_.posStride(), 0, table_.grads(), &total);
+  if (gatherBackward_) {
+    // The backward over the kept samples only, packed: it reads the forward's rows through their
+    // index, and the hash grid's backward reads the kept positions packed beside the encoding gradients.
+    kept_->record(rec, R, marched_.offsets, field_.positions);
+    const gpu::BufferRange rows(kept_->rows()), keptTotal = kept_->total();
+    mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
+                        field_.dField, network_.grads(), *field_.workspace, &dPos, &keptTotal, &rows);
+    hash_.recordBackward(rec, sampleCapacity_, kept_->positions(), dPos_, mlp_.posStride(), 0, table_.grads(),
+                         &keptTotal);
+  } else {
+    mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
+                        field_.dField, network_.grads(), *field_.workspace, &dPos, &total);
+    hash_.recordBackward(rec, sampleCapacity_, field_.positions, dPos_, mlp_.posStride(), 0, table_.grads(), &total);
+  }
   network_.recordOptimizerStep(rec, step);
   table_.recordOptimizerStep(rec, step);
   if (farField_) farField_->recordOptimizerStep(rec, step);
@@ -297,7 +313,7 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   marchedRays_ += rays;
   // The samples the loss saw (all marched ones without early termination).
   if (model_.earlyTermination) {
-    const auto counts = keptCounts_.download<uint32_t>(rays);
+    const auto counts = kept_->counts().download<uint32_t>(rays);
     samples = 0;
     for (uint32_t c : counts) samples += c;
   }

@@ -26,6 +26,7 @@
 #include "nerf/network/mlp.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/render/composite.h"
+#include "nerf/sampling/kept_rows.h"
 #include "nerf/sampling/packed_points.h"
 #include "nerf/sampling/ray_marcher.h"
 #include "vknerf/config.h"
@@ -102,7 +103,12 @@ class FastPipeline final : public FieldPipeline {
   std::optional<LearnedFarField> farField_;  // FarField::Learned: writes the rays' backgrounds
 
   // per ray
-  gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_, keptCounts_;
+  gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_;
+  // Early termination (training): the samples each ray kept. When the batch fits one chunk of the
+  // MLP (always, short of a huge sample budget), the backward runs over them packed (gatherBackward_);
+  // else over every marched sample, with a zero gradient behind each ray's cut.
+  std::optional<KeptRows> kept_;
+  bool gatherBackward_ = false;
   // per sample
   Packed marched_;
   FieldBatch field_;

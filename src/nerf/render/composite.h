@@ -18,7 +18,8 @@
 // sample that crosses it is kept (src/reference keptSamples). Both passes make the same decision;
 // the samples behind the cut get weight 0 and gradient 0, and the kept ones exactly what a batch
 // holding only them would get. The light they could add is below that transmittance times their
-// brightest colour; the backward, the expensive part, skips them through the zero gradient.
+// brightest colour. The backward, the expensive part, skips them: the fast model's runs over the
+// kept samples alone (nerf::KeptRows), a backward over every sample gets zeros from them.
 #include <array>
 #include <cstdint>
 #include <limits>

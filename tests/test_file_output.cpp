@@ -19,11 +19,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path tempDir(const std::string& name) {
-  auto dir = fs::temp_directory_path() / ("vknerf_output_" + std::to_string(::getpid())) / name;
-  fs::create_directories(dir);
-  return dir;
-}
+// A fresh folder of this process's under the temporary directory, removed with its contents when
+// the test ends, passed or failed (ctest runs each test in its own process).
+struct ScratchDir {
+  fs::path path;
+  explicit ScratchDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("vknerf_output_" + std::to_string(::getpid())) / name) {
+    fs::create_directories(path);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path.parent_path(), ec);
+  }
+};
 
 std::string contents(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -35,7 +43,8 @@ std::string contents(const fs::path& p) {
 }  // namespace
 
 TEST(FileOutput, ReplacesTheTargetAndLeavesNoTemporaryFile) {
-  auto dir = tempDir("replace");
+  const ScratchDir scratch("replace");
+  const fs::path& dir = scratch.path;
   const auto target = (dir / "out.json").string();
   vknerf::writeFileAtomically(target, std::string("old"));
   vknerf::writeFileAtomically(target, std::string("new content"));
@@ -54,7 +63,8 @@ TEST(FileOutput, FullDeviceIsAnErrorNamingThePath) {
 }
 
 TEST(FileOutput, MissingFolderAndFolderTargetAreErrors) {
-  auto dir = tempDir("missing");
+  const ScratchDir scratch("missing");
+  const fs::path& dir = scratch.path;
   EXPECT_THROW(vknerf::writeFileAtomically((dir / "no" / "x.csv").string(), std::string("a")), vknerf::Error);
   EXPECT_THROW(vknerf::writeFileAtomically(dir.string(), std::string("a")), vknerf::Error);
   EXPECT_THROW(vknerf::checkOutputPath((dir / "no" / "x.csv").string(), "--csv"), vknerf::Error);
@@ -66,7 +76,8 @@ TEST(FileOutput, MissingFolderAndFolderTargetAreErrors) {
 TEST(FileOutput, DepthColourMapToleratesNonFiniteDepthsAndRanges) {
   // A NaN radius or a camera at 1e39 gives NaN or infinite depths and depth ranges; the colour map
   // once used them as a table index.
-  auto dir = tempDir("depth");
+  const ScratchDir scratch("depth");
+  const fs::path& dir = scratch.path;
   vknerf::RenderedImage img;
   img.width = 4;
   img.height = 2;

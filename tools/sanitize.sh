@@ -44,7 +44,9 @@ for target in transforms_json:transforms colmap_text:colmap colmap_binary:colmap
   seeds=$FUZZ/seeds/${target##*:}
   mkdir -p "$FUZZ/corpus/$name"
   log=$FUZZ/$name.log
-  if ! "$BUILD/fuzz/fuzz_$name" -max_total_time="$FUZZ_SECONDS" -seed="$FUZZ_SEED" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  # The targets write their inputs as files under $TMPDIR; libFuzzer's exit skips their cleanup.
+  rm -rf "$FUZZ/tmp" && mkdir -p "$FUZZ/tmp"
+  if ! TMPDIR=$FUZZ/tmp "$BUILD/fuzz/fuzz_$name" -max_total_time="$FUZZ_SECONDS" -seed="$FUZZ_SEED" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
       -artifact_prefix="$FUZZ/crashes/$name-" "$FUZZ/corpus/$name" "$seeds" >"$log" 2>&1; then
     tail -n 60 "$log"
     echo "fuzz_$name: FAILED (input saved under $FUZZ/crashes/)"
@@ -53,3 +55,4 @@ for target in transforms_json:transforms colmap_text:colmap colmap_binary:colmap
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
   echo "fuzz_$name: $runs executions in $FUZZ_SECONDS s, no crash"
 done
+rm -rf "$FUZZ/tmp"

@@ -284,21 +284,18 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   compositor_.recordBackward(rec, R, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
                              &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth, model_.distortionLoss / float(R));
   if (farField_) farField_->recordBackward(rec, R, perRay, color_, dColor_);
-  gpu::BufferRange dPos(dPos_);
+  // With the kept samples packed, the backward runs over them alone: the MLP's reads the forward's
+  // rows through their index, the hash grid's reads the kept positions beside the packed encoding
+  // gradients. Else it runs over every marched sample.
+  gpu::BufferRange dPos(dPos_), positions(field_.positions), limit = total, rows;
   if (gatherBackward_) {
-    // The backward over the kept samples only, packed: it reads the forward's rows through their
-    // index, and the hash grid's backward reads the kept positions packed beside the encoding gradients.
     kept_->record(rec, R, marched_.offsets, field_.positions);
-    const gpu::BufferRange rows(kept_->rows()), keptTotal = kept_->total();
-    mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
-                        field_.dField, network_.grads(), *field_.workspace, &dPos, &keptTotal, &rows);
-    hash_.recordBackward(rec, sampleCapacity_, kept_->positions(), dPos_, mlp_.posStride(), 0, table_.grads(),
-                         &keptTotal);
-  } else {
-    mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
-                        field_.dField, network_.grads(), *field_.workspace, &dPos, &total);
-    hash_.recordBackward(rec, sampleCapacity_, field_.positions, dPos_, mlp_.posStride(), 0, table_.grads(), &total);
+    positions = kept_->positions(), limit = kept_->total(), rows = kept_->rows();
   }
+  mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
+                      field_.dField, network_.grads(), *field_.workspace, &dPos, &limit,
+                      gatherBackward_ ? &rows : nullptr);
+  hash_.recordBackward(rec, sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, table_.grads(), &limit);
   network_.recordOptimizerStep(rec, step);
   table_.recordOptimizerStep(rec, step);
   if (farField_) farField_->recordOptimizerStep(rec, step);

@@ -125,8 +125,7 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const g
   const Mat& dbb = modeB != GradMode::Skip ? db : da;
   DxPush p{count, dz.stride / 4, aa.stride / 4, daa.stride / 4, dbb.stride / 4, gather ? 1u : 0u, 0};
   gpu::dispatchLimited(rec, it->second, {dz.range, aa.range, params, daa.range, dbb.range, gather ? *gather : dz.range},
-                       p, limited,
-                       gpu::groupsFor(count, dxRowsPerGroup()), label);
+                       p, limited, gpu::groupsFor(count, dxRowsPerGroup()), label);
 }
 
 // The columns split into a main part (tiles of NT) and a 4-wide tail, each its own pipeline.

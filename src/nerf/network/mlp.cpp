@@ -228,7 +228,6 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
                              const gpu::BufferRange* rowGather) {
   if (count == 0) return;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
-
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;

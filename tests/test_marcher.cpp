@@ -425,19 +425,19 @@ TEST_F(Marcher, RejectsBadArguments) {
 
 // ---- Packed sample points ----
 
-TEST_F(Marcher, PackedPointsFollowSampleRays) {
+void packedPointsFollowSampleRays(Context& ctx, uint32_t chunkRows) {
   Aabb box{{-2, -1, -1}, {2, 1, 3}};
-  nerf::OccupancyGrid grid(ctx(), 16);
+  nerf::OccupancyGrid grid(ctx, 16);
   setBits(grid, randomBits(grid, 0.3, 4));
   auto rays = randomRays(300, box, 12);
   uint32_t n = uint32_t(rays.size()), capacity = 40000;
-  auto rayBuf = gpu::Buffer::of(ctx(), packRays(rays));
-  gpu::Buffer offsets(ctx(), (n + 1) * 4), samples(ctx(), capacity * 8), sampleRay(ctx(), capacity * 4),
-      totals(ctx(), 16), positions(ctx(), capacity * 16), directions(ctx(), capacity * 16);
+  auto rayBuf = gpu::Buffer::of(ctx, packRays(rays));
+  gpu::Buffer offsets(ctx, (n + 1) * 4), samples(ctx, capacity * 8), sampleRay(ctx, capacity * 4),
+      totals(ctx, 16), positions(ctx, capacity * 16), directions(ctx, capacity * 16);
   positions.upload(std::vector<float>(capacity * 4, 7.0f));  // sentinel past the batch
-  nerf::RayMarcher marcher(ctx(), n);
-  nerf::PackedSamplePoints points(ctx());
-  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+  nerf::RayMarcher marcher(ctx, n);
+  nerf::PackedSamplePoints points(ctx, chunkRows);
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     marcher.record(rec, n, rayBuf, grid, box, 0.02f, 256, 8, true, offsets, samples, sampleRay, totals);
     points.record(rec, capacity, rayBuf, samples, sampleRay, totals, box, positions, directions);
   });
@@ -461,4 +461,13 @@ TEST_F(Marcher, PackedPointsFollowSampleRays) {
     }
   }
   for (uint32_t i = total; i < capacity; ++i) ASSERT_EQ(pos[4 * i], 7.0f) << "wrote past the batch at " << i;
+}
+
+// One dispatch, and chunks of 4096 samples (10 for this batch's capacity, the last ones past the
+// total): each chunk's samples must land at their own rows.
+TEST_F(Marcher, PackedPointsFollowSampleRays) {
+  for (uint32_t chunkRows : {nerf::PackedSamplePoints::kChunkRows, 4096u}) {
+    SCOPED_TRACE(chunkRows);
+    packedPointsFollowSampleRays(ctx(), chunkRows);
+  }
 }

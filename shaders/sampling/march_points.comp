@@ -1,28 +1,33 @@
 #version 450
 // Field inputs of a packed batch: sample s of ray sampleRay[s] becomes the position o + t d mapped
 // from the scene box onto [-1, 1]^3 and the ray's unit direction, both vec4 with w = 0 (the
-// packed twin of sample_points.comp). The sample count is read from the marcher's totals, so the
-// dispatch may cover the batch's capacity without a CPU round trip.
+// packed twin of sample_points.comp). The sample count is the marcher's total (the first uint of
+// its totals, bound as the row limit): the dispatches are indirect, chunk by chunk, with workgroup
+// counts written on the device (src/gpu/limited_dispatch.h), so a batch recorded for its capacity
+// launches only the workgroups its samples need.
 #extension GL_GOOGLE_include_directive : require
-#include "occupancy/occupancy.glsl"
+#define ROW_LIMIT_BINDING 5
+#include "gpu/row_limit.glsl"
 
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Rays { vec4 rays[]; };        // (o, t_near), (d, t_far)
 layout(std430, binding = 1) readonly buffer Samples { vec2 samples[]; };  // (t, delta)
 layout(std430, binding = 2) readonly buffer SampleRay { uint sampleRay[]; };
-layout(std430, binding = 3) readonly buffer Totals { uint totals[4]; };   // [0] = sample count
-layout(std430, binding = 4) writeonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 5) writeonly buffer Directions { vec4 directions[]; };
+layout(std430, binding = 3) writeonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = 4) writeonly buffer Directions { vec4 directions[]; };
 
 layout(push_constant) uniform Push {
   vec4 boxMin;
   vec4 boxMax;
+  uint chunkRows;  // rows of each dispatch's chunk
+  uint limitBase;  // the chunk's first sample (row_limit.glsl)
 } pc;
 
 void main() {
-  uint s = flatIndex(64u);
-  if (s >= totals[0]) return;
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= limitedRows(pc.chunkRows, pc.limitBase)) return;
+  uint s = pc.limitBase + i;
   uint r = sampleRay[s];
   vec3 o = rays[2u * r].xyz, d = rays[2u * r + 1u].xyz;
   // Same operation order as ref::samplePosition: 2 (x - min) / (max - min) - 1.

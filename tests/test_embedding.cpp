@@ -423,7 +423,7 @@ TEST_F(EmbeddingTest, FastModelRecordsWhatItRenders) {
   // The fast model sizes a host render from the march's sample count; recorded into a command
   // buffer it cannot, and records its field kernels for the whole sample capacity, cut on the
   // device to the marched total (row limits). Rows are independent in every kernel on the way, so
-  // the same samples give exactly the same image.
+  // the same samples give the same image.
   TrainConfig c = TrainConfig::fast(ctx());
   FastModel& m = c.fastModel();
   m.hashLevels = 4;
@@ -444,5 +444,15 @@ TEST_F(EmbeddingTest, FastModelRecordsWhatItRenders) {
   const RenderedImage ref = trainer.model().render(cam);
   expectStructure(ref);
   AppDevice d = AppDevice::of(ctx());
-  expectColourEqualsRender(renderIntoBuffer(trainer.model(), d, cam), ref);
+  // A host render marches in segments (32 samples first: every sample of this model's rays) and
+  // adds each ray's background after compositing its samples over black; the recorded one adds it
+  // inside the compositing. Same samples, same field: the two differ by a float rounding or two of
+  // values <= 1.
+  const std::vector<float> texels = renderIntoBuffer(trainer.model(), d, cam);
+  const size_t n = size_t(ref.width) * ref.height;
+  ASSERT_EQ(texels.size(), n * 4);
+  for (size_t p = 0; p < n; ++p) {
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(texels[p * 4 + k], ref.rgb[p * 3 + k], 1e-6) << "pixel " << p << " channel " << k;
+    ASSERT_NEAR(texels[p * 4 + 3], ref.opacity[p], 1e-6) << "pixel " << p << " opacity";
+  }
 }

@@ -79,7 +79,11 @@ TEST_F(TrainerTest, LoadedModelRendersLikeTrainer) {
   RenderedImage a = t.model().render(cam), b = m.render(cam);
   ASSERT_EQ(a.rgb.size(), size_t(cam.width) * cam.height * 3);
   // Rendering is deterministic (bin centres, fixed draws) and the parameters are the same bits.
-  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << i;
+  // The two pipelines' sample capacities differ (a training step's against a render tile's), and a
+  // render's segments after the first are sized by it (FastPipeline::doRecordRender): the over
+  // operator's roundings (1e-6) and, for a ray that turns opaque inside a segment of one and at the
+  // end of the other's, the light behind T < 1e-4 (at most 1e-4 of a colour <= 1) may differ.
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_NEAR(a.rgb[i], b.rgb[i], 1e-4 + 1e-5) << i;
   for (size_t i = 0; i < a.depth.size(); ++i) {
     ASSERT_TRUE(std::isfinite(a.depth[i]));
     ASSERT_GE(a.opacity[i], 0.0f);
@@ -182,7 +186,11 @@ TEST_F(TrainerTest, FastModelLearnsTheFarFieldOfOpaquePhotos) {
   const Camera cam = opaque.cameras[2];
   RenderedImage a = t.model().render(cam), b = m.render(cam);
   ASSERT_EQ(a.rgb.size(), b.rgb.size());
-  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << i;
+  // The two pipelines' sample capacities differ (a training step's against a render tile's), and a
+  // render's segments after the first are sized by it (FastPipeline::doRecordRender): the over
+  // operator's roundings (1e-6) and, for a ray that turns opaque inside a segment of one and at the
+  // end of the other's, the light behind T < 1e-4 (at most 1e-4 of a colour <= 1) may differ.
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_NEAR(a.rgb[i], b.rgb[i], 1e-4 + 1e-5) << i;
   // Eight steps have moved the far field off its start (white, clamped to 0.95) where the image is
   // transparent: what the loaded model renders there is what was learnt, not the initial colour.
   double moved = 0;

@@ -16,6 +16,10 @@ constexpr float kOccupancyThickness = 0.01f;   // a cell is empty when one step 
 constexpr uint32_t kMaxOccupancyPoints = 1u << 18;
 constexpr uint32_t kRayAlign = 64;             // sub-batches start at multiples of this (binding offsets)
 constexpr float kMinTransmittance = 1e-4f;     // early termination (instant-ngp's)
+// A render's first segment per ray (SegmentAccumulator). Over three 800x800 orbit views of a model
+// trained on the sample scene, first segments of 24, 32 and 48 samples shaded 10.3, 11.0 and 12.2
+// million samples; 32 rendered fastest (24 needs more rounds, 48 shades more behind the surfaces).
+constexpr uint32_t kFirstSegment = 32;
 
 float diagonal(const Aabb& b) {
   float s = 0;
@@ -123,6 +127,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       field_(ctx, mlp_, sampleCapacity_, training),
       weights_(gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * 4, "the compositing weights")),
       wholeRays_(gpu::Buffer::zeros(ctx, 16)),
+      segments_(ctx, rayCapacity_),
       raysNext_(std::min(rayCapacity_, 1024u)) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
   if (model_.farField == FarField::Learned)
@@ -201,22 +206,38 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
     recordComposite(rec, 0, count, background);
     return;
   }
-  // A tile in one submission, as a training step: the march is cut on the device to the rays that
-  // fit the sample capacity whole (march_cut), the field and the compositing are recorded for the
-  // capacity and cut to the device's counts, and the host reads how many rays were done after the
-  // wait. Only a tile whose rays need more than the capacity (64 samples per ray on average) takes
-  // another submission, for the rays past the cut. `rec` is left begun, as it was given.
-  const gpu::BufferRange wholeRays(wholeRays_, 0, 4);
-  for (uint32_t done = 0; done < count;) {
-    const uint32_t n = count - done;
-    recordMarch(rec, done, n, model_.maxSamplesPerRay, 0, false);
-    marcher_.recordCutToWholeRays(rec, n, sampleCapacity_, kRayAlign, marched_.offsets, marched_.totals, wholeRays);
-    recordField(rec, done, false);
-    recordComposite(rec, done, n, background);
-    rec.end();
-    rec.submitAndWait();
-    rec.begin();
-    done += wholeRays_.download<uint32_t>(1)[0];
+  // A tile marched in segments, each ray stopped where it has become opaque (SegmentAccumulator),
+  // one segment per submission. The first gives every ray kFirstSegment samples; the host then
+  // reads how many rays are still live (not yet opaque, their march not done), and each further
+  // segment gives those as many samples as the capacity holds for them (the ended rays march none),
+  // up to the model's samples per ray in all. A block holds as many rays as the sample capacity
+  // gives kFirstSegment samples each (the whole tile when the pipeline was built for rendering).
+  const uint32_t block =
+      std::min(count, std::max(kRayAlign, sampleCapacity_ / kFirstSegment / kRayAlign * kRayAlign));
+  const uint32_t most = model_.maxSamplesPerRay;
+  for (uint32_t done = 0; done < count; done += block) {
+    const uint32_t n = std::min(block, count - done);
+    const gpu::BufferRange rays(rays_.rays(), VkDeviceSize(done) * kRayBytes, VkDeviceSize(n) * kRayBytes),
+        backgrounds(rays_.background(), VkDeviceSize(done) * 16, VkDeviceSize(n) * 16),
+        color(color_, VkDeviceSize(done) * 16, VkDeviceSize(n) * 16),
+        depth(depth_, VkDeviceSize(done) * 4, VkDeviceSize(n) * 4);
+    for (uint32_t marched = 0, live = n; live > 0 && marched < most;) {
+      const uint32_t cap = std::min(std::max(1u, sampleCapacity_ / live), marched == 0 ? kFirstSegment : most);
+      const bool first = marched == 0, last = cap >= most - marched;
+      segments_.recordResetCounts(rec);
+      recordMarch(rec, done, n, cap, 0, false);
+      recordField(rec, done, false);
+      compositor_.recordForward(rec, n, 0, marched_.offsets, marched_.samples, field_.field, {0, 0, 0}, nullptr,
+                                segments_.segmentColor(), segments_.segmentDepth(), weights_);
+      segments_.record(rec, n, {cap, first, last, kMinTransmittance}, rays, marched_.offsets, marched_.samples,
+                       backgrounds, color, depth);
+      rec.end();
+      rec.submitAndWait();
+      rec.begin();
+      renderedSamples_ += segments_.samples();
+      live = segments_.active();
+      marched += cap;
+    }
   }
 }
 

@@ -26,6 +26,7 @@
 #include "nerf/network/mlp.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/render/composite.h"
+#include "nerf/render/segment_accumulator.h"
 #include "nerf/sampling/kept_rows.h"
 #include "nerf/sampling/packed_points.h"
 #include "nerf/sampling/ray_marcher.h"
@@ -54,6 +55,9 @@ class FastPipeline final : public FieldPipeline {
   float marchStep() const { return dt_; }
   OccupancyGrid& occupancy() { return grid_; }
   std::optional<OccupancyBits> occupancyBits() const override { return grid_.hostBits(); }
+  // Samples a render has shaded (and composited) since the pipeline was built: with segments, the
+  // ones in front of where each ray became opaque (up to a segment's end).
+  uint64_t renderedSamples() const { return renderedSamples_; }
   size_t parameterCount() const { return table_.count() + network_.count() + (farField_ ? farField_->parameterCount() : 0); }
 
  private:
@@ -113,7 +117,9 @@ class FastPipeline final : public FieldPipeline {
   Packed marched_;
   FieldBatch field_;
   gpu::Buffer weights_, dPos_;
-  gpu::Buffer wholeRays_;  // a batch's rays that fit the sample capacity whole (device-written; training and render)
+  gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
+  SegmentAccumulator segments_;  // a render's rays, marched segment by segment
+  uint64_t renderedSamples_ = 0;
   uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;
   // occupancy update (training): jittered points in cells, their encodings and the density there
   uint32_t occPoints_ = 0;

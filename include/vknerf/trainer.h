@@ -84,6 +84,9 @@ struct FieldSamples {
 struct RenderSettings {
   uint32_t coarseSamples = 0, fineSamples = 0;  // vanilla: stratified + importance samples per ray
   uint32_t marchSteps = 0;                      // fast: march steps per scene-box diagonal
+  // fast: a ray stops once its transmittance is below this (what lies behind adds less than that
+  // times its colour); 0 shades every sample the march finds. In [0, 1).
+  float minTransmittance = 1e-4f;
 };
 
 // A trained field: the model configuration, its parameters and the scene box.

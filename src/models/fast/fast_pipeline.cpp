@@ -128,8 +128,11 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       weights_(gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * 4, "the compositing weights")),
       wholeRays_(gpu::Buffer::zeros(ctx, 16)),
       segments_(ctx, rayCapacity_),
+      renderMinTransmittance_(overrides.minTransmittance),
       raysNext_(std::min(rayCapacity_, 1024u)) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
+  if (!(renderMinTransmittance_ >= 0 && renderMinTransmittance_ < 1))
+    throw Error("render settings: minTransmittance must be in [0, 1), got " + std::to_string(renderMinTransmittance_));
   if (model_.farField == FarField::Learned)
     farField_.emplace(ctx, rayCapacity_, config.seed, config.background, training ? std::optional(tableAdamOf(config)) : std::nullopt,
                       training ? std::optional(adamConfigOf(config)) : std::nullopt);
@@ -196,25 +199,20 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
   if (count == 0) return;
   rays_.recordView(rec, cameras, camera, first, count, box_, background);
   if (farField_) farField_->recordForward(rec, count, rays_.rays(), rays_.background(), false);
-  if (!mayWait) {
-    // Everything in the caller's command buffer: each ray gets at most capacity / count samples, so
-    // nothing is cut. The sample total is known only on the device: the field's kernels are
-    // recorded for the whole capacity and skip the rows past the total (shaders/gpu/row_limit.glsl).
-    const uint32_t maxSamples = std::max(1u, std::min(model_.maxSamplesPerRay, sampleCapacity_ / count));
-    recordMarch(rec, 0, count, maxSamples, 0, false);
-    recordField(rec, 0, false);
-    recordComposite(rec, 0, count, background);
-    return;
-  }
-  // A tile marched in segments, each ray stopped where it has become opaque (SegmentAccumulator),
-  // one segment per submission. The first gives every ray kFirstSegment samples; the host then
-  // reads how many rays are still live (not yet opaque, their march not done), and each further
-  // segment gives those as many samples as the capacity holds for them (the ended rays march none),
-  // up to the model's samples per ray in all. A block holds as many rays as the sample capacity
-  // gives kFirstSegment samples each (the whole tile when the pipeline was built for rendering).
+  // A tile marched in segments, each ray stopped where it has turned opaque (SegmentAccumulator).
+  // The first segment gives every ray kFirstSegment samples. Recorded into a caller's command buffer
+  // (no host read-back), every ray of the tile gets the same number of segments, up to
+  // capacity / count samples in all (the ended rays march none; the field's kernels are recorded
+  // for the capacity and skip the rows past the device's sample total, shaders/gpu/row_limit.glsl).
+  // Otherwise, after each segment's submission, the host reads how many rays are still live (not
+  // yet opaque, their march not done), and the next segment gives those as many samples as the
+  // capacity holds for them, up to the model's samples per ray in all; a block then holds as many
+  // rays as the sample capacity gives kFirstSegment samples each (the whole tile when the pipeline
+  // was built for rendering).
+  const uint32_t most = mayWait ? model_.maxSamplesPerRay
+                                : std::max(1u, std::min(model_.maxSamplesPerRay, sampleCapacity_ / count));
   const uint32_t block =
-      std::min(count, std::max(kRayAlign, sampleCapacity_ / kFirstSegment / kRayAlign * kRayAlign));
-  const uint32_t most = model_.maxSamplesPerRay;
+      mayWait ? std::min(count, std::max(kRayAlign, sampleCapacity_ / kFirstSegment / kRayAlign * kRayAlign)) : count;
   for (uint32_t done = 0; done < count; done += block) {
     const uint32_t n = std::min(block, count - done);
     const gpu::BufferRange rays(rays_.rays(), VkDeviceSize(done) * kRayBytes, VkDeviceSize(n) * kRayBytes),
@@ -222,21 +220,23 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
         color(color_, VkDeviceSize(done) * 16, VkDeviceSize(n) * 16),
         depth(depth_, VkDeviceSize(done) * 4, VkDeviceSize(n) * 4);
     for (uint32_t marched = 0, live = n; live > 0 && marched < most;) {
-      const uint32_t cap = std::min(std::max(1u, sampleCapacity_ / live), marched == 0 ? kFirstSegment : most);
-      const bool first = marched == 0, last = cap >= most - marched;
-      segments_.recordResetCounts(rec);
+      const uint32_t cap = std::min({std::max(1u, sampleCapacity_ / live), marched == 0 || !mayWait ? kFirstSegment : most,
+                                     most - marched});
+      const bool first = marched == 0, last = marched + cap >= most;
+      if (mayWait) segments_.recordResetCounts(rec);
       recordMarch(rec, done, n, cap, 0, false);
       recordField(rec, done, false);
       compositor_.recordForward(rec, n, 0, marched_.offsets, marched_.samples, field_.field, {0, 0, 0}, nullptr,
                                 segments_.segmentColor(), segments_.segmentDepth(), weights_);
-      segments_.record(rec, n, {cap, first, last, kMinTransmittance}, rays, marched_.offsets, marched_.samples,
+      segments_.record(rec, n, {cap, first, last, renderMinTransmittance_}, rays, marched_.offsets, marched_.samples,
                        backgrounds, color, depth);
+      marched += cap;
+      if (!mayWait) continue;
       rec.end();
       rec.submitAndWait();
       rec.begin();
       renderedSamples_ += segments_.samples();
       live = segments_.active();
-      marched += cap;
     }
   }
 }

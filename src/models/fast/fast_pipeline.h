@@ -119,6 +119,7 @@ class FastPipeline final : public FieldPipeline {
   gpu::Buffer weights_, dPos_;
   gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
   SegmentAccumulator segments_;  // a render's rays, marched segment by segment
+  float renderMinTransmittance_;  // where a render's ray stops (RenderSettings)
   uint64_t renderedSamples_ = 0;
   uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;
   // occupancy update (training): jittered points in cells, their encodings and the density there

@@ -58,8 +58,8 @@ TEST_F(SegmentAccumulatorTest, PutsEachSegmentBehindTheLastAndEndsRaysAsTheRefer
     auto segColorBuf = gpu::Buffer::of(ctx(), segColor), segDepthBuf = gpu::Buffer::of(ctx(), segDepth);
     // The accumulator composites from its own segment buffers: copy the segment there.
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      rec.copy(segColorBuf, const_cast<gpu::Buffer&>(acc.segmentColor()), VkDeviceSize(kRays) * 16);
-      rec.copy(segDepthBuf, const_cast<gpu::Buffer&>(acc.segmentDepth()), VkDeviceSize(kRays) * 4);
+      rec.copy(segColorBuf, acc.segmentColor(), VkDeviceSize(kRays) * 16);
+      rec.copy(segDepthBuf, acc.segmentDepth(), VkDeviceSize(kRays) * 4);
       acc.recordResetCounts(rec);
       acc.record(rec, kRays, {kCap, first, last, kMinTransmittance}, raysBuf, offsetsBuf, samplesBuf, bgBuf, color,
                  depth);

@@ -24,6 +24,8 @@ class SegmentAccumulator {
   // The compositor's outputs for one segment: (rgb, opacity) and depth per ray.
   const gpu::Buffer& segmentColor() const { return segmentColor_; }
   const gpu::Buffer& segmentDepth() const { return segmentDepth_; }
+  gpu::Buffer& segmentColor() { return segmentColor_; }
+  gpu::Buffer& segmentDepth() { return segmentDepth_; }
 
   // Zeroes the counts active() and samples() read.
   void recordResetCounts(gpu::Recorder& rec);

@@ -15,7 +15,8 @@ constexpr float kOccupancyDecay = 0.95f;       // instant-ngp's EMA factor per u
 constexpr float kOccupancyThickness = 0.01f;   // a cell is empty when one step through it is < 1% opaque
 constexpr uint32_t kMaxOccupancyPoints = 1u << 18;
 constexpr uint32_t kRayAlign = 64;             // sub-batches start at multiples of this (binding offsets)
-constexpr float kMinTransmittance = 1e-4f;     // early termination (instant-ngp's)
+// Training's early termination (instant-ngp's 1e-4): the cut a render makes by default, one choice.
+constexpr float kMinTransmittance = RenderSettings{}.minTransmittance;
 // A render's first segment per ray (SegmentAccumulator). Over three 800x800 orbit views of a model
 // trained on the sample scene, first segments of 24, 32 and 48 samples shaded 10.3, 11.0 and 12.2
 // million samples; 32 rendered fastest (24 needs more rounds, 48 shades more behind the surfaces).

@@ -23,8 +23,8 @@ namespace vknerf::nerf {
 
 class LearnedFarField {
  public:
-  // Without Adam configurations: inference only. The table's entries no ray touched keep their
-  // moments (tableAdam.skipZeroGradients, as the field's table). It starts as the constant
+  // Without Adam configurations: inference only (the fast model steps this table as its field's
+  // table: every entry, also those no ray touched). It starts as the constant
   // `initial` everywhere (each channel clamped to [0.05, 0.95], where the sigmoid still learns).
   LearnedFarField(Context& ctx, uint32_t rayCapacity, uint32_t seed, const std::array<float, 3>& initial,
                   const std::optional<AdamConfig>& tableAdam, const std::optional<AdamConfig>& mlpAdam);

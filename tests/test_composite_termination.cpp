@@ -77,7 +77,9 @@ struct Outputs {
 };
 
 // Forward then backward in one recording, as a training step does; NaN sentinels in every output.
-Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth, float distortion) {
+// The distortion loss measures every ray over [0, 8] in cone steps (t in [0, ~7] here) with all
+// three pieces of its spacing in range.
+Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth, float distortionWeight) {
   const uint32_t rays = uint32_t(b.offsets.size() - 1), n = b.offsets.back();
   auto sized = [&](const std::vector<float>& v) { return gpu::Buffer::of(ctx, v.empty() ? std::vector<float>(4) : v); };
   auto offsets = gpu::Buffer::of(ctx, b.offsets);
@@ -86,6 +88,10 @@ Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth, flo
   const std::vector<float> nan(4 * std::max<size_t>({n, rays, 1}), std::numeric_limits<float>::quiet_NaN());
   auto color = gpu::Buffer::of(ctx, nan), depth = gpu::Buffer::of(ctx, nan), weights = gpu::Buffer::of(ctx, nan),
        dField = gpu::Buffer::of(ctx, nan), kept = gpu::Buffer::of(ctx, nan);
+  std::vector<float> rayData;
+  for (uint32_t r = 0; r < std::max(rays, 1u); ++r) rayData.insert(rayData.end(), {0, 0, 0, 0, 0, 0, -1, 8});
+  auto rayBuf = gpu::Buffer::of(ctx, rayData);
+  const nerf::DistortionLoss distortion{distortionWeight, 1.0f / 64, 0.01f, 0.08f, rayBuf};
   nerf::Compositor comp(ctx);
   const gpu::BufferRange perRay(bg), keptRange(kept);
   const bool terminate = maxOpticalDepth < nerf::Compositor::kNoTermination;
@@ -93,7 +99,7 @@ Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth, flo
     comp.recordForward(rec, rays, 0, offsets, samples, field, {0, 0, 0}, &perRay, color, depth, weights,
                        maxOpticalDepth, terminate ? &keptRange : nullptr);
     comp.recordBackward(rec, rays, 0, offsets, samples, field, {0, 0, 0}, &perRay, dColor, dDepth, dField,
-                        maxOpticalDepth, distortion);
+                        maxOpticalDepth, &distortion);
   });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(n),
           dField.download<float>(4 * n), terminate ? kept.download<uint32_t>(rays) : std::vector<uint32_t>{}};

@@ -44,12 +44,4 @@ float terminationDepth(float sigma, float delta) {
   return tau;
 }
 
-// The distortion loss (src/reference/render/composite.h) measures a sample's interval [t, t + delta]
-// in s = ln t: its midpoint and its length. The clamp keeps ln finite for a ray starting at t = 0.
-const float kMinDistortionDistance = 1e-3;
-vec2 distortionInterval(vec2 sample_) {
-  float mid = max(sample_.x + 0.5 * sample_.y, kMinDistortionDistance);
-  return vec2(log(mid), sample_.y / mid);
-}
-
 #endif

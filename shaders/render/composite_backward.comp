@@ -18,12 +18,12 @@
 // over the samples in front of i and W', S' behind it: O(n), the front-to-back pass keeps W_i and
 // S_i in dField[i].yz, the back-to-front pass carries W' and S'. It reaches sigma_k as
 // delta_k (g_k T_{k+1} - D_k), D_k = sum_{i>k} g_i w_i, also carried back to front. m and l are
-// taken in s = ln t: the cascaded march's cone steps grow in proportion to t, so in s they are
-// even, and a spread over k samples costs the same near the camera and in the far field (in t the
-// far field's long steps dominated the loss; on the distorted capture ln t gained 0.35 dB at 120 s
-// and halved the samples per ray, where t lost 0.3 dB: docs/unbounded.md).
+// taken in the ray's normalised distance s in [0, 1], even in march steps (render/distortion.glsl,
+// src/reference/render/distortion_loss.h): the loss is the same in any units and wherever the ray
+// starts, so one weight serves every scene.
 #extension GL_GOOGLE_include_directive : require
 #include "render/composite.glsl"
+#include "render/distortion.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -34,6 +34,8 @@ layout(std430, binding = 3) readonly buffer Background { vec4 perRayBackground[]
 layout(std430, binding = 4) readonly buffer DColor { vec4 dColor[]; };   // dL/d(r, g, b, opacity)
 layout(std430, binding = 5) readonly buffer DDepth { float dDepth[]; };
 layout(std430, binding = 6) buffer DField { vec4 dField[]; };            // dL/d(r, g, b, sigma)
+// binding 7: the forward pass's kept counts, unbound here
+layout(std430, binding = 8) readonly buffer Rays { vec4 rays[]; };       // (o, t_near), (d, t_far): the distortion loss's
 
 layout(push_constant) uniform Push {
   vec4 background;
@@ -43,6 +45,7 @@ layout(push_constant) uniform Push {
   float maxOpticalDepth;
   uint writeKept;  // the forward pass's; unused here
   float distortion;  // the distortion loss's weight per ray; 0: none
+  float coneAngle, dtMin, dtMax;  // the march's spacing (MarchSpacing), for the distortion loss
 } pc;
 
 void main() {
@@ -55,6 +58,8 @@ void main() {
   // T_{i+1} is kept (in dField[i].x); alpha is cheaper to recompute than to store and reload.
   // With the distortion loss, also W_i and S_i (dField[i].yz) from the forward pass's weights.
   bool distortion = pc.distortion > 0.0;
+  MarchSpacing spacing = MarchSpacing(pc.coneAngle, pc.dtMin, pc.dtMax);
+  vec2 frame = distortion ? distortionFrame(rays[2u * ray].w, rays[2u * ray + 1u].w, spacing) : vec2(0.0);
   float prefix = 0.0;
   float opaque = 0.0;
   float wFront = 0.0, sFront = 0.0;
@@ -67,7 +72,7 @@ void main() {
       float w = exp(-prefix) * alphaAndSurvival(x).x;
       dField[cut].yz = vec2(wFront, sFront);
       wFront += w;
-      sFront += w * distortionInterval(s).x;
+      sFront += w * distortionInterval(s, frame, spacing).x;
     }
     prefix += x;
     dField[cut].x = exp(-prefix);
@@ -91,7 +96,7 @@ void main() {
     vec2 a = alphaAndSurvival(opticalDepth(f.w, s.y));
     float inner = tOut * (dot(g.rgb, f.rgb - q) + gDepth * (s.x - qDepth)) + opacityTerm;
     if (distortion) {
-      vec2 front = dField[i].yz, ml = distortionInterval(s);
+      vec2 front = dField[i].yz, ml = distortionInterval(s, frame, spacing);
       float w = tIn * a.x;
       float gw = pc.distortion * (2.0 * (ml.x * front.x - front.y + sBehind - ml.x * wBehind) + (2.0 / 3.0) * w * ml.y);
       inner += gw * tOut - dBehind;

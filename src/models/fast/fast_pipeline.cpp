@@ -305,9 +305,12 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
                 partials_, 1.0f, &wholeRays);
   gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(R) * 16);
   // The distortion loss, a mean over the batch's rays like the photometric loss (over the R rays
-  // recorded: the rays past the device's cut have no samples, so they add nothing).
+  // recorded: the rays past the device's cut have no samples, so they add nothing), its distances
+  // even in the march's steps.
+  const DistortionLoss distortion{model_.distortionLoss / float(R), cone_.coneAngle, dt_, std::max(dt_, cone_.dtMax),
+                                  gpu::BufferRange(rays_.rays(), 0, VkDeviceSize(R) * kRayBytes)};
   compositor_.recordBackward(rec, R, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
-                             &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth, model_.distortionLoss / float(R));
+                             &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth, &distortion);
   if (farField_) farField_->recordBackward(rec, R, perRay, color_, dColor_);
   // With the kept samples packed, the backward runs over them alone: the MLP's reads the forward's
   // rows through their index, the hash grid's reads the kept positions beside the packed encoding

@@ -33,6 +33,15 @@ namespace vknerf::nerf {
 
 constexpr VkDeviceSize kFieldBytes = 16;
 
+// The distortion loss the backward pass adds (mip-NeRF 360's; reference/render/distortion_loss.h):
+// its weight per ray, and what it measures distances in: the march's spacing and each ray's near
+// and far, read from the rays (nerf::kRayBytes each: (o, t_near), (d, t_far)).
+struct DistortionLoss {
+  float weight = 0;
+  float coneAngle = 0, dtMin = 1, dtMax = 1;  // step(t) = clamp(t coneAngle, dtMin, dtMax)
+  gpu::BufferRange rays;
+};
+
 class Compositor {
  public:
   explicit Compositor(Context& ctx);
@@ -51,13 +60,14 @@ class Compositor {
                      const gpu::BufferRange* outKeptCounts = nullptr);
 
   // Recomputes T and w from the inputs rather than reading the forward outputs: the stable
-  // back-to-front suffix sums need only the field. dField is written in full. `distortion` > 0 adds
-  // that weight times each ray's distortion loss (mip-NeRF 360's, ref::distortionLoss) to the loss.
+  // back-to-front suffix sums need only the field. dField is written in full. `distortion`, with a
+  // weight > 0, adds that weight times each ray's distortion loss (ref::distortionLoss) to the loss.
   void recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
                       const gpu::BufferRange& samples, const gpu::BufferRange& field,
                       const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
                       const gpu::BufferRange& dColor, const gpu::BufferRange& dDepth,
-                      const gpu::BufferRange& dField, float maxOpticalDepth = kNoTermination, float distortion = 0);
+                      const gpu::BufferRange& dField, float maxOpticalDepth = kNoTermination,
+                      const DistortionLoss* distortion = nullptr);
 
  private:
   struct Push {
@@ -65,15 +75,16 @@ class Compositor {
     uint32_t numRays, samplesPerRay, useBackgroundBuffer;
     float maxOpticalDepth;
     uint32_t writeKept;
-    float distortion;  // backward only
+    float distortion;  // backward only: DistortionLoss's weight and spacing
+    float coneAngle, dtMin, dtMax;
   };
   // Both passes bind the same inputs and four outputs (forward: colour, depth, weights, kept
-  // counts; backward: dColor, dDepth, dField, nothing).
+  // counts; backward: dColor, dDepth, dField, nothing), then the rays (backward's distortion loss).
   void dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays, uint32_t samplesPerRay,
                 const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples, const gpu::BufferRange& field,
                 const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
                 const gpu::BufferRange& out0, const gpu::BufferRange& out1, const gpu::BufferRange& out2,
-                float maxOpticalDepth, const gpu::BufferRange* out3, float distortion);
+                float maxOpticalDepth, const gpu::BufferRange* out3, const DistortionLoss* distortion);
 
   gpu::Buffer dummy_;  // bound where the layout or the background source leaves a binding unused
   gpu::Kernel forward_, backward_;

@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "reference/render/distortion_loss.h"
+
 namespace vknerf::ref {
 
 // Caps sigma * delta so that sigma = inf never becomes inf arithmetic (see shaders/composite.glsl).
@@ -47,53 +49,17 @@ RayColor<T> compositeForward(std::span<const T> samples, std::span<const T> fiel
   return out;
 }
 
-// ---- mip-NeRF 360's distortion loss of one ray ----
-// L = sum_{i,j} w_i w_j |m_i - m_j| + 1/3 sum_i w_i^2 l_i over the samples' intervals [t, t + delta],
-// m their midpoints and l their lengths in s = ln t (composite_backward.comp says why the log). It is
-// small when the weight sits in one short interval, large when it is spread along the ray as fog.
-inline constexpr double kMinDistortionDistance = 1e-3;  // s = ln t is clamped there: a ray starts at t >= 0
-
-template <class T> T distortionMidpoint(T t, T delta) {
-  return std::log(std::max(t + delta / 2, T(kMinDistortionDistance)));
-}
-template <class T> T distortionLength(T t, T delta) { return delta / std::max(t + delta / 2, T(kMinDistortionDistance)); }
-
-// The definition, O(n^2): the reference the kernel's O(n) prefix sums are tested against.
-template <class T> T distortionLoss(std::span<const T> samples, std::span<const T> weights) {
-  size_t n = samples.size() / 2;
-  T loss = 0;
-  for (size_t i = 0; i < n; ++i) {
-    T mi = distortionMidpoint(samples[2 * i], samples[2 * i + 1]);
-    for (size_t j = 0; j < n; ++j)
-      loss += weights[i] * weights[j] * std::abs(mi - distortionMidpoint(samples[2 * j], samples[2 * j + 1]));
-    loss += weights[i] * weights[i] * distortionLength(samples[2 * i], samples[2 * i + 1]) / 3;
-  }
-  return loss;
-}
-
-// dL/dw_i = 2 sum_j w_j |m_i - m_j| + 2/3 w_i l_i.
-template <class T> std::vector<T> distortionWeightGradient(std::span<const T> samples, std::span<const T> weights) {
-  size_t n = samples.size() / 2;
-  std::vector<T> g(n);
-  for (size_t i = 0; i < n; ++i) {
-    T mi = distortionMidpoint(samples[2 * i], samples[2 * i + 1]), sum = 0;
-    for (size_t j = 0; j < n; ++j)
-      sum += weights[j] * std::abs(mi - distortionMidpoint(samples[2 * j], samples[2 * j + 1]));
-    g[i] = 2 * sum + T(2) / 3 * weights[i] * distortionLength(samples[2 * i], samples[2 * i + 1]);
-  }
-  return g;
-}
-
 // dL/d(r, g, b, sigma) per sample given dL/d(r, g, b, opacity) and dL/ddepth of the ray, plus
-// `distortion` times the distortion loss's gradient. The suffix sums R_i = sum_{j>i} w_j c_j +
-// T_final bg are carried back to front as Q_i = R_i / T_{i+1}, a convex mix of colours, so nothing
+// `distortion` times the distortion loss's gradient (distances normalised by `ray`). The suffix
+// sums R_i = sum_{j>i} w_j c_j + T_final bg are carried back to front as Q_i = R_i / T_{i+1}, a convex mix of colours, so nothing
 // cancels when T underflows (derivation in composite_backward.comp). A loss g(w) of the weights
 // reaches sigma_k as delta_k (g_k T_{k+1} - sum_{i>k} g_i w_i), g_i = dL/dw_i: w_k grows with
 // sigma_k by delta_k T_{k+1}, every w_i behind it shrinks by delta_k w_i.
 template <class T>
 std::vector<std::array<T, 4>> compositeBackward(std::span<const T> samples, std::span<const T> field,
                                                 const std::array<T, 3>& bg, const std::array<T, 4>& dColor,
-                                                T dDepth, T distortion = 0) {
+                                                T dDepth, T distortion = 0,
+                                                const DistortionRay<T>& ray = {}) {
   size_t n = samples.size() / 2;
   std::vector<T> tOut(n), weight(n), alpha(n);
   T prefix = 0, tIn = 1;
@@ -108,7 +74,7 @@ std::vector<std::array<T, 4>> compositeBackward(std::span<const T> samples, std:
   std::vector<std::array<T, 4>> grad(n);
   std::vector<T> gDistortion(n, T(0));
   if (distortion != 0) {
-    gDistortion = distortionWeightGradient<T>(samples, weight);
+    gDistortion = distortionWeightGradient<T>(samples, weight, ray);
     for (T& g : gDistortion) g *= distortion;
   }
   T suffix = 0;  // sum_{i>k} gDistortion_i w_i

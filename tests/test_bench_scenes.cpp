@@ -326,7 +326,7 @@ TEST(BenchScenesCli, ComparesAnOlderBuildInOneSitting) {
   ::chmod(old.c_str(), 0755);
   const fs::path out = tmp.path() / "out";
   auto r = runCli("bench scenes " + good + kTinyTraining + " -o " + out.string() + " --vknerf " + old.string() +
-                  " --vknerf now=" VKNERF_BINARY_DIR "/vknerf");
+                  " --vknerf now=" VKNERF_BINARY_DIR "/vknerf --sheet-views 1");
   ASSERT_EQ(r.code, 0) << r.output;
   const auto rows = csvRows(readText(out / "scenes.csv"));
   ASSERT_EQ(rows.size(), 3u) << r.output;
@@ -338,7 +338,9 @@ TEST(BenchScenesCli, ComparesAnOlderBuildInOneSitting) {
     EXPECT_EQ(finite(rows[i][5]), 24.0);
     EXPECT_GT(finite(rows[i][8]), 0.0);
     EXPECT_EQ(rows[i][9], "tiny-" + rows[i][1] + ".png");
-    EXPECT_TRUE(fs::exists(out / rows[i][9]));
+    // One view of the two, as --sheet-views asked, on the older build's sheet too (this build drew it).
+    using Sheet = nerf::ContactSheet;
+    EXPECT_EQ(nerf::loadImage((out / rows[i][9]).string()).height, Sheet::kGap + 2 * Sheet::kTextHeight + 20 + Sheet::kGap);
   }
   EXPECT_FALSE(fs::exists(out / "runs" / "tiny-old.train.json"));  // no --summary: read from its output
   EXPECT_TRUE(fs::exists(out / "runs" / "tiny-now.train.json"));

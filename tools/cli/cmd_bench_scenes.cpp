@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include "checks.h"
@@ -27,6 +28,7 @@ struct Options {
   std::string out, config = "fast", split = "test";
   double seconds = 0;
   uint32_t steps = 0, downscale = 1;
+  std::optional<uint32_t> sheetViews, sheetSize;  // eval's defaults unless given
 };
 
 std::string number(double v) {
@@ -75,6 +77,8 @@ int run(const Options& o, const Globals& g) {
   s.trainArgs.insert(s.trainArgs.end(), {"--config", o.config, "--downscale", std::to_string(o.downscale)});
   s.trainArgs.insert(s.trainArgs.end(), o.trainArgs.begin(), o.trainArgs.end());
   s.evalArgs = {"--split", o.split, "--downscale", std::to_string(o.downscale)};
+  if (o.sheetViews) s.sheetArgs.insert(s.sheetArgs.end(), {"--sheet-views", std::to_string(*o.sheetViews)});
+  if (o.sheetSize) s.sheetArgs.insert(s.sheetArgs.end(), {"--sheet-size", std::to_string(*o.sheetSize)});
   s.dir = o.out;
   s.labelByBuild = builds.size() > 1;
   s.say = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
@@ -130,6 +134,8 @@ Registration benchScenes(
       app.add_option("--config", o->config, "Model configuration to train (default: fast)")->check(CLI::IsMember({"vanilla", "fast"}));
       app.add_option("--downscale", o->downscale, "Downscale images by this factor, in training and evaluation")->check(CLI::Range(1u, 64u));
       app.add_option("--split", o->split, "Split to evaluate")->check(CLI::IsMember({"train", "val", "test", "all"}));
+      app.add_option("--sheet-views", o->sheetViews, "Views on each contact sheet (eval's default: 8; 0: all)");
+      app.add_option("--sheet-size", o->sheetSize, "Largest side of a sheet's tiles, pixels (eval's default: 100)")->check(CLI::Range(16u, 4096u));
       app.add_option("--train-arg", o->trainArgs, "One more argument for every train, as --train-arg=--distortion-loss=0 (repeatable)");
       app.add_option("--vknerf", o->binaries,
                      "A build's vknerf binary, or NAME=BINARY (repeatable: builds are compared in one sitting, "

@@ -26,7 +26,7 @@ namespace {
 
 struct Options {
   std::string model, scene, split = "test", json, csv, sheet;
-  uint32_t downscale = 1, limit = 0, sheetViews = 8, sheetSize = 160;
+  uint32_t downscale = 1, limit = 0, sheetViews = 8, sheetSize = 100;
 };
 
 // The error tiles' full scale: a mean |render - truth| of 0.25 over RGB (PSNR ~12 dB on its own) and

@@ -72,10 +72,11 @@ void ContactSheet::addRow(const std::string& label, const std::array<ImageRGBA8,
 }
 
 ImageRGBA8 ContactSheet::compose() const {
-  // Columns as wide as their widest tile or title; the sheet as wide as the columns or the widest label.
+  // Columns as wide as their widest tile or title (and a space); the sheet as wide as the columns or
+  // the widest label.
   std::array<uint32_t, 4> columnWidth{};
   for (size_t c = 0; c < 4; ++c) {
-    columnWidth[c] = textWidth(titles_[c]);
+    columnWidth[c] = textWidth(titles_[c]) + 2 * kGap;
     for (const Row& r : rows_) columnWidth[c] = std::max(columnWidth[c], r.tiles[c].width);
   }
   uint32_t width = kGap;

@@ -40,11 +40,13 @@ struct Child {
   double peakHostMiB = 0;
 };
 
-// Runs one child with its output in `log` (replaced), passing on its progress and its complaints.
-Child run(const Args& argv, const fs::path& log, const std::string& label, const SceneRunSettings& s) {
+// Runs one child with its output in `log` (replaced), passing on its complaints and, unless it only
+// draws a sheet (whose numbers are not the row's), its progress.
+Child run(const Args& argv, const fs::path& log, const std::string& label, const SceneRunSettings& s,
+          bool showProgress = true) {
   fs::remove(log);
   const auto onLine = [&](const std::string& line) {
-    const bool progress = line.rfind("step ", 0) == 0 || line.rfind("mean over ", 0) == 0;
+    const bool progress = showProgress && (line.rfind("step ", 0) == 0 || line.rfind("mean over ", 0) == 0);
     const bool complaint = line.rfind("vknerf: ", 0) == 0 && line.rfind("vknerf: device ", 0) != 0;
     if (s.say && (progress || complaint)) s.say("  " + label + ": " + line);
   };
@@ -94,7 +96,7 @@ SceneRow runScene(const std::string& scenePath, const std::string& scene, const 
     row.steps = t.steps, row.samplesPerRay = t.samplesPerRay, row.deviceMiB = t.deviceMiB;
 
     if (s.say) s.say(label + ": evaluating");
-    const Args sheetArgs = build.self ? Args{"--sheet", sheet} : Args{};
+    const Args sheetArgs = build.self ? concat({{"--sheet", sheet}, s.sheetArgs}) : Args{};
     const Child evaluated = run(concat({{build.binary}, s.globalArgs, {"eval", model.string(), scenePath, "--json", evalJson.string()}, s.evalArgs, sheetArgs}),
                                 runs / (label + ".eval.log"), label, s);
     row.hostMiB = std::max(*row.hostMiB, evaluated.peakHostMiB);
@@ -111,9 +113,10 @@ SceneRow runScene(const std::string& scenePath, const std::string& scene, const 
     // Another build's model: the newest code draws its sheet, so that every build's sheet looks
     // the same; the build's own eval when the newest cannot load the model and the build can draw.
     const fs::path sheetLog = runs / (label + ".sheet.log");
-    Child drawn = run(concat({{self.binary}, s.globalArgs, {"eval", model.string(), scenePath, "--sheet", sheet}, s.evalArgs}), sheetLog, label, s);
-    if (drawn.code != 0 && build.hasSheet)
-      drawn = run(concat({{build.binary}, s.globalArgs, {"eval", model.string(), scenePath, "--sheet", sheet}, s.evalArgs}), sheetLog, label, s);
+    const Args draw = concat({{"eval", model.string(), scenePath, "--sheet", sheet}, s.evalArgs, s.sheetArgs});
+    if (s.say) s.say(label + ": drawing its sheet with " + self.binary);
+    Child drawn = run(concat({{self.binary}, s.globalArgs, draw}), sheetLog, label, s, false);
+    if (drawn.code != 0 && build.hasSheet) drawn = run(concat({{build.binary}, s.globalArgs, draw}), sheetLog, label, s, false);
     if (drawn.code == 0)
       row.sheet = sheetName;
     else

@@ -27,6 +27,7 @@ struct SceneRunSettings {
   std::vector<std::string> globalArgs;  // before the command: --device, --validation
   std::vector<std::string> trainArgs;   // after `train SCENE -o MODEL`: budget, --config, --downscale, ...
   std::vector<std::string> evalArgs;    // after `eval MODEL SCENE`: --split, --downscale
+  std::vector<std::string> sheetArgs;   // with every --sheet: --sheet-views, --sheet-size
   std::filesystem::path dir;
   bool labelByBuild = false;            // several builds: files are <scene>-<build>.*
   std::function<void(const std::string& line)> say;

@@ -360,6 +360,7 @@ TEST(BenchScenesCli, BadInputIsOneLineBeforeAnyWork) {
            {"/no/such/scene --steps 1" + out, 1, "/no/such/scene"},
            {scene + " --steps 1 -o /dev/null/x", 1, "/dev/null/x"},
            {scene + " --steps 1" + out + " --vknerf /no/such/vknerf", 1, "/no/such/vknerf"},
+           {"--vknerf /no/such/vknerf " + scene + " --steps 1" + out, 1, "/no/such/vknerf"},  // a scene, not a build
            {scene + " " + scene + " --steps 1" + out, 2, "two scenes are named tabletop"},
            {scene + " --steps 1" + out + " --no-such-flag", 2, "--no-such-flag"},
        }) {

@@ -136,10 +136,13 @@ Registration benchScenes(
       app.add_option("--split", o->split, "Split to evaluate")->check(CLI::IsMember({"train", "val", "test", "all"}));
       app.add_option("--sheet-views", o->sheetViews, "Views on each contact sheet (eval's default: 8; 0: all)");
       app.add_option("--sheet-size", o->sheetSize, "Largest side of a sheet's tiles, pixels (eval's default: 100)")->check(CLI::Range(16u, 4096u));
-      app.add_option("--train-arg", o->trainArgs, "One more argument for every train, as --train-arg=--distortion-loss=0 (repeatable)");
+      // One value per occurrence, so that a scene after --vknerf BINARY is not taken for a second binary.
+      app.add_option("--train-arg", o->trainArgs, "One more argument for every train, as --train-arg=--distortion-loss=0 (repeatable)")
+          ->allow_extra_args(false);
       app.add_option("--vknerf", o->binaries,
                      "A build's vknerf binary, or NAME=BINARY (repeatable: builds are compared in one sitting, "
-                     "their order alternating per scene; default: this one)");
+                     "their order alternating per scene; default: this one)")
+          ->allow_extra_args(false);
       return [o, &g] { return run(*o, g); };
     });
 

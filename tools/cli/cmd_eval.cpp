@@ -1,6 +1,9 @@
-// `vknerf eval MODEL SCENE`: PSNR and SSIM on held-out views, as JSON and CSV.
+// `vknerf eval MODEL SCENE`: PSNR and SSIM on held-out views, as JSON and CSV, and with --sheet a
+// contact sheet of the views (ground truth | render | depth | error).
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -9,8 +12,10 @@
 #include "command.h"
 #include "progress.h"
 #include "io/image_io.h"
+#include "lib/contact_sheet.h"
 #include "lib/csv.h"
 #include "lib/metrics.h"
+#include "lib/render_output.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -20,15 +25,27 @@ namespace vknerf::cli {
 namespace {
 
 struct Options {
-  std::string model, scene, split = "test", json, csv;
-  uint32_t downscale = 1, limit = 0;
+  std::string model, scene, split = "test", json, csv, sheet;
+  uint32_t downscale = 1, limit = 0, sheetViews = 8, sheetSize = 100;
 };
 
+// The error tiles' full scale: a mean |render - truth| of 0.25 over RGB (PSNR ~12 dB on its own) and
+// above is yellow. Fixed, so that sheets of two builds or scenes compare by eye.
+constexpr float kSheetErrorScale = 0.25f;
+
+// Which of n views the sheet shows: `wanted` (0: all) spread evenly from the first to the last.
+std::vector<bool> sheetViews(size_t n, uint32_t wanted) {
+  std::vector<bool> chosen(n, false);
+  const size_t m = wanted == 0 ? n : std::min<size_t>(wanted, n);
+  for (size_t k = 0; k < m; ++k) chosen[m == 1 ? 0 : (k * (n - 1) + (m - 1) / 2) / (m - 1)] = true;
+  return chosen;
+}
 
 int run(const Options& o, const Globals& g) {
   // Before the evaluation: a report that cannot be written would lose it.
   if (!o.json.empty()) checkOutput(o.json, "--json", o.scene);
   if (!o.csv.empty()) checkOutput(o.csv, "--csv", o.scene);
+  if (!o.sheet.empty()) checkOutput(o.sheet, "--sheet", o.scene);
   auto ctx = g.context();
   Model model = Model::load(ctx, o.model);
   DatasetOptions dopt;
@@ -40,6 +57,16 @@ int run(const Options& o, const Globals& g) {
   if (o.limit && n > o.limit) n = o.limit;
   nlohmann::json images = nlohmann::json::array();
   double sumPsnr = 0, sumSsim = 0, sumSeconds = 0;
+  // Depth coloured over the range `vknerf render` uses for these cameras.
+  const nerf::DepthRange depth = nerf::depthRangeFor(nerf::meanCameraDistance(data.cameras), model.bounds());
+  std::optional<nerf::ContactSheet> sheet;
+  const std::vector<bool> onSheet = sheetViews(n, o.sheetViews);
+  if (!o.sheet.empty()) {
+    char range[64], scale[64];
+    std::snprintf(range, sizeof range, "depth %.2f to %.2f", depth.nearDepth, depth.farDepth);
+    std::snprintf(scale, sizeof scale, "error 0 to %.2f", kSheetErrorScale);
+    sheet.emplace(std::array<std::string, 4>{"ground truth", "render", range, scale}, o.sheetSize);
+  }
   for (size_t i = 0; i < n; ++i) {
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = model.render(data.cameras[i], progressPrinter("rendering " + data.names[i] + ": pixels", true));
@@ -49,6 +76,14 @@ int run(const Options& o, const Globals& g) {
     sumPsnr += p, sumSsim += q, sumSeconds += s;
     images.push_back({{"name", data.names[i]}, {"psnr", p}, {"ssim", q}, {"seconds", s}});
     std::printf("%-40s PSNR %6.2f dB  SSIM %.4f  %.3f s\n", data.names[i].c_str(), p, q, s);
+    if (sheet && onSheet[i]) {
+      char label[64];
+      std::snprintf(label, sizeof label, "  PSNR %.2f dB  SSIM %.3f", p, q);
+      sheet->addRow(std::filesystem::path(data.names[i]).filename().string() + label,
+                    {nerf::rgbaOf({img.width, img.height, gt, {}, {}, {}}), nerf::rgbaOf(img),
+                     nerf::depthRgba(img, depth.nearDepth, depth.farDepth),
+                     nerf::errorRgba(img.rgb, gt, img.width, img.height, kSheetErrorScale)});
+    }
   }
   nlohmann::json result = {{"model", o.model}, {"scene", o.scene}, {"split", o.split}, {"count", n},
                            {"psnr", sumPsnr / double(n)}, {"ssim", sumSsim / double(n)},
@@ -63,6 +98,10 @@ int run(const Options& o, const Globals& g) {
       f << nerf::csvField(im["name"].get<std::string>()) << "," << im["psnr"] << "," << im["ssim"] << "," << im["seconds"] << "\n";
     writeFileAtomically(o.csv, f.str());
   }
+  if (sheet) {
+    sheet->save(o.sheet);
+    std::printf("wrote %s: %zu views, ground truth | render | depth | error\n", o.sheet.c_str(), sheet->rows());
+  }
   return 0;
 }
 
@@ -75,6 +114,12 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   app.add_option("--csv", o->csv, "Write per-image results as CSV");
   app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
   app.add_option("--limit", o->limit, "Evaluate at most this many views");
+  app.add_option("--sheet", o->sheet,
+                 "Write a contact sheet PNG: a row per view (name, PSNR, SSIM), ground truth | render | depth "
+                 "(colour-mapped as render writes it) | error (mean |render - truth| over RGB, 0 to 0.25)");
+  app.add_option("--sheet-views", o->sheetViews, "Views on the sheet, spread evenly over those evaluated (0: all)");
+  app.add_option("--sheet-size", o->sheetSize, "Largest side of a tile on the sheet, pixels (tiles are never enlarged)")
+      ->check(CLI::Range(16u, 4096u));
   return [o, &g] { return run(*o, g); };
 });
 

@@ -93,10 +93,7 @@ int run(const Options& o, const Globals& g) {
     Dataset data = Dataset::load(o.scene, dopt);
     cams = data.cameras;
     like = data.cameras[0];
-    if (radius <= 0) {
-      for (auto& c : data.cameras) radius += std::sqrt(c.c2w[3] * c.c2w[3] + c.c2w[7] * c.c2w[7] + c.c2w[11] * c.c2w[11]);
-      radius /= float(data.cameras.size());
-    }
+    if (radius <= 0) radius = nerf::meanCameraDistance(data.cameras);
   }
   if (radius <= 0) radius = 4.0f;
   if (o.orbit) cams = orbitCameras(o.orbit, model.bounds(), radius, o.elevationDegrees, like);
@@ -111,9 +108,7 @@ int run(const Options& o, const Globals& g) {
                     "); a video needs one size");
     video.emplace(o.video, cams[0].width, cams[0].height, fps);  // fails now when ffmpeg is missing
   }
-  const auto& b = model.bounds();
-  float diag = std::sqrt((b.max[0] - b.min[0]) * (b.max[0] - b.min[0]) + (b.max[1] - b.min[1]) * (b.max[1] - b.min[1]) +
-                         (b.max[2] - b.min[2]) * (b.max[2] - b.min[2]));
+  const nerf::DepthRange depthRange = nerf::depthRangeFor(radius, model.bounds());
   const auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < cams.size(); ++i) {
     auto t0 = std::chrono::steady_clock::now();
@@ -124,8 +119,7 @@ int run(const Options& o, const Globals& g) {
     if (!o.outDir.empty()) {
       std::string base = o.outDir + "/";
       nerf::saveRgbPng(base + "rgb_" + name + ".png", img);
-      nerf::saveDepthPng(base + "depth_" + name + ".png", img, std::max(radius - 0.5f * diag, 0.0f),
-                         radius + 0.5f * diag);
+      nerf::saveDepthPng(base + "depth_" + name + ".png", img, depthRange.nearDepth, depthRange.farDepth);
       nerf::saveDepthPfm(base + "depth_" + name + ".pfm", img);
       nerf::saveOpacityPng(base + "opacity_" + name + ".png", img);
     }

@@ -19,6 +19,7 @@
 #include "io/config_json.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 #include "vknerf/trainer.h"
 
 namespace vknerf::cli {
@@ -35,7 +36,7 @@ extern "C" void onStopSignal(int sig) {
 }
 
 struct Options {
-  std::string scene, output, config = "vanilla";
+  std::string scene, output, config = "vanilla", summary;
   uint32_t width = 0, depth = 0, coarse = 0, fine = 0;
   uint32_t hashLevels = 0, hashLog2Size = 0, hashMaxResolution = 0, grid = 0, marchSteps = 0, samplesPerStep = 0;
   uint32_t cascades = 0, featureWidth = 0;
@@ -162,6 +163,7 @@ int run(const Options& o, const Globals& g) {
   }
   checkOutput(opts.output, "model", opts.scene);  // before any work, which a bad path would lose
   checkReplaceable(opts.output);
+  if (!opts.summary.empty()) checkOutput(opts.summary, "--summary", opts.scene);
   if (opts.steps == 0 && opts.seconds <= 0) {
     opts.seconds = 300;  // converges to a usable model on a CPU device; say so, since it was not asked for
     std::printf("no --steps or --time given: training for %.0f s\n", opts.seconds);
@@ -179,6 +181,23 @@ std::string imageSizes(const Dataset& data) {
   }
   auto text = [](const ImageRGBA8& im) { return std::to_string(im.width) + "x" + std::to_string(im.height); };
   return pixels(*lo) == pixels(*hi) ? text(*lo) : text(*lo) + " to " + text(*hi);
+}
+
+// --summary: what `bench scenes` (and any script) reads of a run, rather than parsing the log.
+void writeSummary(const std::string& path, const Trainer& trainer, double seconds, double lastPsnr, bool interrupted) {
+  const ModelStatistics s = trainer.statistics();
+  const double images = trainer.trainingPixelsDeviceMiB();
+  nlohmann::json j = {{"steps", trainer.steps()},
+                      {"seconds", seconds},
+                      {"interrupted", interrupted},
+                      {"samples_per_ray", s.meanSamplesPerRay.value_or(s.samplesPerRay)},
+                      {"device_mib", s.deviceMiB + images},
+                      {"model_device_mib", s.deviceMiB},
+                      {"training_images_device_mib", images},
+                      {"host_peak_mib", hostPeakMiB()},
+                      {"train_psnr", lastPsnr >= 0 ? nlohmann::json(lastPsnr) : nlohmann::json()},
+                      {"config", trainer.model().config().describe()}};
+  writeFileAtomically(path, j.dump(2) + "\n");
 }
 
 int train(const Options& o, const Globals& g) {
@@ -272,6 +291,7 @@ int train(const Options& o, const Globals& g) {
   if (lastPsnr >= 0) std::snprintf(psnr, sizeof psnr, "last train PSNR %.2f dB", lastPsnr);
   std::printf("%s after %u steps (%.1f s, %s); model saved to %s\n", stopSignal ? "interrupted" : "done",
               trainer.steps(), elapsed(), psnr, o.output.c_str());
+  if (!o.summary.empty()) writeSummary(o.summary, trainer, elapsed(), lastPsnr, bool(stopSignal));
   return stopSignal ? 128 + stopSignal : 0;
 }
 
@@ -305,6 +325,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");
                      app.add_flag("--profile", o->profile, "Print where the last step's time went: each submission's kernels, the host time between them");
+                     app.add_option("--summary", o->summary, "Also write the run's numbers as JSON: steps, seconds, samples per ray (mean over all steps), device and host MiB, last train PSNR");
                      app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config is kept; flags must agree with it)");
                      return [o, &g, &app] {
                        o->configGiven = app.count("--config") > 0;

@@ -13,23 +13,34 @@ namespace {
 
 uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 
+}  // namespace
+
 // A compact perceptual map (dark blue -> teal -> yellow), piecewise linear through 5 stops. A NaN
 // (an unknown depth, or a depth range that is not finite) is drawn black like empty space: it must
 // never reach the stop index, where int(NaN) is undefined.
-void colormap(float t, uint8_t* rgb) {
+std::array<uint8_t, 3> mapColour(float t) {
   static const float stops[5][3] = {{0.05f, 0.03f, 0.35f}, {0.15f, 0.35f, 0.60f}, {0.15f, 0.60f, 0.55f},
                                     {0.55f, 0.80f, 0.25f}, {0.99f, 0.91f, 0.15f}};
-  if (std::isnan(t)) {
-    rgb[0] = rgb[1] = rgb[2] = 0;
-    return;
-  }
+  if (std::isnan(t)) return {0, 0, 0};
   t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
   int i = std::min(int(t), 3);
   float f = t - float(i);
+  std::array<uint8_t, 3> rgb;
   for (int k = 0; k < 3; ++k) rgb[k] = toByte(stops[i][k] * (1 - f) + stops[i + 1][k] * f);
+  return rgb;
 }
 
-}  // namespace
+float meanCameraDistance(const std::vector<Camera>& cameras) {
+  float sum = 0;
+  for (const Camera& c : cameras) sum += std::sqrt(c.c2w[3] * c.c2w[3] + c.c2w[7] * c.c2w[7] + c.c2w[11] * c.c2w[11]);
+  return cameras.empty() ? 0.0f : sum / float(cameras.size());
+}
+
+DepthRange depthRangeFor(float cameraDistance, const Aabb& b) {
+  const float diag = std::sqrt((b.max[0] - b.min[0]) * (b.max[0] - b.min[0]) + (b.max[1] - b.min[1]) * (b.max[1] - b.min[1]) +
+                               (b.max[2] - b.min[2]) * (b.max[2] - b.min[2]));
+  return {std::max(cameraDistance - 0.5f * diag, 0.0f), cameraDistance + 0.5f * diag};
+}
 
 ImageRGBA8 rgbaOf(const RenderedImage& img) {
   ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};
@@ -47,17 +58,18 @@ void saveOpacityPng(const std::string& path, const RenderedImage& img) {
   savePng(path, out);
 }
 
-void saveDepthPng(const std::string& path, const RenderedImage& img, float nearDepth, float farDepth) {
+ImageRGBA8 depthRgba(const RenderedImage& img, float nearDepth, float farDepth) {
   ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};
   const float span = std::max(farDepth - nearDepth, 1e-6f);
   for (size_t p = 0; p < size_t(img.width) * img.height; ++p) {
-    if (img.opacity[p] < 0.5f) {
-      out.rgba[p * 4] = out.rgba[p * 4 + 1] = out.rgba[p * 4 + 2] = 0;
-      continue;
-    }
-    colormap((img.depth[p] - nearDepth) / span, &out.rgba[p * 4]);
+    const auto rgb = img.opacity[p] < 0.5f ? std::array<uint8_t, 3>{0, 0, 0} : mapColour((img.depth[p] - nearDepth) / span);
+    std::copy(rgb.begin(), rgb.end(), &out.rgba[p * 4]);
   }
-  savePng(path, out);
+  return out;
+}
+
+void saveDepthPng(const std::string& path, const RenderedImage& img, float nearDepth, float farDepth) {
+  savePng(path, depthRgba(img, nearDepth, farDepth));
 }
 
 void saveDepthPfm(const std::string& path, const RenderedImage& img) {

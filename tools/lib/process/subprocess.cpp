@@ -2,10 +2,12 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <fstream>
 
@@ -39,7 +41,7 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 
 }  // namespace
 
-int runLogged(const Subprocess& p) {
+int runLogged(const Subprocess& p, ChildUsage* usage) {
   std::ofstream log(p.logPath, std::ios::app | std::ios::binary);
   if (!log) throw Error("cannot write the log '" + p.logPath + "': " + std::strerror(errno));
   int fds[2];
@@ -52,13 +54,15 @@ int runLogged(const Subprocess& p) {
   posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
   posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
   pid_t pid = -1;
+  const auto start = std::chrono::steady_clock::now();
   const int err = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   ::close(fds[1]);
   if (err != 0) {
     ::close(fds[0]);
     if (err == ENOENT)
-      throw Error(p.argv[0] + " is not installed (Debian package: " + p.debianPackage + ")");
+      throw Error(p.debianPackage.empty() ? p.argv[0] + ": not found"
+                                          : p.argv[0] + " is not installed (Debian package: " + p.debianPackage + ")");
     throw Error("cannot start " + p.argv[0] + ": " + std::strerror(err));
   }
   // COLMAP ends some progress lines with '\r' rather than '\n': both end a line here.
@@ -82,7 +86,12 @@ int runLogged(const Subprocess& p) {
   if (p.onLine && !pending.empty()) p.onLine(pending);
   ::close(fds[0]);
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  rusage ru{};
+  while (::wait4(pid, &status, 0, &ru) < 0 && errno == EINTR) {
+  }
+  if (usage) {
+    usage->peakHostMiB = double(ru.ru_maxrss) / 1024.0;  // KiB on Linux
+    usage->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;

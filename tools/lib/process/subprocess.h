@@ -15,10 +15,18 @@ struct Subprocess {
   std::function<void(const std::string& line)> onLine;  // optional, for each line as it arrives
 };
 
+// What the finished child used, from wait4(): its peak resident memory (ru_maxrss) is its own,
+// measured by the kernel, which no report of the child's can replace.
+struct ChildUsage {
+  double peakHostMiB = 0;
+  double seconds = 0;  // wall time from start to exit
+};
+
 // Runs `p` to completion and returns its exit status (128 + N when killed by signal N). Throws
 // vknerf::Error "<program> is not installed (Debian package: <package>)" when argv[0] is not on
-// PATH, and naming the log when the log cannot be opened.
-int runLogged(const Subprocess& p);
+// PATH (without a package: "<program>: not found"), and naming the log when the log cannot be
+// opened. `usage`, when given, receives what the child used.
+int runLogged(const Subprocess& p, ChildUsage* usage = nullptr);
 
 // The last non-empty line of a log file ("" when there is none): the reason a program gave.
 std::string lastLogLine(const std::string& path);

@@ -207,10 +207,11 @@ def gl_to_cv_points(c2w, points):
     return cam * np.array([1.0, -1.0, -1.0])
 
 
-def surface_points(rng, poses, out_cam, lens, per_view):
+def surface_points(rng, poses, out_cam, lens, per_view, centre, scale):
     # Like a structure-from-motion model's: seeded by rays through random pixels of each photo (sky hits
     # nothing and gives no point), then each point is kept in every view where it projects inside the
-    # photo through the full lens model and nothing hides it.
+    # photo through the full lens model and nothing hides it. Returned in the written world, p -> (p - centre)
+    # * scale, rounded only there (so the stored pixels stay within 1e-3 px of the points' projections).
     scene = bpy.context.scene
     depsgraph = bpy.context.evaluated_depsgraph_get()
     pts = []
@@ -238,7 +239,7 @@ def surface_points(rng, poses, out_cam, lens, per_view):
             if hit and (loc - eye).length > dist * (1 - 1e-4) - 1e-4:
                 tracks[pi].append([vi, float(uv[pi, 0]), float(uv[pi, 1])])
     keep = [i for i, t in enumerate(tracks) if len(t) >= 2]
-    return [{"xyz": [round(float(c), 6) for c in pts[i]], "views": tracks[i]} for i in keep]
+    return [{"xyz": [round(float(c), 6) for c in (pts[i] - centre) * scale], "views": tracks[i]} for i in keep]
 
 
 # ---------------------------------------------------------------- colmap2nerf's world
@@ -312,9 +313,7 @@ def main():
         print(f"make_capture: view {i + 1}/{len(poses)} rendered, {time.time() - start:.0f} s so far", flush=True)
     render_s = time.time() - start
     bpy.context.view_layer.update()
-    points = surface_points(rng, poses, out_cam, lens, args.points_per_view)
-    for pt in points:
-        pt["xyz"] = [round(float(c), 6) for c in (np.array(pt["xyz"]) - centre) * scale]
+    points = surface_points(rng, poses, out_cam, lens, args.points_per_view, centre, scale)
     with open(os.path.join(folder, "render.json"), "w") as f:
         json.dump({"scene": args.scene, "camera": out_cam, "lens": lens, "wide_camera": wide,
                    "aabb_scale": args.aabb_scale, "held_out": args.held_out, "world_from_blender":

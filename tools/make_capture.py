@@ -1,14 +1,20 @@
-# Renders an unbounded "phone capture" for vknerf's camera-model and large-scene work: the tabletop objects on
-# a large paved ground, crates at middle distance, a ring of buildings and a cloudy sky, photographed without
-# alpha from a hand-held path (jittered positions and aim, a few views looking outwards).
+# Renders a hand-held, lens-distorted "phone capture" for vknerf's camera-model and real-photo work, photographed
+# without alpha through the same phone camera; --scene picks what is photographed:
+#   outdoor (default): unbounded: the tabletop objects on a large paved ground, crates at middle distance, a
+#     ring of buildings and a cloudy sky, from a hand-held walk round the objects (jittered positions and aim,
+#     a few views looking outwards); 45 views, world units as built.
+#   wall: an object hanging on a tiled wall that fills every frame, photographed from 0.5-0.9 m
+#     (tools/scenegen/wall_scene.py); 50 views, 7 held out, and the world normalised as instant-ngp's
+#     colmap2nerf.py does with a real capture (origin where the cameras look, mean camera distance 4).
 # Run by Blender, not by python3 (tools/make_capture.sh runs this, then tools/warp_capture.py, then the check):
-#   blender -b --factory-startup -P tools/make_capture.py -- --out /work/data/capture
+#   blender -b --factory-startup -P tools/make_capture.py -- --out /work/data/capture [--scene wall]
 #
 # Each view is rendered as a WIDE pinhole image (square pixels, principal point at its centre, oversampled),
 # large enough to cover what the distorted camera sees; tools/warp_capture.py then warps it through the lens
 # model, so the distortion in the photos is exact. This script writes <out>/wide/: view_NNNN.png, and
-# render.json with the output camera, the lens, every view's pose and its wide intrinsics, and 3-D points on
-# the scene's surfaces with the views that see them (for the COLMAP model's points3D.bin).
+# render.json with the output camera, the lens, every view's pose and its wide intrinsics, the number of views
+# to hold out, and 3-D points on the scene's surfaces with the views that see them (for the COLMAP model's
+# points3D.bin).
 import argparse
 import json
 import math
@@ -24,6 +30,7 @@ from mathutils import Matrix, Vector
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from scenegen import blender_parts as parts  # noqa: E402  (needs the path above)
 from scenegen import lens as lenses  # noqa: E402
+from scenegen import wall_scene  # noqa: E402
 
 GROUND = parts.FLOOR - 0.1  # the plate (0.1 thick, top at FLOOR) lies on the ground
 
@@ -40,7 +47,11 @@ def parse_args():
     p.add_argument("--out", required=True, help="dataset folder; the renders go to <out>/wide")
     p.add_argument("--width", type=int, default=270)
     p.add_argument("--height", type=int, default=480)
-    p.add_argument("--views", type=int, default=45)
+    p.add_argument("--scene", choices=("outdoor", "wall"), default="outdoor")
+    p.add_argument("--views", type=int, default=None, help="default: 45 outdoor, 50 wall")
+    p.add_argument("--held-out", type=int, default=None,
+                   help="views transforms_test.json holds out, evenly spaced (default: 7 for the wall; else "
+                        "round(0.1 n), vknerf's default holdout)")
     p.add_argument("--focal", type=float, default=None,
                    help="fl_x in pixels (default: 1.2963 * width, a phone main camera; fl_y is 0.2%% larger)")
     p.add_argument("--lens", choices=sorted(DEFAULT_LENSES), default="opencv")
@@ -57,31 +68,10 @@ def parse_args():
 
 # ---------------------------------------------------------------- the unbounded scene
 
-def brick_material(name, color1, color2, mortar, scale, variation_scale):
-    # Bricks in object coordinates (scene units), multiplied by a large-scale noise so that distant parts
-    # of a big surface still differ from one another.
-    mat, nodes, links, ramp, bsdf = parts.noise_ramp_material(
-        name, variation_scale, 3.0, (0.55, 0.55, 0.55), (1.0, 1.0, 1.0), roughness=0.8)
-    coord = nodes["Texture Coordinate"]
-    brick = nodes.new("ShaderNodeTexBrick")
-    brick.inputs["Color1"].default_value = (*color1, 1.0)
-    brick.inputs["Color2"].default_value = (*color2, 1.0)
-    brick.inputs["Mortar"].default_value = (*mortar, 1.0)
-    brick.inputs["Scale"].default_value = scale
-    links.new(coord.outputs["Object"], brick.inputs["Vector"])
-    mix = nodes.new("ShaderNodeMixRGB")
-    mix.blend_type = "MULTIPLY"
-    mix.inputs["Fac"].default_value = 1.0
-    links.new(brick.outputs["Color"], mix.inputs["Color1"])
-    links.new(ramp.outputs["Color"], mix.inputs["Color2"])
-    links.new(mix.outputs["Color"], bsdf.inputs["Base Color"])
-    return mat
-
-
 def build_surroundings(rng):
     mesh = bpy.ops.mesh
     # Ground: 80 x 80 units of paving, so it reaches the horizon from every camera.
-    parts.add(mesh.primitive_plane_add, brick_material("paving", (0.55, 0.5, 0.42), (0.36, 0.34, 0.3),
+    parts.add(mesh.primitive_plane_add, parts.brick_material("paving", (0.55, 0.5, 0.42), (0.36, 0.34, 0.3),
                                                        (0.12, 0.12, 0.12), 1.5, 0.15),
               "ground", size=80.0, location=(0, 0, GROUND))
     # Crates at middle distance (inside instant-ngp's aabb_scale 4 cube, |x| < 6): parallax between the
@@ -100,7 +90,7 @@ def build_surroundings(rng):
         r = rng.uniform(9.0, 13.0)
         w, d, h = rng.uniform(2.5, 4.5), rng.uniform(1.5, 3.0), rng.uniform(2.0, 6.0)
         hue = [rng.uniform(0.35, 0.9) for _ in range(3)]
-        mat = brick_material(f"facade_{i}", hue, [0.8 * c for c in hue], (0.9, 0.9, 0.88), 5.0, 0.4)
+        mat = parts.brick_material(f"facade_{i}", hue, [0.8 * c for c in hue], (0.9, 0.9, 0.88), 5.0, 0.4)
         box = parts.add(mesh.primitive_cube_add, mat, f"building_{i}", size=1.0,
                         location=(r * math.cos(a), r * math.sin(a), GROUND + h / 2), rotation=(0, 0, a))
         box.scale = (d, w, h)
@@ -217,10 +207,11 @@ def gl_to_cv_points(c2w, points):
     return cam * np.array([1.0, -1.0, -1.0])
 
 
-def surface_points(rng, poses, out_cam, lens, per_view):
+def surface_points(rng, poses, out_cam, lens, per_view, centre, scale):
     # Like a structure-from-motion model's: seeded by rays through random pixels of each photo (sky hits
     # nothing and gives no point), then each point is kept in every view where it projects inside the
-    # photo through the full lens model and nothing hides it.
+    # photo through the full lens model and nothing hides it. Returned in the written world, p -> (p - centre)
+    # * scale, rounded only there (so the stored pixels stay within 1e-3 px of the points' projections).
     scene = bpy.context.scene
     depsgraph = bpy.context.evaluated_depsgraph_get()
     pts = []
@@ -248,16 +239,51 @@ def surface_points(rng, poses, out_cam, lens, per_view):
             if hit and (loc - eye).length > dist * (1 - 1e-4) - 1e-4:
                 tracks[pi].append([vi, float(uv[pi, 0]), float(uv[pi, 1])])
     keep = [i for i, t in enumerate(tracks) if len(t) >= 2]
-    return [{"xyz": [round(float(c), 6) for c in pts[i]], "views": tracks[i]} for i in keep]
+    return [{"xyz": [round(float(c), 6) for c in (pts[i] - centre) * scale], "views": tracks[i]} for i in keep]
+
+
+# ---------------------------------------------------------------- colmap2nerf's world
+
+def closest_point_2_lines(oa, da, ob, db):
+    # instant-ngp's scripts/colmap2nerf.py: the midpoint of the closest points of two optical axes (clamped to
+    # lie in front of both cameras) and a weight that vanishes for parallel axes.
+    da, db = da / np.linalg.norm(da), db / np.linalg.norm(db)
+    c = np.cross(da, db)
+    denom = np.linalg.norm(c) ** 2
+    t = ob - oa
+    ta = min(np.linalg.det([t, db, c]) / (denom + 1e-10), 0.0)
+    tb = min(np.linalg.det([t, da, c]) / (denom + 1e-10), 0.0)
+    return (oa + ta * da + ob + tb * db) * 0.5, denom
+
+
+def colmap2nerf_frame(poses):
+    # (centre, scale) with which colmap2nerf.py maps a capture into instant-ngp's frame, p -> (p - centre) *
+    # scale: the origin where the cameras look, their mean distance from it 4 units. (Our world is already
+    # +Z up, so its rotation of the mean up vector onto +Z is left out.)
+    mats = [np.array(pose) for pose in poses]
+    total, weight = np.zeros(3), 0.0
+    for mf in mats:
+        for mg in mats:
+            p, w = closest_point_2_lines(mf[:3, 3], mf[:3, 2], mg[:3, 3], mg[:3, 2])
+            if w > 1e-5:
+                total, weight = total + p * w, weight + w
+    centre = total / weight
+    return centre, 4.0 / np.mean([np.linalg.norm(m[:3, 3] - centre) for m in mats])
 
 
 def main():
     args = parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     rng = random.Random(args.seed)
-    parts.build_tabletop()
-    build_surroundings(rng)
-    build_sky()
+    if args.scene == "wall":
+        args.views = args.views or 50
+        args.held_out = 7 if args.held_out is None else args.held_out
+        wall_scene.build(rng)
+    else:
+        args.views = args.views or 45
+        parts.build_tabletop()
+        build_surroundings(rng)
+        build_sky()
     out_cam = output_camera(args)
     lens = lens_from_args(args)
     wide = wide_camera(out_cam, lens, args.oversample)
@@ -270,7 +296,8 @@ def main():
     bpy.context.scene.render.use_persistent_data = True
     cam = parts.add_camera()
     set_blender_camera(cam, wide)
-    poses = hand_held_poses(rng, args.views)
+    poses = (wall_scene.hand_held_poses if args.scene == "wall" else hand_held_poses)(rng, args.views)
+    centre, scale = colmap2nerf_frame(poses) if args.scene == "wall" else (np.zeros(3), 1.0)
 
     folder = os.path.join(args.out, "wide")
     os.makedirs(folder, exist_ok=True)
@@ -279,14 +306,18 @@ def main():
         cam.matrix_world = pose
         name = f"view_{i:04d}.png"
         parts.render_still(os.path.abspath(os.path.join(folder, name)))
-        matrix = [[round(pose[r][c], 9) for c in range(4)] for r in range(4)]
+        matrix = np.array(pose)
+        matrix[:3, 3] = (matrix[:3, 3] - centre) * scale
+        matrix = [[round(float(matrix[r][c]), 9) for c in range(4)] for r in range(4)]
         views.append({"wide_image": name, "transform_matrix": matrix})
         print(f"make_capture: view {i + 1}/{len(poses)} rendered, {time.time() - start:.0f} s so far", flush=True)
     render_s = time.time() - start
     bpy.context.view_layer.update()
-    points = surface_points(rng, poses, out_cam, lens, args.points_per_view)
+    points = surface_points(rng, poses, out_cam, lens, args.points_per_view, centre, scale)
     with open(os.path.join(folder, "render.json"), "w") as f:
-        json.dump({"camera": out_cam, "lens": lens, "wide_camera": wide, "aabb_scale": args.aabb_scale,
+        json.dump({"scene": args.scene, "camera": out_cam, "lens": lens, "wide_camera": wide,
+                   "aabb_scale": args.aabb_scale, "held_out": args.held_out, "world_from_blender":
+                   {"centre": [round(float(c), 9) for c in centre], "scale": round(float(scale), 9)},
                    "views": views, "points": points, "render_seconds": round(render_s, 1)}, f, indent=1)
     print(f"make_capture: {len(poses)} wide views of {wide['w']}x{wide['h']} at {args.samples} spp in "
           f"{render_s:.0f} s ({render_s / len(poses):.1f} s each), {len(points)} surface points, in {folder}")

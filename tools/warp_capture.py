@@ -3,8 +3,9 @@
 # dataset a phone and COLMAP would give, in two layouts over the same images/:
 #   transforms.json (instant-ngp keys: fl_x fl_y cx cy w h, k1 k2 p1 p2 or is_fisheye + k1..k4, aabb_scale;
 #     frames with file_path and an OpenGL camera-to-world transform_matrix), and transforms_train.json /
-#     transforms_test.json holding out the frames vknerf's default holdout picks from transforms.json
-#     (round(0.1 n) evenly spaced: frame floor((j + 0.5) n / held) for j = 0..held-1);
+#     transforms_test.json holding out evenly spaced frames, floor((j + 0.5) n / held) for j = 0..held-1:
+#     render.json's held_out of them (the wall scene's 7), else round(0.1 n), the frames vknerf's default
+#     holdout picks from transforms.json;
 #   sparse/0/cameras.bin (OPENCV or OPENCV_FISHEYE), images.bin, points3D.bin: COLMAP's binary model.
 # With --pinhole OUT it also writes the same views without distortion (PINHOLE, no k/p keys) to OUT, which
 # today's loaders read; there the COLMAP model is also written as text (sparse/0/*.txt).
@@ -26,9 +27,11 @@ from scenegen.transforms_json import write_transforms  # noqa: E402
 HOLDOUT_FRACTION = 0.1  # vknerf's DatasetOptions.holdoutFraction default
 
 
-def held_out(n, fraction=HOLDOUT_FRACTION):
+def held_out(n, count=None, fraction=HOLDOUT_FRACTION):
     # Rounds halves up, as vknerf's std::lround does (Python's round would take 4 of 45, not 5).
-    held = min(n, max(1, math.floor(fraction * n + 0.5))) if fraction > 0 else 0
+    if count is None:
+        count = min(n, max(1, math.floor(fraction * n + 0.5))) if fraction > 0 else 0
+    held = min(n, count)
     return {int((j + 0.5) * n / held) for j in range(held)}
 
 
@@ -85,7 +88,7 @@ def write_dataset(out, meta, lens, images, points_uv, text_model):
         **{k: round(cam[k], 6) for k in ("fl_x", "fl_y", "cx", "cy")}, "w": cam["w"], "h": cam["h"],
         "aabb_scale": meta["aabb_scale"]}
     write_transforms(os.path.join(out, "transforms.json"), head, frames)
-    test = held_out(len(frames))
+    test = held_out(len(frames), meta.get("held_out"))
     write_transforms(os.path.join(out, "transforms_train.json"), head,
                      [f for i, f in enumerate(frames) if i not in test])
     write_transforms(os.path.join(out, "transforms_test.json"), head, [f for i, f in enumerate(frames) if i in test])

@@ -1,5 +1,6 @@
-# Blender building blocks shared by tools/make_scene.py and tools/make_capture.py: materials, the tabletop
-# objects, lights, Cycles settings and PNG clean-up. Imported inside Blender (needs bpy), never by python3.
+# Blender building blocks shared by tools/make_scene.py, tools/make_capture.py (and its wall_scene.py) and
+# tools/make_ffwd_capture.py: materials, the tabletop objects, lights, Cycles settings and PNG clean-up.
+# Imported inside Blender (needs bpy), never by python3.
 import math
 import struct
 
@@ -56,6 +57,27 @@ def noise_ramp_material(name, scale, detail, color_lo, color_hi, roughness=0.45,
     links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
     links.new(ramp.outputs["Color"], bsdf.inputs["Base Color"])
     return mat, nodes, links, ramp, bsdf
+
+
+def brick_material(name, color1, color2, mortar, scale, variation_scale):
+    # Bricks in object coordinates (scene units), multiplied by a large-scale noise so that distant parts
+    # of a big surface still differ from one another.
+    mat, nodes, links, ramp, bsdf = noise_ramp_material(
+        name, variation_scale, 3.0, (0.55, 0.55, 0.55), (1.0, 1.0, 1.0), roughness=0.8)
+    coord = nodes["Texture Coordinate"]
+    brick = nodes.new("ShaderNodeTexBrick")
+    brick.inputs["Color1"].default_value = (*color1, 1.0)
+    brick.inputs["Color2"].default_value = (*color2, 1.0)
+    brick.inputs["Mortar"].default_value = (*mortar, 1.0)
+    brick.inputs["Scale"].default_value = scale
+    links.new(coord.outputs["Object"], brick.inputs["Vector"])
+    mix = nodes.new("ShaderNodeMixRGB")
+    mix.blend_type = "MULTIPLY"
+    mix.inputs["Fac"].default_value = 1.0
+    links.new(brick.outputs["Color"], mix.inputs["Color1"])
+    links.new(ramp.outputs["Color"], mix.inputs["Color2"])
+    links.new(mix.outputs["Color"], bsdf.inputs["Base Color"])
+    return mat
 
 
 def noise_material():
@@ -118,6 +140,7 @@ def add_sun():
     sun = bpy.data.objects.new("sun", sun_data)
     sun.rotation_euler = (math.radians(40), math.radians(10), math.radians(35))
     bpy.context.scene.collection.objects.link(sun)
+    return sun
 
 
 # ---------------------------------------------------------------- rendering

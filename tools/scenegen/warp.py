@@ -1,7 +1,8 @@
-# Turns a wide pinhole render into the photo a distorted camera takes from the same pose: for each output
-# (sub)pixel, its distorted normalised coordinates are undistorted (scenegen.lens, Newton iteration), mapped
-# to the wide render's pixel and sampled bilinearly. The camera model is thus exact, and only the render's
-# own resolution limits the detail: render it oversampled (make_capture.py does, 1.5x by default).
+# Resampling renders. warp() turns a wide pinhole render into the photo a distorted camera takes from the same
+# pose: for each output (sub)pixel, its distorted normalised coordinates are undistorted (scenegen.lens, Newton
+# iteration), mapped to the wide render's pixel and sampled bilinearly. The camera model is thus exact, and only
+# the render's own resolution limits the detail: render it oversampled (make_capture.py does, 1.5x by default).
+# downscale() makes the smaller copies of a photo (LLFF's images_N/).
 import numpy as np
 
 from . import lens as lenses
@@ -49,3 +50,13 @@ def warp(wide, wide_cam, out_cam, lens, supersample=2):
             acc += bilinear(lin, su, sv)
     out = linear_to_srgb(acc / supersample ** 2)
     return np.round(out * 255.0).astype(np.uint8)
+
+
+def downscale(img, factor):
+    """uint8 H x W x 3 sRGB image -> each factor x factor block's mean in linear light (H and W multiples of
+    factor), as if rendered at the lower resolution."""
+    h, w = img.shape[0] // factor, img.shape[1] // factor
+    if (h * factor, w * factor) != img.shape[:2]:
+        raise ValueError(f"{img.shape[1]}x{img.shape[0]} is not a multiple of {factor}")
+    lin = srgb_to_linear(img.astype(np.float64) / 255.0).reshape(h, factor, w, factor, -1).mean(axis=(1, 3))
+    return np.round(linear_to_srgb(lin) * 255.0).astype(np.uint8)

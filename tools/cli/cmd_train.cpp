@@ -19,6 +19,7 @@
 #include "io/config_json.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 #include "vknerf/trainer.h"
 
 namespace vknerf::cli {
@@ -27,10 +28,13 @@ namespace {
 // SIGINT or SIGTERM ends training at the next step boundary, saves the checkpoint and exits
 // 128 + the signal's number. The handler only records the signal (async-signal-safe); a second
 // signal while that save runs means "now": it exits at once, and the atomic writer guarantees the
-// checkpoint on disk is the previous complete one.
+// checkpoint on disk is the previous complete one (its temporary file is removed).
 volatile std::sig_atomic_t stopSignal = 0;
 extern "C" void onStopSignal(int sig) {
-  if (stopSignal) ::_exit(128 + sig);
+  if (stopSignal) {
+    removeTemporaryFiles();
+    ::_exit(128 + sig);
+  }
   stopSignal = sig;
 }
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "progress.h"
 #include "io/image_io.h"
@@ -26,9 +27,10 @@ struct Options {
 
 
 int run(const Options& o, const Globals& g) {
-  // Before the evaluation: a report that cannot be written would lose it.
-  if (!o.json.empty()) checkOutput(o.json, "--json", o.scene);
-  if (!o.csv.empty()) checkOutput(o.csv, "--csv", o.scene);
+  // Before the evaluation: a report that cannot be written, or would replace an input, would lose it.
+  CommandFiles files("eval");
+  files.input(o.model, "model").scene(o.scene).output(o.json, "--json").output(o.csv, "--csv");
+  files.check();
   auto ctx = g.context();
   Model model = Model::load(ctx, o.model);
   DatasetOptions dopt;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "vknerf/file_output.h"
 #include "vknerf/mesh.h"
@@ -29,7 +30,9 @@ int run(Options o, const Globals& g) {
         throw UsageError("export mesh: --bbox needs x0 y0 z0 below x1 y1 z1 (axis " + std::to_string(k) + " is empty)");
     o.mesh.box = box;
   }
-  checkOutput(o.output, "-o");
+  CommandFiles files("export mesh");
+  files.input(o.model, "model").output(o.output, "-o");
+  files.check();
   Model model = Model::load(g.context(), o.model);
   std::printf("density threshold %g, resolution %u\n", o.mesh.threshold, o.mesh.resolution);
   const auto start = std::chrono::steady_clock::now();

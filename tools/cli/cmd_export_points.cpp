@@ -7,6 +7,7 @@
 #include <string>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "progress.h"
 #include "vknerf/dataset.h"
@@ -40,7 +41,9 @@ void keepEvenly(PointCloud& cloud, uint64_t keep) {
 
 int run(const Options& o, const Globals& g) {
   if (!(o.minOpacity >= 0 && o.minOpacity < 1)) throw UsageError("export points: --min-opacity must be in [0, 1)");
-  checkOutput(o.output, "-o", o.scene);
+  CommandFiles files("export points");
+  files.input(o.model, "model").scene(o.scene, "--scene").output(o.output, "-o");
+  files.check();
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "lib/process/process.h"
 #include "progress.h"
@@ -69,6 +70,9 @@ Registration processCommand(
                      "Fail when COLMAP places fewer than this share of the images (default 0.5)")
           ->check(CLI::Range(0.0, 1.0));
       return [o] {
+        CommandFiles files("process");  // the photos (or video) must survive the scene replacing -o
+        files.input(o->input, "input").replacedFolder(o->output, "-o");
+        files.check();
         process::ProcessObserver observer;
         observer.say = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
         observer.stage = stagePrinter();

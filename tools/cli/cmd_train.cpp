@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "progress.h"
 #include "step_profile_report.h"
@@ -164,7 +165,10 @@ int run(const Options& o, const Globals& g) {
     if (stem.rfind("transforms", 0) == 0) stem = std::filesystem::absolute(p).parent_path().filename().string();
     opts.output = (stem.empty() ? "model" : stem) + ".vknerf";
   }
-  checkOutput(opts.output, "model", opts.scene);  // before any work, which a bad path would lose
+  // Before any work, which a bad path would lose. With --resume the model is read too: by design.
+  CommandFiles files("train");
+  files.scene(opts.scene).output(opts.output, "model");
+  files.check();
   checkReplaceable(opts.output);
   if (opts.steps == 0 && opts.seconds <= 0) {
     opts.seconds = 300;  // converges to a usable model on a CPU device; say so, since it was not asked for

@@ -166,7 +166,7 @@ TEST_F(DatasetErrors, FocalLengthsAndAngles) {
   EXPECT_MESSAGE_HAS(loadError(j), "field 'fl_x' must be a number");
   j = scene();
   j.erase("camera_angle_x");
-  EXPECT_MESSAGE_HAS(loadError(j), file() + ": frames[0]: no focal length (camera_angle_x or fl_x)");
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": frames[0]: no focal length (fl_x or camera_angle_x)");
   j = scene();
   j["w"] = 8.5;
   EXPECT_MESSAGE_HAS(loadError(j), "field 'w' must be a whole number of pixels");

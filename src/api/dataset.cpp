@@ -83,17 +83,21 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
   if (!std::isfinite(fy) && std::isfinite(in.angleY)) fy = 0.5 * height / std::tan(0.5 * in.angleY);
   if (!std::isfinite(fx)) fx = fy;  // square pixels when only one focal length is stated
   if (!std::isfinite(fy)) fy = fx;
-  if (!std::isfinite(fx)) throw Error(f.where + ": no focal length (camera_angle_x or fl_x)");
+  if (!std::isfinite(fx)) throw Error(f.where + ": no focal length (" + in.focalFieldX + ")");
   if (!(fx > 0) || !(fy > 0)) throw Error(f.where + ": focal length must be positive");
   Camera c;
-  c.fx = asDeviceFloat(fx, f, "focal length x (fl_x or camera_angle_x)");
-  c.fy = asDeviceFloat(fy, f, "focal length y (fl_y or camera_angle_y)");
+  // The focal length the file states is named first: the other may be derived from it.
+  const bool xStated = std::isfinite(in.fx) || std::isfinite(in.angleX);
+  const std::string fieldX = "focal length x (" + in.focalFieldX + ")", fieldY = "focal length y (" + in.focalFieldY + ")";
+  if (!xStated) c.fy = asDeviceFloat(fy, f, fieldY.c_str());
+  c.fx = asDeviceFloat(fx, f, fieldX.c_str());
+  c.fy = asDeviceFloat(fy, f, fieldY.c_str());
   if (!(c.fx > 0) || !(c.fy > 0)) throw Error(f.where + ": focal length is too small for 32-bit floats");
   c.cx = asDeviceFloat(std::isfinite(in.cx) ? in.cx : 0.5 * width, f, "principal point cx");
   c.cy = asDeviceFloat(std::isfinite(in.cy) ? in.cy : 0.5 * height, f, "principal point cy");
   c.width = width;
   c.height = height;
-  for (int i = 0; i < 16; ++i) c.c2w[i] = asDeviceFloat(f.c2w[i], f, "transform_matrix");
+  for (int i = 0; i < 16; ++i) c.c2w[i] = asDeviceFloat(f.c2w[i], f, f.poseField.c_str());
   // The coefficients are dimensionless, so the check at full resolution holds for every downscale:
   // the grid runs from edge to edge of the image, which bounds every pixel centre at any scale.
   c.lens = in.lens;

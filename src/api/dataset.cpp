@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -140,6 +141,30 @@ SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
               "': no transforms_train.json, transforms.json or COLMAP model (sparse/0/cameras.txt or cameras.bin) in it");
 }
 
+// An image listed twice with two poses (a copied frame whose file_path was not changed) would train
+// on both, each pulling the field its own way: an error naming both entries. The same pose twice is
+// only repetition, and is let through. Every split counts: the scene is one set of photos.
+void checkOnePosePerImage(const SceneSpec& scene) {
+  std::map<fs::path, const FrameSpec*> first;
+  for (const auto* list : {&scene.frames, &scene.others})
+    for (const FrameSpec& f : *list) {
+      if (f.image.empty()) continue;
+      std::error_code ec;
+      fs::path key = fs::weakly_canonical(f.image, ec);
+      if (ec) key = f.image;
+      const auto [at, added] = first.emplace(key, &f);
+      if (added) continue;
+      double scale = 1, gap = 0;
+      for (int i = 0; i < 16; ++i) {
+        scale = std::max({scale, std::fabs(f.c2w[i]), std::fabs(at->second->c2w[i])});
+        gap = std::max(gap, std::fabs(f.c2w[i] - at->second->c2w[i]));
+      }
+      if (gap > 1e-6 * scale)
+        throw Error(f.where + ": image '" + f.image.string() + "' is listed again with another pose than at " +
+                    at->second->where + "; one photo has one pose");
+    }
+}
+
 // Loads (and downscales) every frame's image, options.threads (default: every core) at a time;
 // rethrows the first failure in frame order so the message does not depend on thread timing.
 std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, const DatasetOptions& options) {
@@ -189,6 +214,7 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
     throw Error("DatasetOptions.holdoutFraction must be in [0, 1), got " + std::to_string(options.holdoutFraction));
 
   SceneSpec scene = readScene(fs::path(pathString), options);
+  checkOnePosePerImage(scene);
   if (scene.frames.empty())
     throw Error("dataset '" + pathString + "': split '" + options.split + "' is empty");
 

@@ -10,6 +10,7 @@
 #include "command_files.h"
 #include "command.h"
 #include "progress.h"
+#include "vknerf/checkpoint_scene.h"
 #include "vknerf/dataset.h"
 #include "vknerf/point_cloud.h"
 #include "vknerf/trainer.h"
@@ -48,6 +49,7 @@ int run(const Options& o, const Globals& g) {
   dopt.split = o.split;
   dopt.downscale = o.downscale;
   const Dataset data = Dataset::load(o.scene, dopt);
+  checkTrainedOn(o.model, data, dopt);  // another scene's cameras would place points at random
   Model model = Model::load(g.context(), o.model);
   std::printf("%zu %s views of %s, opacity above %g\n", data.cameras.size(), o.split.c_str(), o.scene.c_str(),
               o.minOpacity);

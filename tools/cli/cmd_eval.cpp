@@ -76,7 +76,7 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   app.add_option("--json", o->json, "Write the results as JSON");
   app.add_option("--csv", o->csv, "Write per-image results as CSV");
   app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
-  app.add_option("--limit", o->limit, "Evaluate at most this many views");
+  app.add_option("--limit", o->limit, "Evaluate at most this many views (default 0: all)");
   return [o, &g] { return run(*o, g); };
 });
 

@@ -87,7 +87,7 @@ Registration exportPoints("export points", "Export the points the training views
       ->check(CLI::Range(1u, 64u));
   app.add_option("--min-opacity", o->minOpacity, "Keep pixels whose opacity exceeds this (default 0.5)")
       ->check(FiniteNumber);
-  app.add_option("--max-points", o->maxPoints, "Keep at most this many points, evenly over the views (default: all)");
+  app.add_option("--max-points", o->maxPoints, "Keep at most this many points, evenly over the views (default 0: all)");
   return [o, &g] { return run(*o, g); };
 });
 

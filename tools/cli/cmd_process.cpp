@@ -53,7 +53,7 @@ Registration processCommand(
       app.add_option("--downscale", o->downscale,
                      "Also write images_N/ copies N times smaller, which transforms.json then names (default 1: none)")
           ->check(CLI::Range(1u, 64u));
-      app.add_option("--max-images", o->maxImages, "Keep at most this many images, evenly spread (default: all)");
+      app.add_option("--max-images", o->maxImages, "Keep at most this many images, evenly spread (default 0: all)");
       app.add_option("--matcher", o->matcher, "auto (exhaustive for photos, sequential for a video), exhaustive or sequential")
           ->check(CLI::IsMember({"auto", "exhaustive", "sequential"}));
       app.add_option("--camera-model", o->colmap.cameraModel,

@@ -165,7 +165,7 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   app.add_option("--radius", o->radius, "Orbit radius (default: the scene cameras' mean distance, else 4)")->check(FiniteNumber);
   app.add_option("--size", o->size, "Orbit image size without a SCENE")->check(CLI::Range(1u, 8192u));
   app.add_option("--downscale", o->downscale, "Downscale SCENE's images by this factor")->check(CLI::Range(1u, 64u));
-  app.add_option("--limit", o->limit, "Render at most this many views");
+  app.add_option("--limit", o->limit, "Render at most this many views (default 0: all)");
   return [o, &g] { return run(*o, g); };
 });
 

@@ -3,6 +3,9 @@
 // one-line message it must give (0 ok, 1 runtime error, 2 usage error). Nothing may crash, hang,
 // train before failing, or report success after a failed write.
 #include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include <cmath>
 #include <cstring>
@@ -17,6 +20,7 @@
 
 #include "support/cli_run.h"
 #include "io/checkpoint.h"
+#include "io/image_io.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -31,12 +35,13 @@ struct Case {
   int code;
   std::string fragment;
   std::string absent = "  loss ";  // a failure found up front prints no training progress
+  std::string env = "";            // variables set for the command ("PATH=...")
 };
 
 void runCases(const std::vector<Case>& cases) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name + ": vknerf " + c.args);
-    auto r = runCli(c.args);
+    auto r = runCli(c.args, c.env);
     EXPECT_EQ(r.code, c.code) << r.output;
     EXPECT_NE(r.output.find(c.fragment), std::string::npos) << "expected '" << c.fragment << "' in:\n" << r.output;
     if (!c.absent.empty()) EXPECT_EQ(r.output.find(c.absent), std::string::npos) << r.output;
@@ -82,6 +87,41 @@ void editConfig(vknerf::nerf::Checkpoint& ck, const std::function<void(json&)>& 
   ck.config = j.dump(2);
 }
 
+std::string bytesOf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// A nerfstudio camera path of one 8x8 frame at `fov` degrees, looking at the origin from +z.
+std::string cameraPath(const std::string& name, double fov) {
+  const std::string path = temp(name + ".json");
+  const json pose = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 4, 0, 0, 0, 1};
+  std::ofstream(path) << json{{"render_width", 8}, {"render_height", 8}, {"fps", 24},
+                              {"camera_path", {{{"camera_to_world", pose}, {"fov", fov}}}}}
+                             .dump();
+  return path;
+}
+
+// A folder of the sample scene's first `n` training photos, as PNG files p0.png, ...
+std::string photoFolder(const std::string& name, int n) {
+  const fs::path dir = temp(name);
+  fs::create_directories(dir);
+  for (int i = 0; i < n; ++i)
+    fs::copy_file(scene() + "/train/r_" + std::to_string(i) + ".png", dir / ("p" + std::to_string(i) + ".png"),
+                  fs::copy_options::overwrite_existing);
+  return dir.string();
+}
+
+bool haveFfmpeg() { return std::system("command -v ffmpeg > /dev/null 2>&1") == 0; }
+
+// The files in `dir` whose names hold `part`.
+std::vector<std::string> namesWith(const std::string& dir, const std::string& part) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().find(part) != std::string::npos) out.push_back(e.path().string());
+  return out;
+}
+
 }  // namespace
 
 TEST(BadInput, FlagsAreUsageErrors) {
@@ -122,8 +162,8 @@ TEST(BadInput, OutputsAreCheckedBeforeWorkAndWritesAreChecked) {
       {"model into a missing folder", "train " + scene() + " --time 8 -o /no/such/dir/m.vknerf" + kTiny, 1,
        "folder /no/such/dir does not exist"},
       {"model onto a folder", "train " + scene() + " --steps 1 -o " + folder + kTiny, 1, "is a folder"},
-      {"model onto the dataset", "train " + copy + " --steps 1 -o " + copy + "/transforms_train.json" + kTiny, 1,
-       "is one of the scene's own files"},
+      {"model onto the dataset", "train " + copy + " --steps 1 -o " + copy + "/transforms_train.json" + kTiny, 2,
+       "is one of the files of the scene " + copy},
       {"eval JSON into a missing folder", "eval " + tinyModel() + " " + scene() + " --json /no/such/dir/r.json", 1,
        "folder /no/such/dir does not exist"},
       {"eval JSON and CSV on a full device",
@@ -188,4 +228,169 @@ TEST(BadInput, CheckpointsAreCheckedBeyondTheirChecksum) {
       {"resume at another image size", "train " + scene() + " -o " + resumed + " --resume --downscale 2 --steps 1", 1,
        "it was trained on another scene or --downscale"},
   });
+}
+
+// An output is never an input, nor another output: by path, symlink or hard link, and a folder
+// output never holds or lies in an input folder. Each is a usage error naming both, before any work.
+TEST(BadInput, AnOutputNeverReplacesAnInput) {
+  const std::string model = temp("victim.vknerf"), link = temp("victim_link.vknerf"), hard = temp("victim_hard.vknerf");
+  fs::copy_file(tinyModel(), model, fs::copy_options::overwrite_existing);
+  fs::create_symlink(model, link);
+  fs::create_hard_link(model, hard);
+  const std::string before = bytesOf(model);
+  const std::string path = cameraPath("victim_path", 50), photos = photoFolder("victim_photos", 3);
+  const std::string report = temp("report.txt"), copy = mutatedScene("victim_scene", "transforms_train.json", [](json&) {});
+  runCases({
+      {"mesh over the model", "export mesh " + model + " -o " + model, 2,
+       "export mesh: -o " + model + " would replace the model " + model + " (the same file)"},
+      {"mesh over a symlink to the model", "export mesh " + model + " -o " + link, 2,
+       "-o " + link + " would replace the model " + model},
+      {"mesh over a hard link of the model", "export mesh " + model + " -o " + hard, 2,
+       "-o " + hard + " would replace the model " + model},
+      {"points over the model", "export points " + model + " --scene " + scene() + " -o " + model, 2,
+       "would replace the model " + model},
+      {"eval JSON over the model", "eval " + model + " " + scene() + " --json " + model, 2,
+       "--json " + model + " would replace the model " + model},
+      {"video over the model", "render " + model + " --path " + path + " --video " + model, 2,
+       "--video " + model + " would replace the model " + model},
+      {"JSON and CSV into one file", "eval " + model + " " + scene() + " --json " + report + " --csv " + report, 2,
+       "--json " + report + " would replace --csv " + report + " (the same file); give each output its own path"},
+      {"scene over the photos", "process " + photos + " -o " + photos + "/", 2,
+       "-o " + photos + "/ would replace the input " + photos + " (the same folder)"},
+      {"scene inside the photos", "process " + photos + " -o " + photos + "/scene", 2, "lies inside the input " + photos},
+      {"scene around the photos", "process " + photos + " -o " + fs::path(photos).parent_path().string(), 2,
+       "holds the input " + photos},
+      {"frames into the scene", "render " + model + " " + copy + " -o " + copy + "/renders", 2,
+       "output folder " + copy + "/renders lies inside the scene " + copy},
+  });
+  EXPECT_EQ(bytesOf(model), before);
+  EXPECT_EQ(namesWith(photos, ".png").size(), 3u);
+  EXPECT_FALSE(fs::exists(copy + "/renders"));
+  EXPECT_FALSE(fs::exists(report));
+}
+
+// The video goes through the writer every output does: into a pipe or a device in place (not renamed
+// over it), and no temporary file or log is left when a signal ends the render; a good video stays.
+TEST(BadInput, VideoIsWrittenAsEveryOtherOutput) {
+  if (!haveFfmpeg()) GTEST_SKIP() << "ffmpeg is not installed";
+  const std::string dir = temp("video");
+  fs::create_directories(dir);
+  const std::string model = tinyModel(), orbit = "render " + model + " --orbit 2 --size 8 --video ";
+  const std::string fifo = dir + "/pipe", received = dir + "/received.mp4";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // The reader gives up after a while, so a render that fails before opening the pipe cannot hang the test.
+  auto r = runCli(orbit + fifo + " 2>&1 & pid=$!; timeout 300 cat " + fifo + " > " + received + "; wait $pid");
+  EXPECT_EQ(r.code, 0) << r.output;
+  struct stat st;
+  ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode)) << "the pipe was replaced";
+  EXPECT_EQ(bytesOf(received).substr(4, 4), "ftyp") << "the pipe's reader got no MP4";
+  // Copies of /dev/null and /dev/full (root may make device nodes; others skip these two).
+  const std::string null = dir + "/null", full = dir + "/full";
+  if (::mknod(null.c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0 && ::mknod(full.c_str(), S_IFCHR | 0666, makedev(1, 7)) == 0) {
+    runCases({{"video into a null device", orbit + null, 0, "wrote " + null},
+              {"video into a full device", orbit + full, 1, full + ": write failed: No space left on device"}});
+    for (const std::string& device : {null, full}) {
+      ASSERT_EQ(::stat(device.c_str(), &st), 0);
+      EXPECT_TRUE(S_ISCHR(st.st_mode)) << device << " was replaced";
+    }
+  }
+  EXPECT_EQ(namesWith(dir, ".tmp."), std::vector<std::string>{});
+  for (const char* special : {"vknerf-pipe.tmp.", "vknerf-null.tmp.", "vknerf-full.tmp."})
+    EXPECT_EQ(namesWith(fs::temp_directory_path().string(), special), std::vector<std::string>{});
+  // A signal while ffmpeg encodes (its temporary files exist): the exit status of the signal, the
+  // earlier video untouched, nothing left beside it.
+  for (const auto& [signal, code] : {std::pair<std::string, int>{"TERM", 143}, {"INT", 130}}) {
+    SCOPED_TRACE(signal);
+    const std::string video = dir + "/good.mp4";
+    std::ofstream(video) << "a good video";
+    r = runCli("render " + model + " --orbit 10000 --size 32 --video " + video + " 2>&1 & pid=$!; " +
+               "for i in $(seq 600); do ls " + dir + "/good.mp4.tmp.* > /dev/null 2>&1 && break; sleep 0.1; done; " +
+               "kill -" + signal + " $pid; wait $pid");
+    EXPECT_EQ(r.code, code) << r.output;
+    EXPECT_EQ(bytesOf(video), "a good video");
+    EXPECT_EQ(namesWith(dir, ".tmp."), std::vector<std::string>{});
+  }
+}
+
+// Every input is read and checked before any output or folder is made; an input that does not fit
+// the others (another scene's cameras for a model, one photo with two poses) is refused.
+TEST(BadInput, InputsAreCheckedBeforeAnyOutputIsMade) {
+  const std::string model = tinyModel(), out = temp("never_made");
+  const std::string badPath = temp("bad_path.json");
+  std::ofstream(badPath) << "{\"camera_path\": [";
+  const std::string otherBox = mutatedScene("points_other_box", "transforms_train.json",
+                                            [](json& j) { j["aabb"] = {{-2, -2, -1}, {2, 2, 1}}; });
+  const std::string fewer = mutatedScene("points_fewer_cameras", "transforms_train.json",
+                                         [](json& j) { j["frames"].erase(j["frames"].size() - 1); });
+  const std::string twice = mutatedScene("one_photo_two_poses", "transforms_train.json", [](json& j) {
+    j["frames"][1]["file_path"] = j["frames"][0]["file_path"];
+  });
+  std::vector<Case> cases = {
+      {"render with a missing model", "render " + temp("missing.vknerf") + " --orbit 1 --size 8 -o " + out, 1,
+       "missing.vknerf: cannot open checkpoint"},
+      {"render with a broken path", "render " + model + " --path " + badPath + " -o " + out, 1,
+       badPath + ": invalid JSON"},
+      {"render with a missing scene", "render " + model + " " + temp("no_scene") + " -o " + out, 1, "does not exist"},
+      {"points of a scene with another box", "export points " + model + " --scene " + otherBox + " --downscale 4 -o " +
+       temp("p.ply"), 1, model + ": checkpoint scene box [-1.1 -1.1 -0.55]..[1.1 1.1 0.75] differs from this dataset's"},
+      {"points of a scene with other cameras", "export points " + model + " --scene " + fewer + " --downscale 4 -o " +
+       temp("p.ply"), 1, "trained on 100 images, this dataset's training split has 99"},
+      {"one photo listed twice with two poses", "train " + twice + " -o " + temp("twice.vknerf") + kTiny + " --steps 1",
+       1, "transforms_train.json: frames[1]: image '" + twice + "/./train/r_0.png' is listed again with another pose than at "},
+  };
+  // Root may write anywhere but /proc takes no new file either way: found before the evaluation.
+  if (fs::is_directory("/proc"))
+    cases.push_back({"eval JSON where no file can be made", "eval " + model + " " + scene() + " --json /proc/vknerf.json",
+                     1, "--json /proc/vknerf.json: cannot write", "PSNR"});
+  runCases(cases);
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(temp("p.ply")));
+}
+
+// One line naming the file and the field, in that format's own words; COLMAP's failures in one line
+// with the stage and the log; the flags where 0 means "all" say so; a threshold no density reaches
+// is refused rather than meshed into nothing.
+TEST(BadInput, MessagesNameTheFileAndTheField) {
+  const std::string model = tinyModel(), folder = temp("a_folder");
+  fs::create_directories(folder);
+  const std::string narrow = cameraPath("narrow_path", 1e-30);
+  // Photos vknerf cannot decode: a text file named .jpg and a JPEG cut short.
+  const std::string broken = photoFolder("broken_photos", 3);
+  std::ofstream(broken + "/notes.jpg") << "not a photo";
+  std::vector<uint8_t> rgb(16 * 16 * 3, 128), jpeg;
+  stbi_write_jpg_to_func([](void* out, void* data, int size) {
+    auto* v = static_cast<std::vector<uint8_t>*>(out);
+    v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+  }, &jpeg, 16, 16, 3, rgb.data(), 90);
+  std::ofstream(broken + "/short.jpg", std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()), std::streamsize(jpeg.size() / 2));
+  // A colmap that crashes as COLMAP 3.8 does on a database with no features.
+  const std::string bin = temp("crashing_colmap");
+  fs::create_directories(bin);
+  std::ofstream(bin + "/colmap") << "#!/bin/sh\n"
+                                    "echo 'F20261127 12:42:32.474221 17150 cache.h:132] Check failed: max_num_elems > 0 (0 vs. 0) '\n"
+                                    "echo '*** Check failure stack trace: ***'\n"
+                                    "echo '    @     0x7fa6ecd278ec  (unknown)'\n"
+                                    "exit 134\n";
+  fs::permissions(bin + "/colmap", fs::perms::owner_all);
+  const std::string photos = photoFolder("photos_for_colmap", 3), processed = temp("processed");
+  runCases({
+      {"camera path that is a folder", "render " + model + " --path " + folder + " -o " + temp("r"), 1,
+       "'" + folder + "' is a folder, not a camera path (a JSON file)", "basic_filebuf"},
+      {"nerfstudio fov 1e-30", "render " + model + " --path " + narrow + " -o " + temp("r"), 1,
+       narrow + ": camera_path[0]: focal length y (fov) value", "fl_"},
+      {"JSON into /proc", "eval " + model + " " + scene() + " --json /proc/vknerf.json", 1,
+       "(folder /proc does not take new files)", "does not exist"},
+      {"photos vknerf cannot decode", "process " + broken + " -o " + temp("never_processed"), 1,
+       "'" + broken + "': 2 of 5 photos cannot be decoded: notes.jpg (not a PNG or JPEG file); short.jpg (", "colmap"},
+      {"COLMAP crashing", "process " + photos + " -o " + processed, 1,
+       "COLMAP failed at feature extraction (colmap feature_extractor, exit status 134): Check failed: max_num_elems > 0 "
+       "(0 vs. 0); log: " + processed + ".colmap.log", "(unknown)", "PATH=" + bin + ":$PATH"},
+      {"negative mesh threshold", "export mesh " + model + " -o " + temp("m.ply") + " --threshold -1", 2,
+       "--threshold must be a positive density, got -1"},
+      {"--max-points 0 documented", "export points --help", 0, "(default 0: all)"},
+      {"--max-images 0 documented", "process --help", 0, "(default 0: all)"},
+  });
+  EXPECT_FALSE(fs::exists(temp("m.ply")));
+  EXPECT_FALSE(fs::exists(temp("never_processed")));
 }

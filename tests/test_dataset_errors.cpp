@@ -34,6 +34,18 @@ TEST_F(DatasetErrors, TheValidSceneLoads) {
   EXPECT_EQ(Dataset::load(dir().string(), {.split = "all"}).cameras.size(), 2u);
 }
 
+// One photo has one pose: listed twice with two, an error naming both entries; twice with the same
+// pose, mere repetition.
+TEST_F(DatasetErrors, OnePhotoListedWithTwoPoses) {
+  json j = scene();
+  j["frames"][1]["file_path"] = "a";
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": frames[1]: image '" + (dir() / "a.png").string() +
+                                       "' is listed again with another pose than at " + file() + ": frames[0]");
+  j["frames"][1]["transform_matrix"] = j["frames"][0]["transform_matrix"];
+  writeJson(dir() / "transforms.json", j);
+  EXPECT_EQ(Dataset::load(dir().string(), {.split = "all"}).cameras.size(), 2u);
+}
+
 TEST_F(DatasetErrors, MissingOrUnrecognisedPath) {
   std::string missing = (dir() / "nothing").string();
   EXPECT_MESSAGE_HAS(errorOf([&] { Dataset::load(missing); }), missing + "' does not exist");
@@ -166,7 +178,7 @@ TEST_F(DatasetErrors, FocalLengthsAndAngles) {
   EXPECT_MESSAGE_HAS(loadError(j), "field 'fl_x' must be a number");
   j = scene();
   j.erase("camera_angle_x");
-  EXPECT_MESSAGE_HAS(loadError(j), file() + ": frames[0]: no focal length (camera_angle_x or fl_x)");
+  EXPECT_MESSAGE_HAS(loadError(j), file() + ": frames[0]: no focal length (fl_x or camera_angle_x)");
   j = scene();
   j["w"] = 8.5;
   EXPECT_MESSAGE_HAS(loadError(j), "field 'w' must be a whole number of pixels");

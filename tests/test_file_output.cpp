@@ -2,6 +2,7 @@
 // colour map survives depths and ranges that are not finite.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <thread>
 
 #include "lib/csv.h"
 #include "lib/render_output.h"
@@ -98,4 +100,68 @@ TEST(FileOutput, CsvFieldsAreQuotedPerRfc4180) {
   EXPECT_EQ(vknerf::nerf::csvField("a,b"), "\"a,b\"");
   EXPECT_EQ(vknerf::nerf::csvField("say \"hi\""), "\"say \"\"hi\"\"\"");
   EXPECT_EQ(vknerf::nerf::csvField("two\nlines"), "\"two\nlines\"");
+}
+
+// A file another program fills: gone on every way out but commit(), which renames it over a regular
+// target and copies it into a special one (a pipe here), which stays what it was.
+TEST(FileOutput, TemporaryFileIsCommittedOrRemoved) {
+  const ScratchDir scratch("temporary");
+  const fs::path& dir = scratch.path;
+  const std::string target = (dir / "video.mp4").string();
+  std::string kept;
+  {
+    vknerf::TemporaryFile tmp(target, ".log");
+    kept = tmp.path();
+    EXPECT_EQ(kept.rfind(target + ".tmp.", 0), 0u) << kept;
+    EXPECT_TRUE(fs::exists(kept));
+  }
+  EXPECT_FALSE(fs::exists(kept));  // an error or exception on the way: removed
+  {
+    vknerf::TemporaryFile tmp(target);
+    kept = tmp.path();
+    ASSERT_EQ(::write(tmp.fd(), "frames", 6), 6);
+    vknerf::removeTemporaryFiles();  // what a signal handler does
+    EXPECT_FALSE(fs::exists(kept));
+  }
+  {
+    vknerf::TemporaryFile tmp(target);
+    std::ofstream(tmp.path()) << "encoded";  // written by its name, as ffmpeg does
+    tmp.commit();
+  }
+  EXPECT_EQ(contents(target), "encoded");
+  const std::string pipe = (dir / "pipe").string();
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] { received = contents(pipe); });
+  {
+    vknerf::TemporaryFile tmp(pipe);
+    EXPECT_EQ(fs::path(tmp.path()).parent_path(), fs::temp_directory_path());  // not beside a special file
+    std::ofstream(tmp.path()) << "streamed";
+    tmp.commit();
+    EXPECT_FALSE(fs::exists(tmp.path()));
+  }
+  reader.join();
+  EXPECT_EQ(received, "streamed");
+  struct stat st;
+  ASSERT_EQ(::stat(pipe.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);  // video.mp4 and the pipe
+}
+
+// Up front: a folder files go into exists and takes them, or can be made under the nearest folder
+// that exists; a file on the way or a place that takes no new file (/proc, even for root) is refused.
+TEST(FileOutput, OutputFoldersAreCheckedWithoutBeingMade) {
+  const ScratchDir scratch("folders");
+  const fs::path& dir = scratch.path;
+  EXPECT_NO_THROW(vknerf::checkOutputFolder(dir.string(), "-o"));
+  EXPECT_NO_THROW(vknerf::checkOutputFolder((dir / "a" / "b").string(), "-o"));
+  EXPECT_FALSE(fs::exists(dir / "a"));
+  std::ofstream(dir / "file") << "x";
+  EXPECT_THROW(vknerf::checkOutputFolder((dir / "file").string(), "-o"), vknerf::Error);
+  EXPECT_THROW(vknerf::checkOutputFolder((dir / "file" / "sub").string(), "-o"), vknerf::Error);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);  // no probe left
+  if (fs::is_directory("/proc")) {
+    EXPECT_THROW(vknerf::checkOutputFolder("/proc/vknerf_renders", "-o"), vknerf::Error);
+    EXPECT_THROW(vknerf::checkOutputPath("/proc/vknerf.json", "--json"), vknerf::Error);
+  }
 }

@@ -175,6 +175,28 @@ TEST(ProcessLog, ProgressOfEachStage) {
   EXPECT_FALSE(readProgressLine(ColmapStage::mapping, "Registering image #", p));
 }
 
+// The reason in a failed run's log: COLMAP 3.8's own words for a crash (its matcher on a database
+// without features) and for a mapper that made nothing, never a stack trace's last frame.
+TEST(ProcessLog, FailureReasonIsTheLogsErrorNotItsStackTrace) {
+  const test::TempDir dir("colmap_log");
+  const fs::path log = dir.path() / "colmap.log";
+  std::ofstream(log) << "\n==============================================================================\n"
+                        "Exhaustive feature matching\n"
+                        "==============================================================================\n\n"
+                        "F20261127 12:42:32.474221 17150 cache.h:132] Check failed: max_num_elems > 0 (0 vs. 0) \n"
+                        "*** Check failure stack trace: ***\n"
+                        "    @     0x7fa6ef0b41ed  google::LogMessage::Fail()\n"
+                        "    @     0x7fa6ecd278ec  (unknown)\n";
+  EXPECT_EQ(failureReason(log.string()), "Check failed: max_num_elems > 0 (0 vs. 0)");
+  std::ofstream(log) << "Loading images... 0 in 0.000s (connected 0)\n\nElapsed time: 0.000 [minutes]\n\n"
+                        "WARNING: No images with matches found in the database.\n\n"
+                        "ERROR: failed to create sparse model\n";
+  EXPECT_EQ(failureReason(log.string()), "ERROR: failed to create sparse model");
+  std::ofstream(log) << "Processed file [1/3]\nsomething else broke\n";
+  EXPECT_EQ(failureReason(log.string()), "something else broke");
+  EXPECT_EQ(failureReason((dir.path() / "none.log").string()), "");
+}
+
 TEST(ProcessReport, RegistrationThresholdAndReportLines) {
   EXPECT_EQ(registeredNeeded(4, 0.5), 3u);
   EXPECT_EQ(registeredNeeded(45, 0.5), 23u);
@@ -290,6 +312,13 @@ fs::path photos(const fs::path& dir, int n) {
   return p;
 }
 
+// A scene an earlier run wrote (what may be replaced), with a file of its own that must survive.
+void earlierScene(const fs::path& scene) {
+  fs::create_directories(scene / "sparse");
+  std::ofstream(scene / "colmap.log") << "an earlier run";
+  std::ofstream(scene / "keep.txt") << "old";
+}
+
 // The scene folder keeps its old content and no staging folder is left beside it.
 void expectUntouched(const fs::path& dir, const fs::path& scene) {
   EXPECT_TRUE(fs::exists(scene / "keep.txt"));
@@ -301,9 +330,8 @@ void expectUntouched(const fs::path& dir, const fs::path& scene) {
 
 TEST_F(ProcessScene, MissingColmapNamesTheDebianPackage) {
   const fs::path scene = dir() / "scene", empty = dir() / "empty";
-  fs::create_directories(scene);
+  earlierScene(scene);
   fs::create_directories(empty);
-  std::ofstream(scene / "keep.txt") << "old";
   ProcessOptions o;
   o.input = photos(dir(), 3).string();
   o.output = scene.string();
@@ -320,9 +348,8 @@ TEST_F(ProcessScene, MissingColmapNamesTheDebianPackage) {
 
 TEST_F(ProcessScene, FailingColmapNamesTheStageAndKeepsTheLog) {
   const fs::path scene = dir() / "scene", bin = dir() / "bin";
-  fs::create_directories(scene);
+  earlierScene(scene);
   fs::create_directories(bin);
-  std::ofstream(scene / "keep.txt") << "old";
   {
     std::ofstream fake(bin / "colmap");
     fake << "#!/bin/sh\necho 'Processed file [1/3]'\necho 'E0101 something broke' >&2\nexit 3\n";
@@ -334,7 +361,8 @@ TEST_F(ProcessScene, FailingColmapNamesTheStageAndKeepsTheLog) {
   const PathOverride path(bin);
   const std::string log = scene.string() + ".colmap.log";
   EXPECT_EQ(errorOf([&] { processCapture(o, {}); }),
-            "colmap feature_extractor failed (exit status 3): E0101 something broke; log: " + log);
+            "COLMAP failed at feature extraction (colmap feature_extractor, exit status 3): E0101 something broke; log: " +
+                log);
   expectUntouched(dir(), scene);
   std::ifstream in(log);
   std::string text((std::istreambuf_iterator<char>(in)), {});
@@ -348,6 +376,22 @@ TEST_F(ProcessScene, FailingColmapNamesTheStageAndKeepsTheLog) {
   EXPECT_EQ(errorOf([&] { processCapture(o, {}); }),
             "COLMAP made no model from 3 images (too few matches between them); log: " + log);
   expectUntouched(dir(), scene);
+}
+
+// Only an empty folder or a scene an earlier run wrote is replaced: anything else is someone's data.
+TEST_F(ProcessScene, SomeonesFolderIsNeverReplaced) {
+  ProcessOptions o;
+  o.input = photos(dir(), 3).string();
+  o.output = (dir() / "documents").string();
+  fs::create_directories(o.output);
+  std::ofstream(dir() / "documents" / "letter.txt") << "dear";
+  EXPECT_EQ(errorOf([&] { processCapture(o, {}); }),
+            "'" + o.output + "' exists and is not a scene vknerf process wrote (no colmap.log and sparse/ in it); "
+            "refusing to replace it: choose a new folder");
+  EXPECT_TRUE(fs::exists(dir() / "documents" / "letter.txt"));
+  o.output = (dir() / "letter.txt").string();
+  std::ofstream(o.output) << "dear";
+  EXPECT_NE(errorOf([&] { processCapture(o, {}); }).find("exists and is not a folder"), std::string::npos);
 }
 
 TEST_F(ProcessScene, TooFewImagesOrAMissingInput) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -83,17 +84,21 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
   if (!std::isfinite(fy) && std::isfinite(in.angleY)) fy = 0.5 * height / std::tan(0.5 * in.angleY);
   if (!std::isfinite(fx)) fx = fy;  // square pixels when only one focal length is stated
   if (!std::isfinite(fy)) fy = fx;
-  if (!std::isfinite(fx)) throw Error(f.where + ": no focal length (camera_angle_x or fl_x)");
+  if (!std::isfinite(fx)) throw Error(f.where + ": no focal length (" + in.focalFieldX + ")");
   if (!(fx > 0) || !(fy > 0)) throw Error(f.where + ": focal length must be positive");
   Camera c;
-  c.fx = asDeviceFloat(fx, f, "focal length x (fl_x or camera_angle_x)");
-  c.fy = asDeviceFloat(fy, f, "focal length y (fl_y or camera_angle_y)");
+  // The focal length the file states is named first: the other may be derived from it.
+  const bool xStated = std::isfinite(in.fx) || std::isfinite(in.angleX);
+  const std::string fieldX = "focal length x (" + in.focalFieldX + ")", fieldY = "focal length y (" + in.focalFieldY + ")";
+  if (!xStated) c.fy = asDeviceFloat(fy, f, fieldY.c_str());
+  c.fx = asDeviceFloat(fx, f, fieldX.c_str());
+  c.fy = asDeviceFloat(fy, f, fieldY.c_str());
   if (!(c.fx > 0) || !(c.fy > 0)) throw Error(f.where + ": focal length is too small for 32-bit floats");
   c.cx = asDeviceFloat(std::isfinite(in.cx) ? in.cx : 0.5 * width, f, "principal point cx");
   c.cy = asDeviceFloat(std::isfinite(in.cy) ? in.cy : 0.5 * height, f, "principal point cy");
   c.width = width;
   c.height = height;
-  for (int i = 0; i < 16; ++i) c.c2w[i] = asDeviceFloat(f.c2w[i], f, "transform_matrix");
+  for (int i = 0; i < 16; ++i) c.c2w[i] = asDeviceFloat(f.c2w[i], f, f.poseField.c_str());
   // The coefficients are dimensionless, so the check at full resolution holds for every downscale:
   // the grid runs from edge to edge of the image, which bounds every pixel centre at any scale.
   c.lens = in.lens;
@@ -134,6 +139,30 @@ SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
   }
   throw Error("dataset '" + path.string() +
               "': no transforms_train.json, transforms.json or COLMAP model (sparse/0/cameras.txt or cameras.bin) in it");
+}
+
+// An image listed twice with two poses (a copied frame whose file_path was not changed) would train
+// on both, each pulling the field its own way: an error naming both entries. The same pose twice is
+// only repetition, and is let through. Every split counts: the scene is one set of photos.
+void checkOnePosePerImage(const SceneSpec& scene) {
+  std::map<fs::path, const FrameSpec*> first;
+  for (const auto* list : {&scene.frames, &scene.others})
+    for (const FrameSpec& f : *list) {
+      if (f.image.empty()) continue;
+      std::error_code ec;
+      fs::path key = fs::weakly_canonical(f.image, ec);
+      if (ec) key = f.image;
+      const auto [at, added] = first.emplace(key, &f);
+      if (added) continue;
+      double scale = 1, gap = 0;
+      for (int i = 0; i < 16; ++i) {
+        scale = std::max({scale, std::fabs(f.c2w[i]), std::fabs(at->second->c2w[i])});
+        gap = std::max(gap, std::fabs(f.c2w[i] - at->second->c2w[i]));
+      }
+      if (gap > 1e-6 * scale)
+        throw Error(f.where + ": image '" + f.image.string() + "' is listed again with another pose than at " +
+                    at->second->where + "; one photo has one pose");
+    }
 }
 
 // Loads (and downscales) every frame's image, options.threads (default: every core) at a time;
@@ -185,6 +214,7 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
     throw Error("DatasetOptions.holdoutFraction must be in [0, 1), got " + std::to_string(options.holdoutFraction));
 
   SceneSpec scene = readScene(fs::path(pathString), options);
+  checkOnePosePerImage(scene);
   if (scene.frames.empty())
     throw Error("dataset '" + pathString + "': split '" + options.split + "' is empty");
 

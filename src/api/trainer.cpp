@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <utility>
 
 #include "gpu/recorder.h"
 #include "io/checkpoint.h"
@@ -17,6 +19,7 @@
 #include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
 #include "reference/rng.h"
+#include "vknerf/checkpoint_scene.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -113,10 +116,10 @@ void uploadChecked(const nerf::Checkpoint& ck, const nerf::StateArray& a) {
   a.buffer->upload(values);
 }
 
-// The checkpoint's scene box, within float printing precision of `box`.
-bool sameBox(const Aabb& a, const Aabb& b) {
+// The checkpoint's scene box, within `tolerance` of its extent (at least 1) of `box`.
+bool sameBox(const Aabb& a, const Aabb& b, float tolerance) {
   for (int k = 0; k < 3; ++k) {
-    const float tol = 1e-4f * std::max(1.0f, std::fabs(a.max[k] - a.min[k]));
+    const float tol = tolerance * std::max(1.0f, std::fabs(a.max[k] - a.min[k]));
     if (!(std::fabs(a.min[k] - b.min[k]) <= tol) || !(std::fabs(a.max[k] - b.max[k]) <= tol)) return false;
   }
   return true;
@@ -126,6 +129,38 @@ std::string boxText(const Aabb& b) {
   char buf[160];
   std::snprintf(buf, sizeof buf, "[%g %g %g]..[%g %g %g]", b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]);
   return buf;
+}
+
+// What a scene shows of itself for the checks against a checkpoint's record of its own.
+struct SceneFacts {
+  Aabb box;
+  float boxTolerance = 1e-4f;  // float printing precision
+  std::optional<uint32_t> cameras;                          // the training split's camera count
+  std::optional<std::pair<uint32_t, uint32_t>> imageSize;  // its first image's size
+};
+
+// Weights fitted to another scene would train or render inside this scene's box: the checkpoint at
+// `path` (its JSON record `j`) must have been trained on the scene `scene` describes.
+void checkSceneRecord(const std::string& path, const json& j, const SceneFacts& scene) {
+  try {
+    const Aabb saved = boxFromJson(j.at("bounds"));
+    if (!sameBox(saved, scene.box, scene.boxTolerance))
+      throw Error(path + ": checkpoint scene box " + boxText(saved) + " differs from this dataset's " +
+                  boxText(scene.box) + "; it was trained on another scene");
+    if (!j.contains("scene") || !scene.cameras) return;  // checkpoints written before the scene record have the box alone
+    const json& sc = j.at("scene");
+    const uint32_t n = sc.at("cameras"), w = sc.at("width"), h = sc.at("height");
+    if (!scene.imageSize && n != *scene.cameras)
+      throw Error(path + ": checkpoint was trained on " + std::to_string(n) + " images, this dataset's training split has " +
+                  std::to_string(*scene.cameras) + "; it was trained on another scene");
+    if (scene.imageSize && (n != *scene.cameras || w != scene.imageSize->first || h != scene.imageSize->second))
+      throw Error(path + ": checkpoint was trained on " + std::to_string(n) + " images of " + std::to_string(w) + "x" +
+                  std::to_string(h) + ", this dataset has " + std::to_string(*scene.cameras) + " of " +
+                  std::to_string(scene.imageSize->first) + "x" + std::to_string(scene.imageSize->second) +
+                  "; it was trained on another scene or --downscale");
+  } catch (const json::exception& e) {
+    throw Error(path + ": checkpoint scene record: " + e.what());
+  }
 }
 
 }  // namespace
@@ -312,27 +347,25 @@ void Trainer::resume(const std::string& path) {
   TrainConfig saved = fromJson(j.at("config"), path);
   if (toJson(saved)["model"] != toJson(s.config)["model"])
     throw Error(path + ": checkpoint model config differs from this run's (" + saved.describe() + ")");
-  // Weights fitted to another scene would go on training inside this scene's box: refuse instead.
-  try {
-    const Aabb saved = boxFromJson(j.at("bounds"));
-    if (!sameBox(saved, s.box))
-      throw Error(path + ": checkpoint scene box " + boxText(saved) + " differs from this dataset's " + boxText(s.box) +
-                  "; it was trained on another scene");
-    if (j.contains("scene")) {  // checkpoints written before the scene record have the box alone
-      const json& sc = j.at("scene");
-      const uint32_t n = sc.at("cameras"), w = sc.at("width"), h = sc.at("height");
-      if (n != s.numCameras || w != s.imageWidth || h != s.imageHeight)
-        throw Error(path + ": checkpoint was trained on " + std::to_string(n) + " images of " + std::to_string(w) + "x" +
-                    std::to_string(h) + ", this dataset has " + std::to_string(s.numCameras) + " of " +
-                    std::to_string(s.imageWidth) + "x" + std::to_string(s.imageHeight) +
-                    "; it was trained on another scene or --downscale");
-    }
-  } catch (const json::exception& e) {
-    throw Error(path + ": checkpoint scene record: " + e.what());
-  }
+  SceneFacts scene;
+  scene.box = s.box;
+  scene.cameras = s.numCameras;
+  scene.imageSize = {s.imageWidth, s.imageHeight};
+  checkSceneRecord(path, j, scene);
   for (auto& a : s.pipe->state()) uploadChecked(ck, a);
   s.pipe->stateLoaded();
   s.step = j.at("step");
+}
+
+void checkTrainedOn(const std::string& checkpoint, const Dataset& scene, const DatasetOptions& options) {
+  auto ck = nerf::Checkpoint::load(checkpoint);
+  SceneFacts facts;
+  facts.box = scene.bounds;
+  // A box carved from the alpha masks moves with the resolution and split the masks are read at
+  // (by 6% of the sample scene's height between --downscale 1 and 8): a tenth of its extent.
+  if (scene.boundsSource == "cameras+alpha") facts.boxTolerance = 0.1f;
+  if (options.split == "train") facts.cameras = uint32_t(scene.cameras.size());
+  checkSceneRecord(checkpoint, configJson(ck, checkpoint), facts);
 }
 
 }  // namespace vknerf

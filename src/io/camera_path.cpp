@@ -55,12 +55,14 @@ CameraPath readNerfstudioCameraPath(const JsonFile& f) {
     const json& entry = (*list)[i];
     if (!entry.is_object()) fieldError(f, "camera_path[" + std::to_string(i) + "]", "must be an object");
     nerf::detail::FrameSpec spec;
-    spec.where = f.name() + ": " + prefix + "camera_to_world";
+    spec.where = f.name() + ": camera_path[" + std::to_string(i) + "]";
     spec.c2w = nerf::detail::readMatrixField(f, entry, "camera_to_world", prefix);
-    nerf::detail::checkRigid(spec.c2w, spec.where, "the pose");
+    nerf::detail::checkRigid(spec.c2w, f.name() + ": " + prefix + "camera_to_world", "the pose");
     const double fov = number(f, entry, "fov", prefix, 0, 180, true);
     if (fov >= 180) fieldError(f, prefix + "fov", "must be below 180 degrees");
     spec.intrinsics.angleY = fov * std::numbers::pi / 180;
+    spec.intrinsics.focalFieldX = spec.intrinsics.focalFieldY = "fov";
+    spec.poseField = "camera_to_world";
     spec.intrinsics.width = width;
     spec.intrinsics.height = height;
     out.cameras.push_back(nerf::detail::completeCamera(spec, width, height));

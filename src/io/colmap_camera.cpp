@@ -65,6 +65,7 @@ Intrinsics colmapIntrinsics(const ColmapCameraModel& model, uint64_t cameraId, u
   for (double v : p)
     if (!std::isfinite(float(v))) fail("camera parameter " + std::to_string(v) + " is not finite as a float");
   Intrinsics in;
+  in.focalFieldX = in.focalFieldY = "camera " + std::to_string(cameraId) + "'s parameters";
   in.width = uint32_t(width);
   in.height = uint32_t(height);
   in.fx = p[0];

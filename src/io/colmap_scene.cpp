@@ -74,6 +74,9 @@ bool pointsBox(const std::vector<std::array<double, 3>>& points, std::array<doub
   return true;
 }
 
+// The fields of an image's pose in images.txt (images.bin holds the same).
+constexpr const char* kColmapPose = "pose (QW QX QY QZ TX TY TZ)";
+
 struct PosedImage {
   const ColmapImage* image;
   const Intrinsics* intrinsics;
@@ -106,7 +109,7 @@ SceneSpec toScene(const ColmapModel& model, const fs::path& imagesDir, const Dat
   } else {
     std::vector<Camera> all;
     for (const auto& img : images) {
-      FrameSpec f{img.image->where, {}, {}, *img.intrinsics, img.c2w};
+      FrameSpec f{img.image->where, {}, {}, *img.intrinsics, img.c2w, kColmapPose};
       all.push_back(completeCamera(f, f.intrinsics.width, f.intrinsics.height));
     }
     Aabb b = boxFromCameras(all);
@@ -134,6 +137,7 @@ SceneSpec toScene(const ColmapModel& model, const fs::path& imagesDir, const Dat
     f.where = images[i].image->where;
     f.intrinsics = *images[i].intrinsics;
     f.c2w = images[i].c2w;
+    f.poseField = kColmapPose;
     for (int k = 0; k < 3; ++k) f.c2w[4 * k + 3] = (f.c2w[4 * k + 3] - centre[k]) * s;
     checkRigid(f.c2w, f.where);
     fs::path p = imagesDir / images[i].image->name;

@@ -21,6 +21,8 @@ struct Intrinsics {
   double angleX = NAN, angleY = NAN;  // full field of view, radians
   uint32_t width = 0, height = 0;
   Lens lens;  // distortion coefficients are dimensionless: downscaling leaves them alone
+  // The fields the focal lengths come from, for messages: transforms.json's unless the format says.
+  std::string focalFieldX = "fl_x or camera_angle_x", focalFieldY = "fl_y or camera_angle_y";
 };
 
 struct FrameSpec {
@@ -29,6 +31,7 @@ struct FrameSpec {
   std::string imageTried;  // the paths tried, for the error when `image` is empty
   Intrinsics intrinsics;
   std::array<double, 16> c2w{};  // OpenGL convention, row-major, already checked to be rigid
+  std::string poseField = "transform_matrix";  // where the pose comes from, for messages
 };
 
 struct SceneSpec {

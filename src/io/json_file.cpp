@@ -1,7 +1,9 @@
 #include "io/json_file.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
@@ -17,9 +19,17 @@ using nlohmann::json;
 }
 
 JsonFile readJson(const fs::path& path, const std::string& kind) {
+  // A folder opens as a stream on Linux and fails only as it is read, with the library's words.
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error("'" + path.string() + "' is a folder, not a " + kind + " (a JSON file)");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path.string() + "'");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) throw Error("cannot open '" + path.string() + "': " + std::strerror(errno));
+  std::string text;
+  try {
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::exception&) {
+    throw Error("cannot read '" + path.string() + "' (" + kind + ")");
+  }
   JsonFile f{path, {}};
   try {
     f.root = json::parse(text);

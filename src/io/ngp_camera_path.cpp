@@ -186,6 +186,8 @@ CameraPath readNgpCameraPath(const JsonFile& f, const CameraPathOptions& o) {
     spec.c2w = ngpPoseToDataset(k, frame);
     checkRigid(spec.c2w, spec.where, "the pose");
     spec.intrinsics.angleY = k.fov * std::numbers::pi / 180;
+    spec.intrinsics.focalFieldX = spec.intrinsics.focalFieldY = "fov";
+    spec.poseField = "the pose (R, T)";
     spec.intrinsics.width = o.width;
     spec.intrinsics.height = o.height;
     out.cameras.push_back(completeCamera(spec, o.width, o.height));

@@ -19,9 +19,10 @@ struct CliResult {
   std::string output;
 };
 
-// `args` is appended to the binary's path and run by the shell, stdout and stderr together.
-inline CliResult runCli(const std::string& args) {
-  std::string cmd = std::string(VKNERF_BINARY_DIR) + "/vknerf " + args + " 2>&1";
+// `args` is appended to the binary's path and run by the shell, stdout and stderr together;
+// `env` ("NAME=value ...") is set for that command.
+inline CliResult runCli(const std::string& args, const std::string& env = "") {
+  std::string cmd = env + (env.empty() ? "" : " ") + std::string(VKNERF_BINARY_DIR) + "/vknerf " + args + " 2>&1";
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
   std::array<char, 512> buf;

@@ -1,6 +1,6 @@
 #pragma once
-// Argument checks shared by the commands: numbers that must be finite, outputs that must be writable
-// before any work starts, and the usage error that main() turns into exit code 2.
+// Argument checks shared by the commands: numbers that must be finite, and the usage error that
+// main() turns into exit code 2. The files a command reads and writes are checked in command_files.h.
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -19,9 +19,5 @@ struct UsageError : Error {
 // value as a 309-digit bound: these say what is wanted in words.
 extern const CLI::Validator PositiveFinite;
 extern const CLI::Validator FiniteNumber;
-
-// Throws vknerf::Error naming `what` and `path` when `path` cannot be written (see
-// vknerf::checkOutputPath) or is one of the files of the scene at `scene` (when given).
-void checkOutput(const std::string& path, const std::string& what, const std::string& scene = "");
 
 }  // namespace vknerf::cli

@@ -12,6 +12,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "command_files.h"
 #include "lib/bench/run_plan.h"
 #include "lib/bench/scene_run.h"
 #include "lib/bench/scene_table.h"
@@ -59,10 +60,13 @@ int run(const Options& o, const Globals& g) {
     if (!seenBinaries.insert(fs::weakly_canonical(path, ec).string()).second)
       throw UsageError("bench scenes: --vknerf " + path + " is given twice");
   }
-  std::error_code ec;
-  fs::create_directories(o.out, ec);
-  if (!fs::is_directory(o.out)) throw Error("-o " + o.out + ": " + (ec ? ec.message() : "exists and is not a folder"));
-  checkOutputPath((fs::path(o.out) / "scenes.md").string(), "-o " + o.out);
+  // -o may neither hold nor lie in a scene, nor be a build; it is made only once all of that holds.
+  CommandFiles files("bench scenes");
+  for (const std::string& scene : o.scenes) files.scene(scene);
+  for (const std::string& a : arguments) files.input(bench::buildPath(a), "--vknerf");
+  files.outputFolder(o.out, "-o").output((fs::path(o.out) / "scenes.md").string(), "-o");
+  files.check();
+  files.createFolders();
 
   const std::vector<std::string> buildNames = bench::buildNames(arguments);
   std::vector<bench::Build> builds;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "io/image_io.h"
 #include "lib/csv.h"
@@ -76,10 +77,13 @@ RenderSettings parseBudget(const std::string& config, const std::string& text) {
 }
 
 int run(const Options& o, const Globals& g) {
+  CommandFiles files("bench train");
+  files.scene(o.scene).outputFolder(o.out, "-o");
+  files.check();
   auto ctx = g.context();
   Dataset train = Dataset::load(o.scene, {.split = "train"});
   Dataset test = Dataset::load(o.scene, {.split = "test"});
-  std::filesystem::create_directories(o.out);
+  files.createFolders();
   std::vector<TrainRow> rows;
   std::vector<RenderRow> renders;
   std::vector<std::string> described, statistics;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "progress.h"
 #include "io/image_io.h"
@@ -42,10 +43,10 @@ std::vector<bool> sheetViews(size_t n, uint32_t wanted) {
 }
 
 int run(const Options& o, const Globals& g) {
-  // Before the evaluation: a report that cannot be written would lose it.
-  if (!o.json.empty()) checkOutput(o.json, "--json", o.scene);
-  if (!o.csv.empty()) checkOutput(o.csv, "--csv", o.scene);
-  if (!o.sheet.empty()) checkOutput(o.sheet, "--sheet", o.scene);
+  // Before the evaluation: a report that cannot be written, or would replace an input, would lose it.
+  CommandFiles files("eval");
+  files.input(o.model, "model").scene(o.scene).output(o.json, "--json").output(o.csv, "--csv").output(o.sheet, "--sheet");
+  files.check();
   auto ctx = g.context();
   Model model = Model::load(ctx, o.model);
   DatasetOptions dopt;
@@ -113,7 +114,7 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   app.add_option("--json", o->json, "Write the results as JSON");
   app.add_option("--csv", o->csv, "Write per-image results as CSV");
   app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
-  app.add_option("--limit", o->limit, "Evaluate at most this many views");
+  app.add_option("--limit", o->limit, "Evaluate at most this many views (default 0: all)");
   app.add_option("--sheet", o->sheet,
                  "Write a contact sheet PNG: a row per view (name, PSNR, SSIM), ground truth | render | depth "
                  "(colour-mapped as render writes it) | error (mean |render - truth| over RGB, 0 to 0.25)");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "vknerf/file_output.h"
 #include "vknerf/mesh.h"
@@ -29,7 +30,14 @@ int run(Options o, const Globals& g) {
         throw UsageError("export mesh: --bbox needs x0 y0 z0 below x1 y1 z1 (axis " + std::to_string(k) + " is empty)");
     o.mesh.box = box;
   }
-  checkOutput(o.output, "-o");
+  if (!(o.mesh.threshold > 0)) {  // a density is never negative: every point would be inside, no surface
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", o.mesh.threshold);
+    throw UsageError(std::string("export mesh: --threshold must be a positive density, got ") + got);
+  }
+  CommandFiles files("export mesh");
+  files.input(o.model, "model").output(o.output, "-o");
+  files.check();
   Model model = Model::load(g.context(), o.model);
   std::printf("density threshold %g, resolution %u\n", o.mesh.threshold, o.mesh.resolution);
   const auto start = std::chrono::steady_clock::now();
@@ -41,7 +49,9 @@ int run(Options o, const Globals& g) {
   std::printf("density sampled at %.1f%% of the %llu grid points%s\n",
               100.0 * double(mesh.densityQueries) / double(mesh.gridSamples), (unsigned long long)mesh.gridSamples,
               mesh.densityQueries < mesh.gridSamples ? " (near the occupied cells)" : "");
-  if (mesh.triangles.empty()) std::printf("no surface at this threshold: try a lower --threshold\n");
+  if (mesh.triangles.empty())
+    std::printf("no surface at this threshold: the density stays below it everywhere (try a lower --threshold) or "
+                "above it everywhere (a --bbox reaching outside the object)\n");
   return 0;
 }
 
@@ -51,7 +61,7 @@ Registration exportMesh("export mesh", "Export the trained field's surface as a 
   app.add_option("model", o->model, "Model checkpoint (from vknerf train)")->required();
   app.add_option("-o,--output", o->output, "Output PLY file")->required();
   app.add_option("--resolution", o->mesh.resolution, "Density samples along the box's longest side (default 256)");
-  app.add_option("--threshold", o->mesh.threshold, "Density of the surface (default " +
+  app.add_option("--threshold", o->mesh.threshold, "Density of the surface, positive (default " +
                  std::to_string(MeshSettings::kDefaultThreshold) + ")")->check(FiniteNumber);
   app.add_flag("--whole-box", [o](int64_t) { o->mesh.occupiedOnly = false; },
                "Sample the density over the whole box, not only near the occupancy grid's occupied cells (fast model)");

@@ -7,8 +7,10 @@
 #include <string>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "progress.h"
+#include "vknerf/checkpoint_scene.h"
 #include "vknerf/dataset.h"
 #include "vknerf/point_cloud.h"
 #include "vknerf/trainer.h"
@@ -40,11 +42,14 @@ void keepEvenly(PointCloud& cloud, uint64_t keep) {
 
 int run(const Options& o, const Globals& g) {
   if (!(o.minOpacity >= 0 && o.minOpacity < 1)) throw UsageError("export points: --min-opacity must be in [0, 1)");
-  checkOutput(o.output, "-o", o.scene);
+  CommandFiles files("export points");
+  files.input(o.model, "model").scene(o.scene, "--scene").output(o.output, "-o");
+  files.check();
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;
   const Dataset data = Dataset::load(o.scene, dopt);
+  checkTrainedOn(o.model, data, dopt);  // another scene's cameras would place points at random
   Model model = Model::load(g.context(), o.model);
   std::printf("%zu %s views of %s, opacity above %g\n", data.cameras.size(), o.split.c_str(), o.scene.c_str(),
               o.minOpacity);
@@ -82,7 +87,7 @@ Registration exportPoints("export points", "Export the points the training views
       ->check(CLI::Range(1u, 64u));
   app.add_option("--min-opacity", o->minOpacity, "Keep pixels whose opacity exceeds this (default 0.5)")
       ->check(FiniteNumber);
-  app.add_option("--max-points", o->maxPoints, "Keep at most this many points, evenly over the views (default: all)");
+  app.add_option("--max-points", o->maxPoints, "Keep at most this many points, evenly over the views (default 0: all)");
   return [o, &g] { return run(*o, g); };
 });
 

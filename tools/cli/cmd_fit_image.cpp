@@ -12,6 +12,7 @@
 #include <stb_image.h>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "io/image_io.h"
 #include "lib/fit_image.h"
@@ -40,7 +41,9 @@ Registration fitImageCmd("fit-image", "Fit an image as (u, v) -> rgb with an MLP
   app.add_option("-o,--output", o->output, "Write the fitted image (PNG)");
   return [o, &g] {
     if (o->cfg.width % 4) throw UsageError("fit-image: --width must be a multiple of 4");
-    if (!o->output.empty()) checkOutput(o->output, "-o");  // before the fit, which a bad path would lose
+    CommandFiles files("fit-image");  // before the fit, which a bad path would lose
+    files.input(o->image, "IMAGE").output(o->output, "-o");
+    files.check();
     int w = 0, h = 0, channels = 0;
     unsigned char* data = stbi_load(o->image.c_str(), &w, &h, &channels, 4);
     if (!data) throw Error("fit-image: cannot read " + o->image + ": " + stbi_failure_reason());

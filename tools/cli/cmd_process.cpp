@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "lib/process/process.h"
 #include "progress.h"
@@ -52,7 +53,7 @@ Registration processCommand(
       app.add_option("--downscale", o->downscale,
                      "Also write images_N/ copies N times smaller, which transforms.json then names (default 1: none)")
           ->check(CLI::Range(1u, 64u));
-      app.add_option("--max-images", o->maxImages, "Keep at most this many images, evenly spread (default: all)");
+      app.add_option("--max-images", o->maxImages, "Keep at most this many images, evenly spread (default 0: all)");
       app.add_option("--matcher", o->matcher, "auto (exhaustive for photos, sequential for a video), exhaustive or sequential")
           ->check(CLI::IsMember({"auto", "exhaustive", "sequential"}));
       app.add_option("--camera-model", o->colmap.cameraModel,
@@ -69,6 +70,9 @@ Registration processCommand(
                      "Fail when COLMAP places fewer than this share of the images (default 0.5)")
           ->check(CLI::Range(0.0, 1.0));
       return [o] {
+        CommandFiles files("process");  // the photos (or video) must survive the scene replacing -o
+        files.input(o->input, "input").replacedFolder(o->output, "-o");
+        files.check();
         process::ProcessObserver observer;
         observer.say = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
         observer.stage = stagePrinter();

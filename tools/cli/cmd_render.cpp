@@ -5,10 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "progress.h"
 #include "lib/render_output.h"
@@ -17,7 +17,6 @@
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
-#include "vknerf/file_output.h"
 #include "vknerf/trainer.h"
 
 namespace vknerf::cli {
@@ -51,15 +50,12 @@ int run(const Options& o, const Globals& g) {
     throw UsageError("render: give a SCENE (renders its --split cameras), --orbit N or --path PATH.json");
   if (o.orbit && !o.path.empty()) throw UsageError("render: --orbit and --path each give the cameras: choose one");
   if (o.outDir.empty() && o.video.empty()) throw UsageError("render: give -o DIR for the frames, --video OUT.mp4, or both");
-  // The outputs before any rendering: a path that cannot hold them fails now.
-  if (!o.outDir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.outDir, ec);
-    if (!std::filesystem::is_directory(o.outDir))
-      throw Error("output folder " + o.outDir + ": " + (ec ? ec.message() : "exists and is not a folder"));
-    checkOutputPath(o.outDir + "/rgb_0000.png", "output folder " + o.outDir);
-  }
-  if (!o.video.empty()) checkOutputPath(o.video, "--video");
+  // The outputs before any rendering: a path that cannot hold them, or would replace an input, fails
+  // now; the folder is created only once every input has been read.
+  CommandFiles files("render");
+  files.input(o.model, "model").input(o.path, "--path").scene(o.scene);
+  files.outputFolder(o.outDir, "output folder").output(o.video, "--video");
+  files.check();
   double fps = o.fps > 0 ? o.fps : 24;
   std::vector<Camera> pathCameras;
   if (!o.path.empty()) {
@@ -99,6 +95,7 @@ int run(const Options& o, const Globals& g) {
   if (o.orbit) cams = orbitCameras(o.orbit, model.bounds(), radius, o.elevationDegrees, like);
   if (!pathCameras.empty()) cams = std::move(pathCameras);
   if (o.limit && cams.size() > o.limit) cams.resize(o.limit);
+  files.createFolders();
   std::optional<nerf::VideoEncoder> video;
   if (!o.video.empty()) {
     for (const Camera& c : cams)
@@ -162,7 +159,7 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   app.add_option("--radius", o->radius, "Orbit radius (default: the scene cameras' mean distance, else 4)")->check(FiniteNumber);
   app.add_option("--size", o->size, "Orbit image size without a SCENE")->check(CLI::Range(1u, 8192u));
   app.add_option("--downscale", o->downscale, "Downscale SCENE's images by this factor")->check(CLI::Range(1u, 64u));
-  app.add_option("--limit", o->limit, "Render at most this many views");
+  app.add_option("--limit", o->limit, "Render at most this many views (default 0: all)");
   return [o, &g] { return run(*o, g); };
 });
 

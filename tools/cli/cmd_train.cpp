@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "checks.h"
+#include "command_files.h"
 #include "command.h"
 #include "progress.h"
 #include "step_profile_report.h"
@@ -28,10 +29,13 @@ namespace {
 // SIGINT or SIGTERM ends training at the next step boundary, saves the checkpoint and exits
 // 128 + the signal's number. The handler only records the signal (async-signal-safe); a second
 // signal while that save runs means "now": it exits at once, and the atomic writer guarantees the
-// checkpoint on disk is the previous complete one.
+// checkpoint on disk is the previous complete one (its temporary file is removed).
 volatile std::sig_atomic_t stopSignal = 0;
 extern "C" void onStopSignal(int sig) {
-  if (stopSignal) ::_exit(128 + sig);
+  if (stopSignal) {
+    removeTemporaryFiles();
+    ::_exit(128 + sig);
+  }
   stopSignal = sig;
 }
 
@@ -161,9 +165,11 @@ int run(const Options& o, const Globals& g) {
     if (stem.rfind("transforms", 0) == 0) stem = std::filesystem::absolute(p).parent_path().filename().string();
     opts.output = (stem.empty() ? "model" : stem) + ".vknerf";
   }
-  checkOutput(opts.output, "model", opts.scene);  // before any work, which a bad path would lose
+  // Before any work, which a bad path would lose. With --resume the model is read too: by design.
+  CommandFiles files("train");
+  files.scene(opts.scene).output(opts.output, "model").output(opts.summary, "--summary");
+  files.check();
   checkReplaceable(opts.output);
-  if (!opts.summary.empty()) checkOutput(opts.summary, "--summary", opts.scene);
   if (opts.steps == 0 && opts.seconds <= 0) {
     opts.seconds = 300;  // converges to a usable model on a CPU device; say so, since it was not asked for
     std::printf("no --steps or --time given: training for %.0f s\n", opts.seconds);

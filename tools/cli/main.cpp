@@ -8,6 +8,7 @@
 #include "checks.h"
 #include "command.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 
 namespace vknerf::cli {
 
@@ -94,6 +95,8 @@ int main(int argc, char** argv) {
     int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }
+  // Ctrl-C or a kill during any command leaves no temporary file behind (train saves first).
+  vknerf::removeTemporaryFilesOnSignals();
   try {
     for (auto& [sub, act] : actions)
       if (sub->parsed()) return act();

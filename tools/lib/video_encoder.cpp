@@ -20,8 +20,8 @@ VideoEncoder::VideoEncoder(const std::string& path, uint32_t width, uint32_t hei
     : path_(path), width_(width), height_(height) {
   if (width == 0 || height == 0) throw Error(path + ": cannot encode a video of empty frames");
   if (!(fps > 0 && fps <= 1000)) throw Error(path + ": frame rate must be in (0, 1000], got " + std::to_string(fps));
-  tmp_ = path + ".tmp." + std::to_string(::getpid());
-  log_ = tmp_ + ".log";
+  video_ = std::make_unique<TemporaryFile>(path);
+  log_ = std::make_unique<TemporaryFile>(path, ".log");
   // A pipe whose reader has died must fail a write with EPIPE, not kill vknerf.
   ::signal(SIGPIPE, SIG_IGN);
   int fds[2];
@@ -33,7 +33,7 @@ VideoEncoder::VideoEncoder(const std::string& path, uint32_t width, uint32_t hei
   const std::vector<std::string> args = {
       "ffmpeg", "-nostdin", "-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgba",
       "-s", size.str(), "-r", rate.str(), "-i", "pipe:0", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-      "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", "-f", "mp4", tmp_};
+      "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", "-f", "mp4", video_->path()};
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -41,22 +41,30 @@ VideoEncoder::VideoEncoder(const std::string& path, uint32_t width, uint32_t hei
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, fds[0], 0);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, log_->fd(), 2);
   const int err = posix_spawnp(&pid_, "ffmpeg", &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   ::close(fds[0]);
   if (err != 0) {
     ::close(fds[1]);
     pid_ = -1;
-    ::unlink(log_.c_str());
     if (err == ENOENT)
       throw Error(path + ": cannot encode video: ffmpeg is not installed (Debian package: ffmpeg)");
     throw Error(path + ": cannot start ffmpeg: " + std::strerror(err));
   }
   pipe_ = fds[1];
+  video_->setWriter(pid_);
+  log_->setWriter(pid_);
 }
 
 VideoEncoder::~VideoEncoder() { abandon(); }
+
+// ffmpeg has been reaped: its process id may be reused, and a signal must not stop that process.
+void VideoEncoder::forgetWriter() {
+  pid_ = -1;
+  video_->setWriter(0);
+  log_->setWriter(0);
+}
 
 void VideoEncoder::abandon() {
   if (pipe_ >= 0) ::close(pipe_), pipe_ = -1;
@@ -65,14 +73,14 @@ void VideoEncoder::abandon() {
     int status = 0;
     while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
     }
-    pid_ = -1;
+    forgetWriter();
   }
-  ::unlink(tmp_.c_str());
-  ::unlink(log_.c_str());
+  video_->discard();
+  log_->discard();
 }
 
 void VideoEncoder::fail(const std::string& what) {
-  const std::string why = process::lastLogLine(log_);
+  const std::string why = process::lastLogLine(log_->path());
   abandon();
   throw Error(path_ + ": " + what + (why.empty() ? "" : " (ffmpeg: " + why + ")"));
 }
@@ -103,15 +111,16 @@ void VideoEncoder::finish() {
   int status = 0;
   while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
   }
-  pid_ = -1;
+  forgetWriter();
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) fail("ffmpeg failed to encode the video");
   if (frames_ == 0) fail("no frames to encode");
-  // ffmpeg closes but does not sync its output: sync it, then put it in place.
-  int fd = ::open(tmp_.c_str(), O_RDONLY | O_CLOEXEC);
-  const bool synced = fd >= 0 && ::fsync(fd) == 0;
-  if (fd >= 0) ::close(fd);
-  if (!synced || ::rename(tmp_.c_str(), path_.c_str()) != 0) fail(std::string("write failed: ") + std::strerror(errno));
-  ::unlink(log_.c_str());
+  try {
+    video_->commit();
+  } catch (const Error&) {
+    abandon();
+    throw;
+  }
+  log_->discard();
 }
 
 }  // namespace vknerf::nerf

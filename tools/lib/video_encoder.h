@@ -1,13 +1,17 @@
 #pragma once
 // H.264 video from rendered frames through Debian's `ffmpeg`, run as a subprocess that reads raw
-// RGBA frames on a pipe. The video is written to a temporary file beside the target and renamed
-// over it only when ffmpeg has finished cleanly, so a failed or interrupted encode never leaves a
-// truncated video where a good one was.
+// RGBA frames on a pipe. ffmpeg writes a vknerf::TemporaryFile (vknerf/file_output.h), which
+// becomes the video only when ffmpeg has finished cleanly, as every other output does: renamed over
+// a regular file, copied into a special one (/dev/null, a pipe). A failed or interrupted encode never
+// leaves a truncated video where a good one was, nor the temporary file or ffmpeg's log.
 #include <sys/types.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "vknerf/file_output.h"
 
 namespace vknerf::nerf {
 
@@ -23,14 +27,16 @@ class VideoEncoder {
 
   // One frame, width * height * 4 bytes of RGBA8 (alpha ignored), rows top to bottom.
   void addFrame(const std::vector<uint8_t>& rgba);
-  // Waits for ffmpeg, checks it succeeded, syncs the file and renames it over the target.
+  // Waits for ffmpeg, checks it succeeded, and puts the video in place (TemporaryFile::commit).
   void finish();
 
  private:
   [[noreturn]] void fail(const std::string& what);
   void abandon();
+  void forgetWriter();
 
-  std::string path_, tmp_, log_;
+  std::string path_;
+  std::unique_ptr<TemporaryFile> video_, log_;  // what ffmpeg writes: the video, and its messages
   uint32_t width_, height_;
   pid_t pid_ = -1;
   int pipe_ = -1;

@@ -1,6 +1,7 @@
 #include "lib/process/colmap_log.h"
 
 #include <cstdio>
+#include <fstream>
 
 namespace vknerf::process {
 namespace {
@@ -49,6 +50,41 @@ bool readProgressLine(ColmapStage stage, const std::string& line, StageProgress&
   if (a == progress.done && b == progress.total) return false;
   progress.done = a, progress.total = b;
   return true;
+}
+
+const char* stageDescription(ColmapStage stage) {
+  switch (stage) {
+    case ColmapStage::features: return "feature extraction";
+    case ColmapStage::exhaustiveMatching: return "exhaustive matching";
+    case ColmapStage::sequentialMatching: return "sequential matching";
+    case ColmapStage::mapping: return "mapping";
+  }
+  return "";
+}
+
+std::string failureReason(const std::string& logPath) {
+  std::ifstream in(logPath);
+  std::string line, error, last;
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    const size_t text = line.find_first_not_of(' ');
+    if (text == std::string::npos || line.find_first_not_of("=-") == std::string::npos) continue;
+    const std::string body = line.substr(text);
+    // glog: "F20261127 12:42:32.474221 17150 cache.h:132] Check failed: ..." (E for errors).
+    unsigned date = 0, h = 0, m = 0;
+    char severity = 0;
+    if (std::sscanf(body.c_str(), "%c%u %u:%u:", &severity, &date, &h, &m) == 4 && (severity == 'F' || severity == 'E')) {
+      if (const size_t at = body.find("] "); at != std::string::npos) error = body.substr(at + 2);
+      continue;
+    }
+    if (body.rfind("ERROR: ", 0) == 0) {
+      error = body;
+      continue;
+    }
+    const bool trace = body.rfind("@ ", 0) == 0 || body.rfind("*** ", 0) == 0;
+    if (!trace) last = body;
+  }
+  return error.empty() ? last : error;
 }
 
 const char* progressUnit(ColmapStage stage) {

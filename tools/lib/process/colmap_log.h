@@ -23,4 +23,13 @@ bool readProgressLine(ColmapStage stage, const std::string& line, StageProgress&
 // What a stage counts, for messages: "images featured", "blocks matched", ...
 const char* progressUnit(ColmapStage stage);
 
+// What a stage does, for messages: "feature extraction", "exhaustive matching", ...
+const char* stageDescription(ColmapStage stage);
+
+// Why a COLMAP run failed, from its log: the last error it states (a glog fatal or error line
+// without its time and source prefix, such as "Check failed: ...", or an "ERROR: ..." line), else the
+// last line that is not part of a stack trace; "" when there is none. A crash ends the log with
+// the stack trace's frames ("    @     0x7fa6ecd278ec  (unknown)"), which say nothing to a user.
+std::string failureReason(const std::string& logPath);
+
 }  // namespace vknerf::process

@@ -25,9 +25,9 @@ void runStage(const std::string& command, std::vector<std::string> options, Colm
                                   if (readProgressLine(stage, line, progress) && report) report(stage, progress, seconds(), false);
                                 }});
   if (status != 0) {
-    const std::string why = lastLogLine(paths.log.string());
-    throw Error("colmap " + command + " failed (exit status " + std::to_string(status) + ")" +
-                (why.empty() ? "" : ": " + why) + "; log: " + paths.log.string());
+    const std::string why = failureReason(paths.log.string());
+    throw Error(std::string("COLMAP failed at ") + stageDescription(stage) + " (colmap " + command + ", exit status " +
+                std::to_string(status) + ")" + (why.empty() ? "" : ": " + why) + "; log: " + paths.log.string());
   }
   if (stage != ColmapStage::mapping && progress.total) progress.done = progress.total;
   if (report) report(stage, progress, seconds(), true);

@@ -34,8 +34,8 @@ struct ColmapPaths {
 using StageReport = std::function<void(ColmapStage stage, const StageProgress& progress, double seconds, bool finished)>;
 
 // Runs the stages in turn, `imageCount` images in `paths.images`. Throws vknerf::Error when colmap
-// is not installed (naming the Debian package) or a stage fails (naming the stage, its last log
-// line and the log).
+// is not installed (naming the Debian package) or a stage fails (one line: the stage, the reason
+// its log gives (failureReason) and the log).
 void runColmap(const ColmapPaths& paths, const ColmapSettings& settings, size_t imageCount, const StageReport& report);
 
 }  // namespace vknerf::process

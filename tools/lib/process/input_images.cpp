@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "io/image_io.h"
 #include "vknerf/error.h"
 
 namespace fs = std::filesystem;
@@ -20,6 +21,26 @@ std::vector<fs::path> listImages(const fs::path& folder) {
   if (ec) throw Error("cannot list '" + folder.string() + "': " + ec.message());
   std::sort(out.begin(), out.end());
   return out;
+}
+
+void checkImagesDecode(const std::vector<fs::path>& images, const std::string& folder) {
+  constexpr size_t kNamed = 5;  // one line: the first few, then how many more
+  std::string named;
+  size_t refused = 0;
+  for (const fs::path& image : images) {
+    try {
+      (void)nerf::loadImage(image.string());
+    } catch (const Error& e) {
+      // "cannot read image 'PATH': why": the file name is enough here, the folder is named once.
+      std::string why = e.what();
+      if (const size_t at = why.find("': "); at != std::string::npos) why = why.substr(at + 3);
+      if (refused++ < kNamed) named += (named.empty() ? "" : "; ") + image.filename().string() + " (" + why + ")";
+    }
+  }
+  if (refused == 0) return;
+  if (refused > kNamed) named += "; and " + std::to_string(refused - kNamed) + " more";
+  throw Error("'" + folder + "': " + std::to_string(refused) + " of " + std::to_string(images.size()) +
+              " photos cannot be decoded: " + named + "; remove or replace them");
 }
 
 void placeImages(const std::vector<fs::path>& images, const fs::path& into) {

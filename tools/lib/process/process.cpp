@@ -58,28 +58,12 @@ Matcher chooseMatcher(const std::string& name, bool video) {
   throw Error("--matcher must be auto, exhaustive or sequential, got '" + name + "'");
 }
 
-std::string run(const ProcessOptions& o, const ProcessObserver& observer, Staging& staging) {
-  const auto start = std::chrono::steady_clock::now();
-  auto say = [&](const std::string& line) {
-    if (observer.say) observer.say(line);
-  };
-  std::error_code ec;
-  const bool video = !fs::is_directory(o.input, ec);
-  ColmapSettings colmap = o.colmap;
-  colmap.matcher = chooseMatcher(o.matcher, video);
+void say(const ProcessObserver& observer, const std::string& line) {
+  if (observer.say) observer.say(line);
+}
 
-  std::vector<fs::path> images;
-  if (video) {
-    VideoFrameOptions v;
-    v.fps = o.fps;
-    v.logPath = staging.log().string();
-    v.progress = observer.framesScored;
-    images = extractSharpFrames(o.input, staging.path() / "colmap" / "frames", v);
-    say("video: " + std::to_string(images.size()) + " frames kept (the sharpest of every " +
-        std::to_string(v.candidatesPerFrame) + ")");
-  } else {
-    images = listImages(o.input);
-  }
+// The images COLMAP gets: --max-images of them evenly spread, at least 3.
+std::vector<fs::path> imagesToUse(std::vector<fs::path> images, const ProcessOptions& o, const ProcessObserver& observer) {
   const size_t found = images.size();
   if (o.maxImages) {
     std::vector<fs::path> kept;
@@ -89,7 +73,30 @@ std::string run(const ProcessOptions& o, const ProcessObserver& observer, Stagin
   if (images.size() < 3)
     throw Error("'" + o.input + "' gives " + std::to_string(images.size()) +
                 " images; COLMAP needs at least 3 (JPEG or PNG files, or a video)");
-  if (images.size() < found) say("kept " + std::to_string(images.size()) + " of " + std::to_string(found) + " images (--max-images)");
+  if (images.size() < found)
+    say(observer, "kept " + std::to_string(images.size()) + " of " + std::to_string(found) + " images (--max-images)");
+  return images;
+}
+
+// `photos`: the photos of a folder, already chosen and decoded; empty for a video.
+std::string run(const ProcessOptions& o, const ProcessObserver& observer, Staging& staging, std::vector<fs::path> photos) {
+  const auto start = std::chrono::steady_clock::now();
+  std::error_code ec;
+  const bool video = photos.empty();
+  ColmapSettings colmap = o.colmap;
+  colmap.matcher = chooseMatcher(o.matcher, video);
+
+  std::vector<fs::path> images = std::move(photos);
+  if (video) {
+    VideoFrameOptions v;
+    v.fps = o.fps;
+    v.logPath = staging.log().string();
+    v.progress = observer.framesScored;
+    images = extractSharpFrames(o.input, staging.path() / "colmap" / "frames", v);
+    say(observer, "video: " + std::to_string(images.size()) + " frames kept (the sharpest of every " +
+                      std::to_string(v.candidatesPerFrame) + ")");
+    images = imagesToUse(std::move(images), o, observer);
+  }
   placeImages(images, staging.path() / "images");
   if (video) fs::remove_all(staging.path() / "colmap" / "frames", ec);
 
@@ -125,9 +132,18 @@ std::string processCapture(const ProcessOptions& o, const ProcessObserver& obser
   if (o.downscale == 0) throw Error("--downscale must be at least 1");
   if (!(o.minRegisteredShare >= 0 && o.minRegisteredShare <= 1)) throw Error("--min-registered must be in [0, 1]");
   if (o.output.empty()) throw Error("no output scene (-o)");
+  checkReplaceable(o.output);
+  // Photos are chosen and decoded before anything is created: a photo vknerf cannot read is named
+  // now, not found by COLMAP minutes later. A video's frames are extracted into the staging folder.
+  std::vector<fs::path> photos;
+  if (fs::is_directory(o.input, ec)) {
+    photos = imagesToUse(listImages(o.input), o, observer);
+    checkImagesDecode(photos, o.input);
+    say(observer, "photos: " + std::to_string(photos.size()) + " decoded");
+  }
   Staging staging(o.output);
   try {
-    return run(o, observer, staging);
+    return run(o, observer, staging, std::move(photos));
   } catch (const Error& e) {
     throw Error(withKeptLog(e.what(), staging));
   }

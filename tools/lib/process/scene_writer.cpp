@@ -75,6 +75,17 @@ SceneBox writeTransforms(const fs::path& scene, uint32_t downscale) {
   return {d.bounds, d.boundsSource};
 }
 
+void checkReplaceable(const fs::path& target) {
+  std::error_code ec;
+  if (!fs::exists(target, ec)) return;
+  if (!fs::is_directory(target, ec))
+    throw Error("'" + target.string() + "' exists and is not a folder; refusing to replace it with a scene");
+  if (fs::is_empty(target, ec)) return;
+  if (fs::is_regular_file(target / "colmap.log", ec) && fs::is_directory(target / "sparse", ec)) return;
+  throw Error("'" + target.string() + "' exists and is not a scene vknerf process wrote (no colmap.log and sparse/ in "
+              "it); refusing to replace it: choose a new folder");
+}
+
 void publishScene(const fs::path& staging, const fs::path& target) {
   std::error_code ec;
   fs::path old;

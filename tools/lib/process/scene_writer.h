@@ -32,6 +32,11 @@ struct SceneBox {
 // --downscale N` would). Returns the box. Throws vknerf::Error.
 SceneBox writeTransforms(const std::filesystem::path& scene, uint32_t downscale);
 
+// Throws vknerf::Error unless `target` is absent, an empty folder or a scene vknerf process wrote
+// (colmap.log and sparse/ in it): publishScene removes what it replaces, and anything else there
+// is someone's data.
+void checkReplaceable(const std::filesystem::path& target);
+
 // Renames `staging` to `target`; an existing target is moved aside first and removed only once the
 // new scene is in place. Throws vknerf::Error naming both.
 void publishScene(const std::filesystem::path& staging, const std::filesystem::path& target);

@@ -34,10 +34,11 @@ bool isDir(const fs::path& p) {
 std::vector<fs::path> photosIn(const fs::path& dir) {
   std::vector<fs::path> out;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    std::string ext = entry.path().extension().string();
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string ext = it->path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg") && entry.is_regular_file(ec)) out.push_back(entry.path());
+    std::error_code typeError;  // an entry that cannot be examined is not a photo
+    if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg") && it->is_regular_file(typeError)) out.push_back(it->path());
   }
   if (ec) throw Error("'" + dir.string() + "' cannot be listed: " + ec.message());
   std::sort(out.begin(), out.end(), [](const fs::path& a, const fs::path& b) { return a.filename().string() < b.filename().string(); });

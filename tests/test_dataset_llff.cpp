@@ -14,6 +14,7 @@
 #include "io/image_io.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/rays.h"
+#include "support/cli_run.h"
 #include "support/colmap_model_files.h"
 #include "support/dataset_checks.h"
 #include "support/dataset_files.h"
@@ -509,4 +510,20 @@ TEST(DatasetLlff, BadFilesNameTheFileAndTheField) {
   fs::remove_all(p / "images");
   m = errorOf([&] { Dataset::load(p, split("all")); });
   EXPECT_MESSAGE_HAS(m, file.string() + ": no images/ folder beside it");
+}
+
+TEST(DatasetLlff, TheCommandLineRefusesABadFileInOneLine) {
+  TempDir dir("llff_cli");
+  const fs::path p = dir.path();
+  writeSmallScene(p);
+  std::vector<Row> rows = smallRows();
+  rows[2][15] = 9;  // near beyond far
+  writeRows(p, rows);
+  const CliResult r = runCli("train " + p.string() + " --steps 1 -o " + (p / "m.vknerf").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  const std::string line = "vknerf: error: " + (p / "poses_bounds.npy").string() + ": row 2: near bound 9 is not below the far bound 8\n";
+  ASSERT_GE(r.output.size(), line.size()) << r.output;
+  EXPECT_EQ(r.output.substr(r.output.size() - line.size()), line) << "the output ends with the one-line error";
+  EXPECT_EQ(r.output.find("loss"), std::string::npos) << "nothing trained: " << r.output;
+  EXPECT_FALSE(fs::exists(p / "m.vknerf"));
 }

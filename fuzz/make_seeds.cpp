@@ -1,5 +1,5 @@
 // Writes the fuzzers' seed corpus from the sample scene: make_seeds <assets/tabletop> <corpus folder>
-// gives <corpus>/{transforms,colmap,colmap_binary,checkpoint,image}/, one folder per fuzzer.
+// gives <corpus>/{transforms,colmap,colmap_binary,llff,checkpoint,image}/, one folder per fuzzer.
 #include <stb/stb_image_write.h>  // declarations only: libvknerf holds the implementation
 
 #include <cstdio>
@@ -15,6 +15,7 @@
 #include "io/image_io.h"
 #include "scratch_folder.h"
 #include "support/colmap_model_files.h"
+#include "support/llff_files.h"
 #include "vknerf/error.h"
 
 namespace fs = std::filesystem;
@@ -109,6 +110,20 @@ void colmapBinarySeeds(const fs::path& out) {
   fs::remove_all(tmp);
 }
 
+// poses_bounds.npy files of three cameras around the origin (the fuzzer's three images at 8x6): as
+// np.save writes float64, and as float32 in format 2.0, and in Fortran order.
+void llffSeeds(const fs::path& out) {
+  using namespace vknerf::test;
+  const std::array<double, 16> poses[] = {{0, 0, 1, 4, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1},
+                                          {-1, 0, 0, 0, 0, 0, 1, 4, 0, 1, 0, 0, 0, 0, 0, 1},
+                                          {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 4, 0, 0, 0, 1}};
+  std::vector<std::array<double, 17>> rows;
+  for (const auto& c2w : poses) rows.push_back(llffRow(c2w, 6, 8, 9.5, 1, 6));
+  writeText(out / "f8.npy", poseBoundsBytes(rows));
+  writeText(out / "f4_v2.npy", poseBoundsBytes(rows, {true, 2, false}));
+  writeText(out / "fortran.npy", poseBoundsBytes(rows, {false, 1, true}));
+}
+
 // Hand-built checkpoints of both models, laid out as Trainer::save writes them, with small sections.
 void checkpointSeeds(const fs::path& out) {
   vknerf::TrainConfig vanilla, fast;
@@ -162,6 +177,7 @@ int main(int argc, char** argv) {
     transformsSeeds(scene, out / "transforms");
     colmapSeeds(out / "colmap");
     colmapBinarySeeds(out / "colmap_binary");
+    llffSeeds(out / "llff");
     checkpointSeeds(out / "checkpoint");
     imageSeeds(scene, out / "image");
   } catch (const std::exception& e) {

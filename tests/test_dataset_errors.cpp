@@ -52,7 +52,7 @@ TEST_F(DatasetErrors, MissingOrUnrecognisedPath) {
   fs::create_directories(dir() / "empty");
   std::string e = errorOf([&] { Dataset::load((dir() / "empty").string()); });
   EXPECT_MESSAGE_HAS(e, (dir() / "empty").string());
-  EXPECT_MESSAGE_HAS(e, "no transforms_train.json, transforms.json or COLMAP");
+  EXPECT_MESSAGE_HAS(e, "no transforms_train.json, transforms.json, poses_bounds.npy or COLMAP");
   writeText(dir() / "notes.txt", "hello");
   EXPECT_MESSAGE_HAS(errorOf([&] { Dataset::load((dir() / "notes.txt").string()); }), "not a .json transforms file");
 }

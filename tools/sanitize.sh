@@ -39,7 +39,7 @@ FUZZ=$BUILD/fuzz
 rm -rf "$FUZZ/seeds"
 mkdir -p "$FUZZ/crashes"
 "$BUILD/fuzz/fuzz_make_seeds" assets/tabletop "$FUZZ/seeds"
-for target in transforms_json:transforms colmap_text:colmap colmap_binary:colmap_binary checkpoint:checkpoint image:image; do
+for target in transforms_json:transforms colmap_text:colmap colmap_binary:colmap_binary llff:llff checkpoint:checkpoint image:image; do
   name=${target%%:*}
   seeds=$FUZZ/seeds/${target##*:}
   mkdir -p "$FUZZ/corpus/$name"

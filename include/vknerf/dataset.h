@@ -1,6 +1,6 @@
 #pragma once
-// Posed photos in: nerf_synthetic / instant-ngp / nerfstudio `transforms*.json`, or a COLMAP model
-// (text or binary).
+// Posed photos in: nerf_synthetic / instant-ngp / nerfstudio `transforms*.json`, a COLMAP model
+// (text or binary), or LLFF's `poses_bounds.npy`.
 // Every loader produces cameras in the OpenGL convention of vknerf/camera.h (camera-to-world, the
 // camera looks down -Z, +Y up) and one RGBA8 image per camera; images may differ in size (nerfstudio's
 // per-frame `w`/`h`).
@@ -16,9 +16,21 @@
 //     (cameras.bin, images.bin, points3D.bin, COLMAP's default output); a folder holding both forms
 //     is read as text, the form a person edits (points3D is then points3D.txt). Both forms load
 //     to the same Dataset.
+//   - LLFF: a folder holding poses_bounds.npy (read before a COLMAP model beside it, as LLFF's
+//     scenes ship both; name sparse/0/ to read the model), or the .npy file itself. The .npy holds
+//     N rows of 17 float64 or float32 values (numpy format 1.0 or 2.0, little-endian): a 3x5
+//     matrix row by row, [R | t | hwf] with R's columns the camera's down, right and back axes in
+//     the world, t its position and hwf the height, width and focal length in pixels of the photos
+//     in images/; then the near and far depth bounds. The photos are the .png/.jpg/.jpeg files of
+//     images/ sorted by name, one per row. With options.downscale N > 1 and an images_N/ folder
+//     beside images/, the photos come from images_N/ as they are (not resampled): the focal length
+//     scales by each photo's width over W (and height over H for fy), the principal point is the
+//     photo's centre. Without images_N/, images/ is box-filtered as for every format.
 // Splits: options.split is "train", "val", "test" or "all". Split files are used when present;
-// otherwise a deterministic holdout sends round(holdoutFraction * n) (at least one when the fraction is
-// positive) evenly spaced frames to "val" and "test" (the same frames) and the rest to "train".
+// LLFF holds out every 8th photo (index i % 8 == 0, "llffhold 8" as the NeRF papers evaluate) for
+// "val" and "test" (the same photos) and ignores holdoutFraction; otherwise a deterministic holdout
+// sends round(holdoutFraction * n) (at least one when the fraction is positive) evenly spaced
+// frames to "val" and "test" (the same frames) and the rest to "train".
 //
 // Poses and scene box:
 //   - JSON: poses are kept in the file's world frame. The box comes from, in order: "aabb"
@@ -32,6 +44,10 @@
 //     uniformly scaled (never rotated) so that its box, the 1st-99th percentiles of points3D per
 //     axis padded by 5% ("points3D") or else the camera box ("cameras"), is centred at the origin
 //     with its largest half extent 1.
+//   - LLFF: [right, up, back] = [R's column 1, -R's column 0, R's column 2] (NeRF's load_llff), in the
+//     file's world frame, neither recentred nor rescaled (the same cameras as transforms.json give
+//     the same rays). The box holds every camera's frustum between its near and far bound, over
+//     all photos of every split ("llff bounds"); the bounds are kept in Dataset::depthBounds.
 //   - From the cameras (of every split, so the splits agree): centred at the least-squares point
 //     closest to all optical axes, half extent the median over cameras of distance * tan(half the
 //     wider field of view) ("cameras"); then, when the loaded images have transparent pixels,
@@ -48,6 +64,7 @@
 //   - Every lens must invert over its whole image (checkLens in vknerf/camera.h), else loading fails
 //     naming the file, the coefficients and the pixel where it fails. Downscaling keeps the
 //     (dimensionless) coefficients and scales the focal lengths and principal point.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -65,7 +82,7 @@ struct ImageRGBA8 {
 
 struct DatasetOptions {
   std::string split = "train";   // "train", "val", "test" or "all"
-  uint32_t downscale = 1;        // box-filter the images by this factor (intrinsics follow)
+  uint32_t downscale = 1;        // box-filter the images by this factor (intrinsics follow); LLFF: images_N/ if any
   float holdoutFraction = 0.1f;  // share of frames held out when there are no split files, in [0, 1)
   uint32_t threads = 0;          // images decoded at once; 0: one per core
   // Called after each image is decoded with (images done, images in all), from the decoding
@@ -78,10 +95,15 @@ struct Dataset {
   std::vector<ImageRGBA8> images;  // same order as cameras, each of its camera's size
   std::vector<std::string> names;  // image file paths (for reports)
   Aabb bounds;                     // scene box, in the frame of `cameras`
-  std::string boundsSource;        // "json aabb", "aabb_scale", "cameras", "cameras+alpha", "points3D"
+  std::string boundsSource;        // "json aabb", "aabb_scale", "cameras", "cameras+alpha", "points3D", "llff bounds"
   // instant-ngp's aabb_scale ("aabb_scale" bounds): the box's side over that of the inner cube the
   // cameras look into; 1 otherwise. The fast model nests 1 + ceil(log2(aabbScale)) occupancy cascades.
   float aabbScale = 1;
+  // Per camera (same order as `cameras`) when the format states them (LLFF), else empty: {near,
+  // far}, 0 < near < far, the depths between which the camera sees the scene, measured along its
+  // optical axis (-Z of its c2w) in the units of `cameras`; a ray with unit direction d in the
+  // camera's frame reaches depth z at distance z / -d.z.
+  std::vector<std::array<float, 2>> depthBounds;
 
   static Dataset load(const std::string& path, const DatasetOptions& options = {});  // throws vknerf::Error
 };

@@ -1,6 +1,6 @@
 // Dataset::load: find the format, read the poses, load the images, complete the intrinsics, downscale,
-// and find the scene box. The formats themselves live in transforms_json.cpp and colmap_*.cpp, the
-// box in dataset_bounds.cpp.
+// and find the scene box. The formats themselves live in transforms_json.cpp, colmap_*.cpp and
+// llff_scene.cpp, the box in dataset_bounds.cpp.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -59,11 +59,6 @@ void checkRigid(const std::array<double, 16>& m, const std::string& where, const
     throw Error(where + ": " + field + " last row is not (0, 0, 0, 1)");
 }
 
-// The device computes in 32-bit floats, and ray arithmetic squares positions and multiplies pixel
-// offsets by 1/f: a value that is finite as a double can be infinite there. kDeviceLimit leaves
-// room for those products (1e15 squared is 1e30, below float's 3.4e38).
-constexpr double kDeviceLimit = 1e15;
-
 float asDeviceFloat(double v, const FrameSpec& f, const char* field) {
   if (!(std::fabs(v) <= kDeviceLimit)) {
     char value[32];
@@ -79,7 +74,19 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
     throw Error(f.where + ": image '" + f.image.string() + "' is " + std::to_string(width) + "x" +
                 std::to_string(height) + " but the camera says " + std::to_string(in.width) + "x" +
                 std::to_string(in.height));
-  double fx = in.fx, fy = in.fy;
+  // A resized copy of the image the intrinsics are stated for scales them axis by axis; both axes
+  // must have shrunk alike, to within the rounding of one pixel.
+  double sx = 1, sy = 1;
+  if (in.statedWidth && in.statedHeight) {
+    const double sw = in.statedWidth, sh = in.statedHeight;
+    if (std::fabs(double(height) * sw - double(width) * sh) > std::max(sw, sh))
+      throw Error(f.where + ": image '" + f.image.string() + "' is " + std::to_string(width) + "x" + std::to_string(height) +
+                  ", not a copy of the " + std::to_string(in.statedWidth) + "x" + std::to_string(in.statedHeight) +
+                  " the camera states scaled alike in width and height");
+    sx = double(width) / sw;
+    sy = double(height) / sh;
+  }
+  double fx = in.fx * sx, fy = in.fy * sy;
   if (!std::isfinite(fx) && std::isfinite(in.angleX)) fx = 0.5 * width / std::tan(0.5 * in.angleX);
   if (!std::isfinite(fy) && std::isfinite(in.angleY)) fy = 0.5 * height / std::tan(0.5 * in.angleY);
   if (!std::isfinite(fx)) fx = fy;  // square pixels when only one focal length is stated
@@ -94,8 +101,8 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
   c.fx = asDeviceFloat(fx, f, fieldX.c_str());
   c.fy = asDeviceFloat(fy, f, fieldY.c_str());
   if (!(c.fx > 0) || !(c.fy > 0)) throw Error(f.where + ": focal length is too small for 32-bit floats");
-  c.cx = asDeviceFloat(std::isfinite(in.cx) ? in.cx : 0.5 * width, f, "principal point cx");
-  c.cy = asDeviceFloat(std::isfinite(in.cy) ? in.cy : 0.5 * height, f, "principal point cy");
+  c.cx = asDeviceFloat(std::isfinite(in.cx) ? in.cx * sx : 0.5 * width, f, "principal point cx");
+  c.cy = asDeviceFloat(std::isfinite(in.cy) ? in.cy * sy : 0.5 * height, f, "principal point cy");
   c.width = width;
   c.height = height;
   for (int i = 0; i < 16; ++i) c.c2w[i] = asDeviceFloat(f.c2w[i], f, f.poseField.c_str());
@@ -126,10 +133,14 @@ SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
   if (!fs::exists(path, ec)) throw Error("dataset '" + path.string() + "' does not exist");
   if (isFile(path)) {
     if (path.extension() == ".json") return readTransformsJson(path, options);
-    throw Error("dataset '" + path.string() + "' is a file but not a .json transforms file");
+    if (path.extension() == ".npy") return readLlff(path, options);
+    throw Error("dataset '" + path.string() + "' is a file but not a .json transforms file or LLFF's poses_bounds.npy");
   }
   if (isFile(path / "transforms_train.json") || isFile(path / "transforms.json"))
     return readTransformsJson(path, options);
+  // LLFF's scenes ship a COLMAP model beside poses_bounds.npy; the .npy, with its bounds, its
+  // images_N/ and the papers' test split, is what they are evaluated with.
+  if (isFile(path / "poses_bounds.npy")) return readLlff(path / "poses_bounds.npy", options);
   for (const fs::path& model : {path / "sparse" / "0", path / "sparse", path}) {
     if (colmapForm(model) == ColmapForm::none) continue;
     // The scene folder holds images/; the model sits in it, or in its sparse/ or sparse/0/.
@@ -138,7 +149,7 @@ SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
     throw Error("COLMAP model '" + model.string() + "': no images/ folder in it or the two folders above it");
   }
   throw Error("dataset '" + path.string() +
-              "': no transforms_train.json, transforms.json or COLMAP model (sparse/0/cameras.txt or cameras.bin) in it");
+              "': no transforms_train.json, transforms.json, poses_bounds.npy or COLMAP model (sparse/0/cameras.txt or cameras.bin) in it");
 }
 
 // An image listed twice with two poses (a copied frame whose file_path was not changed) would train
@@ -165,10 +176,10 @@ void checkOnePosePerImage(const SceneSpec& scene) {
     }
 }
 
-// Loads (and downscales) every frame's image, options.threads (default: every core) at a time;
-// rethrows the first failure in frame order so the message does not depend on thread timing.
-std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, const DatasetOptions& options) {
-  const uint32_t downscale = options.downscale;
+// Loads (and box-filters by `downscale`) every frame's image, options.threads (default: every core)
+// at a time; rethrows the first failure in frame order so the message does not depend on thread
+// timing.
+std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, uint32_t downscale, const DatasetOptions& options) {
   std::vector<ImageRGBA8> images(frames.size());
   std::vector<std::exception_ptr> errors(frames.size());
   std::atomic<size_t> next{0};
@@ -221,6 +232,8 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
   // Image sizes first (headers only), so that a bad file or too little memory is reported before
   // anything is decoded.
   const uint32_t n = uint32_t(scene.frames.size());
+  // The factor left to apply here: none when the reader found images that size already.
+  const uint32_t downscale = scene.preScaled ? 1 : options.downscale;
   std::vector<std::pair<uint32_t, uint32_t>> sizes(n);
   for (uint32_t i = 0; i < n; ++i) {
     const FrameSpec& f = scene.frames[i];
@@ -234,7 +247,7 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
     for (const auto& sz : sizes) largest = std::max(largest, nerf::rgba8Bytes(std::span(&sz, 1)));
     const uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     std::vector<nerf::ImageSize> loaded;
-    for (const auto& [w, h] : sizes) loaded.emplace_back(w / options.downscale, h / options.downscale);
+    for (const auto& [w, h] : sizes) loaded.emplace_back(w / downscale, h / downscale);
     nerf::requireFit("loading '" + pathString + "'", loaded, largest * std::min<uint64_t>(threads, n),
                      "decoding buffers", nerf::availableHostBytes(), "host memory (available)",
                      options.downscale);
@@ -244,14 +257,14 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
   std::vector<Camera> fullRes;
   for (uint32_t i = 0; i < n; ++i) fullRes.push_back(completeCamera(scene.frames[i], sizes[i].first, sizes[i].second));
 
-  d.images = loadImages(scene.frames, options);
+  d.images = loadImages(scene.frames, downscale, options);
   for (uint32_t i = 0; i < n; ++i) {
-    if (d.images[i].width != sizes[i].first / options.downscale || d.images[i].height != sizes[i].second / options.downscale)
+    if (d.images[i].width != sizes[i].first / downscale || d.images[i].height != sizes[i].second / downscale)
       throw Error("image '" + scene.frames[i].image.string() + "' changed size while loading");
     Camera c = fullRes[i];
     // A downscaled pixel covers `downscale` full-resolution pixels, so its centre is at
     // downscale * (x + 0.5) in full-resolution pixels: every intrinsic divides by the factor.
-    const float s = 1.0f / float(options.downscale);
+    const float s = 1.0f / float(downscale);
     c.fx *= s;
     c.fy *= s;
     c.cx *= s;
@@ -260,6 +273,7 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
     c.height = d.images[i].height;
     d.cameras.push_back(c);
     d.names.push_back(scene.frames[i].image.string());
+    if (scene.frames[i].depthBounds) d.depthBounds.push_back(*scene.frames[i].depthBounds);
   }
 
   if (scene.hasBox) {

@@ -1,6 +1,8 @@
-// Scene boxes the files do not state: from where the cameras look, then carved by alpha masks.
+// Scene boxes: from where the cameras look, then carved by alpha masks; or the hull of the cameras'
+// frustums between the depth bounds a file states.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "io/dataset_loaders.h"
@@ -99,6 +101,39 @@ Aabb boxFromCameras(std::span<const Camera> cameras) {
   for (int k = 0; k < 3; ++k) {
     box.min[k] = float(centre[k] - half);
     box.max[k] = float(centre[k] + half);
+  }
+  return box;
+}
+
+Aabb boxFromFrustums(std::span<const Camera> cameras, std::span<const std::array<float, 2>> depthBounds) {
+  if (cameras.empty() || cameras.size() != depthBounds.size())
+    throw Error("a frustum box needs one {near, far} per camera and at least one camera");
+  const double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const Camera& c = cameras[i];
+    if (c.lens.model != LensModel::Pinhole) throw Error("a frustum box is for pinhole cameras");
+    const auto& m = c.c2w;
+    // The ray through pixel position (u, v) reaches depth z at z * ((u - cx) / fx, -(v - cy) / fy, -1)
+    // in the camera's frame; the frustum between two depths is the hull of those eight corners.
+    for (double z : depthBounds[i])
+      for (double u : {0.0, double(c.width)})
+        for (double v : {0.0, double(c.height)}) {
+          const double p[3] = {z * (u - c.cx) / c.fx, -z * (v - c.cy) / c.fy, -z};
+          for (int k = 0; k < 3; ++k) {
+            const double w = m[4 * k] * p[0] + m[4 * k + 1] * p[1] + m[4 * k + 2] * p[2] + m[4 * k + 3];
+            lo[k] = std::min(lo[k], w);
+            hi[k] = std::max(hi[k], w);
+          }
+        }
+  }
+  // Rounded outwards to floats, so that every corner lies inside the box.
+  Aabb box;
+  for (int k = 0; k < 3; ++k) {
+    box.min[k] = float(lo[k]);
+    if (double(box.min[k]) > lo[k]) box.min[k] = std::nextafter(box.min[k], -std::numeric_limits<float>::infinity());
+    box.max[k] = float(hi[k]);
+    if (double(box.max[k]) < hi[k]) box.max[k] = std::nextafter(box.max[k], std::numeric_limits<float>::infinity());
   }
   return box;
 }

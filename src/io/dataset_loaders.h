@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -20,6 +21,9 @@ struct Intrinsics {
   double fx = NAN, fy = NAN, cx = NAN, cy = NAN;
   double angleX = NAN, angleY = NAN;  // full field of view, radians
   uint32_t width = 0, height = 0;
+  // Nonzero when fx, fy, cx, cy are stated for an image of this size and the image may be a resized
+  // copy of it (LLFF's images_N/): they scale by the image's size over this one, axis by axis.
+  uint32_t statedWidth = 0, statedHeight = 0;
   Lens lens;  // distortion coefficients are dimensionless: downscaling leaves them alone
   // The fields the focal lengths come from, for messages: transforms.json's unless the format says.
   std::string focalFieldX = "fl_x or camera_angle_x", focalFieldY = "fl_y or camera_angle_y";
@@ -32,6 +36,7 @@ struct FrameSpec {
   Intrinsics intrinsics;
   std::array<double, 16> c2w{};  // OpenGL convention, row-major, already checked to be rigid
   std::string poseField = "transform_matrix";  // where the pose comes from, for messages
+  std::optional<std::array<float, 2>> depthBounds;  // near, far along the optical axis, when the file states them
 };
 
 struct SceneSpec {
@@ -41,6 +46,8 @@ struct SceneSpec {
   Aabb box;
   std::string boxSource;
   float aabbScale = 1;            // instant-ngp's aabb_scale, when the files give one
+  // The images are already options.downscale times smaller (LLFF's images_N/): loaded as they are.
+  bool preScaled = false;
 };
 
 // Readers. `target` is what Dataset::load was given, already classified.
@@ -51,6 +58,9 @@ enum class ColmapForm { none, text, binary };
 ColmapForm colmapForm(const fs::path& modelDir);
 // Reads the model in `modelDir` in the form colmapForm() names.
 SceneSpec readColmap(const fs::path& modelDir, const fs::path& imagesDir, const DatasetOptions& options);
+
+// LLFF's poses_bounds.npy (`file`), its photos in images/ (or images_N/) beside it.
+SceneSpec readLlff(const fs::path& file, const DatasetOptions& options);
 
 // Indices of frames in `split` ("train", "val", "test", "all") of n frames, holding out
 // round(fraction * n) evenly spaced frames (at least one when fraction > 0) for val/test.
@@ -65,6 +75,17 @@ void checkRigid(const std::array<double, 16>& m, const std::string& where, const
 // when the file's size disagrees with the image's, the focal length is missing or not positive, or
 // the lens does not invert over the image (checkLens, vknerf/camera.h).
 Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height);
+
+// The device computes in 32-bit floats, and ray arithmetic squares positions and multiplies pixel
+// offsets by 1/f: a value that is finite as a double can be infinite there. kDeviceLimit leaves
+// room for those products (1e15 squared is 1e30, below float's 3.4e38).
+constexpr double kDeviceLimit = 1e15;
+
+// The box holding every camera's view frustum between its near and far depth (along the optical
+// axis, depthBounds[i] = {near, far}): the bounds of the frustums' corners, where the rays through
+// the image corners reach those depths. Pinhole cameras only (a lens would bend the frustum's
+// edges); throws otherwise, or when the spans' sizes differ or are zero.
+Aabb boxFromFrustums(std::span<const Camera> cameras, std::span<const std::array<float, 2>> depthBounds);
 
 // Scene box from the cameras alone (see vknerf/dataset.h); needs at least one camera.
 Aabb boxFromCameras(std::span<const Camera> cameras);

@@ -1,7 +1,8 @@
 #pragma once
-// Two loads of the same scene (a COLMAP model as text and as binary, or as transforms.json) must
-// give the same cameras: every intrinsic, every lens coefficient, every pose entry and the box,
-// compared exactly (each path parses the same numbers; nothing is recomputed differently).
+// Two loads of the same scene (a COLMAP model as text and as binary, as transforms.json, as
+// poses_bounds.npy) must give the same cameras: every intrinsic, every lens coefficient, every pose
+// entry and the box, compared exactly (each path parses the same numbers; nothing is recomputed
+// differently).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -10,12 +11,9 @@
 
 namespace vknerf::test {
 
-inline void expectSameCameras(const Dataset& a, const Dataset& b) {
+// The cameras and image names alone, for formats that place the scene box differently.
+inline void expectSameViews(const Dataset& a, const Dataset& b) {
   ASSERT_EQ(a.cameras.size(), b.cameras.size());
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(a.bounds.min[k], b.bounds.min[k]);
-    EXPECT_EQ(a.bounds.max[k], b.bounds.max[k]);
-  }
   for (size_t i = 0; i < a.cameras.size(); ++i) {
     const Camera &x = a.cameras[i], &y = b.cameras[i];
     // The stem: an images_N copy of a photo may be stored in another format.
@@ -32,6 +30,18 @@ inline void expectSameCameras(const Dataset& a, const Dataset& b) {
     for (int k = 0; k < 8; ++k) EXPECT_EQ(lk[k], mk[k]) << "camera " << i << " coefficient " << k;
     for (int k = 0; k < 16; ++k) EXPECT_EQ(x.c2w[k], y.c2w[k]) << "camera " << i << " entry " << k;
   }
+}
+
+inline void expectSameBox(const Dataset& a, const Dataset& b) {
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(a.bounds.min[k], b.bounds.min[k]);
+    EXPECT_EQ(a.bounds.max[k], b.bounds.max[k]);
+  }
+}
+
+inline void expectSameCameras(const Dataset& a, const Dataset& b) {
+  expectSameBox(a, b);
+  expectSameViews(a, b);
 }
 
 }  // namespace vknerf::test

@@ -1,5 +1,6 @@
-// The training batch's backgrounds: random only where the photos' alpha says something is
-// transparent; behind opaque photos the constant background.
+// The training batch's backgrounds: random with TrainConfig::randomBackground, whether or not the
+// photos have alpha (behind opaque photos a random colour makes every ray turn opaque inside the
+// box); the constant background without it.
 #include <vector>
 
 #include "models/common/ray_batch.h"
@@ -13,7 +14,7 @@ namespace {
 
 class RayBatchBackground : public test::GpuTest {
  protected:
-  std::vector<float> backgrounds(bool transparentPixels) {
+  std::vector<float> backgrounds(bool random, bool transparentPixels) {
     Camera cam;
     cam.width = cam.height = 4;
     cam.fx = cam.fy = 4;
@@ -22,7 +23,7 @@ class RayBatchBackground : public test::GpuTest {
     gpu::Buffer images(ctx(), 4 * 4 * 4);
     const gpu::BufferRange pixels[] = {images};
     TrainConfig config;
-    config.randomBackground = true;
+    config.randomBackground = random;
     config.background = {0.25f, 0.5f, 0.75f};
     nerf::RayBatch batch(ctx(), 64);
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
@@ -34,12 +35,14 @@ class RayBatchBackground : public test::GpuTest {
 
 }  // namespace
 
-TEST_F(RayBatchBackground, RandomOnlyWithTransparentPixels) {
-  const auto random = backgrounds(true), constant = backgrounds(false);
-  bool varies = false;
-  for (int i = 0; i < 64; ++i) {
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(constant[4 * i + k], (std::array<float, 3>{0.25f, 0.5f, 0.75f})[k]) << i;
-    varies = varies || random[4 * i] != random[0];
+TEST_F(RayBatchBackground, RandomWhenAskedWithOrWithoutAlpha) {
+  for (bool transparent : {true, false}) {
+    const auto random = backgrounds(true, transparent), constant = backgrounds(false, transparent);
+    bool varies = false;
+    for (int i = 0; i < 64; ++i) {
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(constant[4 * i + k], (std::array<float, 3>{0.25f, 0.5f, 0.75f})[k]) << i;
+      varies = varies || random[4 * i] != random[0];
+    }
+    EXPECT_TRUE(varies) << "transparent pixels: " << transparent;
   }
-  EXPECT_TRUE(varies);
 }

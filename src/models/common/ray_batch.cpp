@@ -23,8 +23,9 @@ uint32_t checkedCapacity(Context& ctx, uint32_t capacity) {
 }
 }  // namespace
 
-RayBatch::RayBatch(Context& ctx, uint32_t capacity)
+RayBatch::RayBatch(Context& ctx, uint32_t capacity, float nearPlane)
     : capacity_(checkedCapacity(ctx, capacity)),
+      nearPlane_(nearPlane),
       generation_(ctx),
       backgrounds_(ctx),
       // Zeroed: a recorded render evaluates the field over whole buffers, never over garbage.
@@ -34,8 +35,8 @@ RayBatch::RayBatch(Context& ctx, uint32_t capacity)
 
 void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count,
                               const Aabb& box, const TrainConfig& config) {
-  generation_.recordRandom(rec, count, *data.cameras, data.numCameras, seed, box, kNearPlane, rays_, pixelIds_);
-  if (config.randomBackground && data.transparentPixels)
+  generation_.recordRandom(rec, count, *data.cameras, data.numCameras, seed, box, nearPlane_, rays_, pixelIds_);
+  if (config.randomBackground)
     backgrounds_.recordRandom(rec, background_, count, seed);
   else
     backgrounds_.recordConstant(rec, background_, count, config.background);
@@ -43,7 +44,7 @@ void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint
 
 void RayBatch::recordView(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
                           uint32_t count, const Aabb& box, const std::array<float, 3>& background) {
-  generation_.recordImage(rec, count, cameras, camera, first, box, kNearPlane, rays_, pixelIds_);
+  generation_.recordImage(rec, count, cameras, camera, first, box, nearPlane_, rays_, pixelIds_);
   backgrounds_.recordConstant(rec, background_, count, background);
 }
 

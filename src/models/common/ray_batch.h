@@ -18,11 +18,14 @@ uint32_t stepSeed(const TrainConfig& config, uint32_t step);
 
 class RayBatch {
  public:
-  RayBatch(Context& ctx, uint32_t capacity);
+  // Rays start `nearPlane` in front of their camera (or at the scene box, whichever is further).
+  RayBatch(Context& ctx, uint32_t capacity, float nearPlane = kNearPlane);
 
   // `count` rays through random training pixels (seed: stepSeed), with random backgrounds when
-  // config.randomBackground and the photos have transparent pixels (empty space then learns zero
-  // density), else config.background.
+  // config.randomBackground, else config.background. A transparent pixel's target is then a random
+  // colour, so empty space learns zero density; an opaque pixel's is the pixel whatever the
+  // background, so its ray must turn opaque inside the box (instant-ngp's choice for photos without
+  // alpha) instead of borrowing the background's colour. A learned far field overwrites these.
   void recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count, const Aabb& box,
                       const TrainConfig& config);
   // Rays through pixels [first, first + count) of camera `camera`, over a constant background.
@@ -37,6 +40,7 @@ class RayBatch {
 
  private:
   uint32_t capacity_;
+  float nearPlane_;
   RayGeneration generation_;
   BackgroundColors backgrounds_;
   gpu::Buffer rays_, pixelIds_, background_;

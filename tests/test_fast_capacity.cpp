@@ -1,6 +1,6 @@
 // The fast model's capacity from the data (src/api/fast_capacity.h): the finest hash resolution from
-// the cameras' pixel footprint, the table from the training pixels and the box in view, the caps of
-// a CPU device, and explicit settings kept.
+// the cameras' pixel footprint over the inner cube, the table from the training pixels and the box
+// in view, where rays start, the caps of a CPU device, and explicit settings kept.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -94,4 +94,40 @@ TEST(FastCapacity, ExplicitSettingsWin) {
   nerf::resolveFastCapacity(growthOnly, ring(100, 800, 800, 60, 4), false);
   EXPECT_EQ(growthOnly.hashGrowth, 1.5f);
   EXPECT_EQ(growthOnly.hashLog2Size, 19u);
+}
+
+// Cascades (aabb_scale 4: a box 4 times the inner cube's side): the inner cube keeps the resolution
+// a box of its own size would get, and the grid spans the whole box at that cell size with one level
+// more per doubling; on a CPU the cap holds for the inner cube.
+TEST(FastCapacity, CascadesKeepTheInnerCubesDetail) {
+  FastModel alone = openModel();
+  nerf::resolveFastCapacity(alone, ring(8, 400, 400, 60, 4), false);
+  FastModel cascaded = openModel();
+  cascaded.cascades = 3;
+  const std::string note = nerf::resolveFastCapacity(cascaded, ring(8, 400, 400, 60, 4, 4), false);
+  EXPECT_EQ(cascaded.hashLevels, alone.hashLevels + 2);
+  EXPECT_NEAR(finestOf(cascaded), 4 * finestOf(alone), 1e-2 * finestOf(alone)) << note;
+  FastModel cpu = openModel();
+  cpu.cascades = 3;
+  nerf::resolveFastCapacity(cpu, ring(100, 800, 800, 60, 4, 4), true);
+  EXPECT_NEAR(finestOf(cpu), 4 * 512, 1e-1);
+}
+
+// Rays start 5% of the inner cube's side in front of the camera: the same share in any units (the
+// box 10 times larger, 10 times the distance), the inner cube with cascades; one set is kept.
+TEST(FastCapacity, NearDistanceFollowsTheInnerCube) {
+  FastModel m = openModel();
+  nerf::resolveFastCapacity(m, ring(8, 100, 100, 60, 4), true);
+  EXPECT_FLOAT_EQ(m.nearDistance, 0.05f * 2);
+  FastModel large = openModel();
+  nerf::resolveFastCapacity(large, ring(8, 100, 100, 60, 40, 10), true);
+  EXPECT_FLOAT_EQ(large.nearDistance, 0.05f * 20);
+  FastModel cascaded = openModel();
+  cascaded.cascades = 3;
+  nerf::resolveFastCapacity(cascaded, ring(8, 100, 100, 60, 4, 4), true);
+  EXPECT_FLOAT_EQ(cascaded.nearDistance, 0.05f * 2);
+  FastModel set = openModel();
+  set.nearDistance = 0.3f;
+  nerf::resolveFastCapacity(set, ring(8, 100, 100, 60, 4), true);
+  EXPECT_EQ(set.nearDistance, 0.3f);
 }

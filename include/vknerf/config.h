@@ -45,6 +45,10 @@ struct FastModel {
   // that grow with distance. 0: from the dataset (1 + ceil(log2(aabb_scale)), 1 without one).
   uint32_t cascades = 0;
   float coneAngle = 1.0f / 256.0f;    // with cascades: step = clamp(t coneAngle, smallest, outermost cell)
+  // Rays start this far in front of the camera (or where they enter the box), in the scene's units,
+  // so that no density grows on the lens. 0: from the dataset, as the Trainer sets it (a share of
+  // the inner cascade's side, TrainConfig::fast).
+  float nearDistance = 0;
   uint32_t marchSteps = 512;          // march step = the inner cascade's diagonal / marchSteps
   uint32_t maxSamplesPerRay = 512;
 
@@ -76,7 +80,9 @@ struct TrainConfig {
   float learningRate = 5e-4f, learningRateFinal = 5e-5f;  // exponential decay over `decaySteps`
   uint32_t decaySteps = 250000;
   float beta1 = 0.9f, beta2 = 0.999f, epsilon = 1e-7f;
-  bool randomBackground = true;                           // empty space learns zero density
+  // Training rays see a random background colour behind the scene (unless a learned far field gives
+  // it): empty space learns zero density, and a ray through an opaque pixel must turn opaque.
+  bool randomBackground = true;
   std::array<float, 3> background{1, 1, 1};               // for evaluation and rendering
   uint32_t seed = 0;
 

@@ -123,7 +123,7 @@ std::string TrainConfig::describe() const {
     os << ", MLP " << m->depth << "x" << m->width << " (feature " << (m->featureWidth ? m->featureWidth : m->width) << ")"
        << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
        << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
-       << "), " << m->marchSteps
+       << "), near " << (m->nearDistance > 0 ? std::to_string(m->nearDistance) : std::string("auto")) << ", " << m->marchSteps
        << " steps per diagonal, ~" << m->samplesPerBatch << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss;
     os << ", far field " << farFieldName(m->farField);

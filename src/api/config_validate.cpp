@@ -70,6 +70,7 @@ void validateModel(const FastModel& m) {
   inRange("model.grid_resolution", m.gridResolution, 1, 256);
   inRange("model.cascades", m.cascades, 0, 8);
   inRange("model.cone_angle", m.coneAngle, 0.0, 1.0, false);
+  inRange("model.near_distance", m.nearDistance, 0.0, 1e30, false);
   inRange("model.march_steps", m.marchSteps, 1, 65536);
   inRange("model.max_samples_per_ray", m.maxSamplesPerRay, 1, 65536);
   inRange("samples_per_batch", m.samplesPerBatch, 1, 1u << 28);

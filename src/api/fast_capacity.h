@@ -1,12 +1,16 @@
 #pragma once
 // The fast model's capacity from the training data, where its configuration leaves it open
-// (FastModel::hashLog2Size or hashGrowth 0; a value set explicitly is kept):
+// (FastModel::hashLog2Size, hashGrowth or nearDistance 0; a value set explicitly is kept):
 //   - finest hash-grid resolution: two cells (Nyquist) per pixel footprint at the typical camera
-//     distance over the box's largest side, N = 2 * extent / (distance / focal), the medians over the
-//     cameras of their distance to the box centre and of distance / focal; rounded up to a power of
-//     two (the estimate is rough: never under-resolve), within [64, 4096]. The hash grid spans the
-//     whole box, so with cascades (aabb_scale) N grows with the box, as instant-ngp's 2048 x aabb_scale.
-//     A CPU device keeps N <= 512: in the minutes it trains, finer levels did not pay (measured).
+//     distance over the inner cascade's side, N = 2 * inner / (distance / focal), the medians over
+//     the cameras of their distance to the box centre and of distance / focal; rounded up to a power
+//     of two (the estimate is rough: never under-resolve), within [64, 4096]; a CPU device keeps
+//     N <= 512 (in the minutes it trains, finer levels did not pay: measured). The hash grid spans the
+//     whole box at that cell size, N x 2^(cascades - 1) over the box (instant-ngp's 2048 x
+//     aabb_scale), with one level more per cascade beyond the first, so that the inner cube keeps its
+//     detail whatever aabb_scale (one spread of 512 cells over a box 32 times the fruit's left it 16).
+//   - where rays start (FastModel::nearDistance): 5% of the inner cascade's side, so that it means
+//     the same in any units.
 //   - table entries per level: a parameter per training pixel at most, 2^T <= pixels / (levels x
 //     features), since more than the photos constrain only adds optimizer work (the sample scene:
 //     2^15 matched 2^17 at a third of the Adam cost); and no more than the finest level's cells in

@@ -17,7 +17,7 @@ json toJson(const TrainConfig& c) {
                   {"hash_levels", m->hashLevels}, {"hash_features", m->hashFeatures},
                   {"hash_log2_size", m->hashLog2Size}, {"hash_base_resolution", m->hashBaseResolution},
                   {"hash_growth", m->hashGrowth}, {"sh_degree", m->shDegree},
-                  {"grid_resolution", m->gridResolution}, {"cascades", m->cascades}, {"cone_angle", m->coneAngle}, {"march_steps", m->marchSteps},
+                  {"grid_resolution", m->gridResolution}, {"cascades", m->cascades}, {"cone_angle", m->coneAngle}, {"near_distance", m->nearDistance}, {"march_steps", m->marchSteps},
                   {"max_samples_per_ray", m->maxSamplesPerRay}, {"far_field", farFieldName(m->farField)}};
     j["samples_per_batch"] = m->samplesPerBatch;
     j["grid_update_interval"] = m->gridUpdateInterval;
@@ -58,6 +58,7 @@ FastModel fastModelFromJson(const json& m, const json& j) {
   f.gridResolution = m.value("grid_resolution", f.gridResolution);
   f.cascades = m.value("cascades", 1u);  // checkpoints from before cascades have one
   f.coneAngle = m.value("cone_angle", f.coneAngle);
+  f.nearDistance = m.value("near_distance", 0.0f);  // checkpoints from before it: the vanilla model's near plane
   f.marchSteps = m.value("march_steps", f.marchSteps);
   f.maxSamplesPerRay = m.value("max_samples_per_ray", f.maxSamplesPerRay);
   f.samplesPerBatch = j.value("samples_per_batch", f.samplesPerBatch);

@@ -23,7 +23,9 @@ namespace vknerf::nerf {
 
 struct FieldBatch;
 
-// Rays start this far in front of the camera (or at the scene box, whichever is further).
+// Rays start this far in front of the camera (or at the scene box, whichever is further), in the
+// scene's units: the vanilla model's, and the fast model's where its configuration leaves it at 0
+// (models saved before FastModel::nearDistance).
 constexpr float kNearPlane = 0.05f;
 
 // A named float array of the model's state, for checkpoints.

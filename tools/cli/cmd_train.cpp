@@ -44,7 +44,7 @@ struct Options {
   uint32_t width = 0, depth = 0, coarse = 0, fine = 0;
   uint32_t hashLevels = 0, hashLog2Size = 0, hashMaxResolution = 0, grid = 0, marchSteps = 0, samplesPerStep = 0;
   uint32_t cascades = 0, featureWidth = 0;
-  float coneAngle = 0;
+  float coneAngle = 0, nearDistance = 0;
   float distortionLoss = -1;  // -1: not given (0 is a valid value)
   std::string farField;       // "": not given
   uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
@@ -71,7 +71,7 @@ std::string flagsForTheOtherModel(const Options& o, const TrainConfig& cfg) {
   const std::pair<bool, const char*> fastOnly[] = {
       {o.hashLevels != 0, "--hash-levels"}, {o.hashLog2Size != 0, "--hash-log2-size"},
       {o.hashMaxResolution != 0, "--hash-max-resolution"}, {o.grid != 0, "--grid"}, {o.cascades != 0, "--cascades"}, {o.coneAngle != 0, "--cone-angle"},
-      {o.featureWidth != 0, "--feature-width"}, {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
+      {o.nearDistance != 0, "--near"}, {o.featureWidth != 0, "--feature-width"}, {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
       {o.noEarlyTermination, "--no-early-termination"}, {o.distortionLoss >= 0, "--distortion-loss"},
       {!o.farField.empty(), "--far-field"}};
   for (auto [given, flag] : fastOnly)
@@ -104,6 +104,7 @@ void applyFlags(const Options& o, TrainConfig& cfg) {
     if (o.grid) f.gridResolution = o.grid;
     if (o.cascades) f.cascades = o.cascades;
     if (o.coneAngle) f.coneAngle = o.coneAngle;
+    if (o.nearDistance) f.nearDistance = o.nearDistance;
     if (o.marchSteps) f.marchSteps = o.marchSteps, f.maxSamplesPerRay = o.marchSteps;
     if (o.samplesPerStep) f.samplesPerBatch = o.samplesPerStep;
     if (o.noEarlyTermination) f.earlyTermination = false;
@@ -134,7 +135,7 @@ void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
       {"--coarse", "/model/coarse_samples"}, {"--fine", "/model/fine_samples"},
       {"--hash-levels", "/model/hash_levels"}, {"--hash-log2-size", "/model/hash_log2_size"},
       {"--hash-max-resolution", "/model/hash_growth"}, {"--grid", "/model/grid_resolution"}, {"--cascades", "/model/cascades"}, {"--cone-angle", "/model/cone_angle"},
-      {"--feature-width", "/model/feature_width"}, {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
+      {"--near", "/model/near_distance"}, {"--feature-width", "/model/feature_width"}, {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
       {"--no-early-termination", "/early_termination"}, {"--distortion-loss", "/distortion_loss"},
       {"--far-field", "/model/far_field"}};
   for (auto [flag, key] : keys) {
@@ -322,6 +323,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--grid", o->grid, "fast: occupancy grid cells per axis")->check(CLI::Range(1u, 256u));
                      app.add_option("--cascades", o->cascades, "fast: nested occupancy cascades (default: from the scene's aabb_scale)")->check(CLI::Range(1u, 8u));
                      app.add_option("--cone-angle", o->coneAngle, "fast, with cascades: step = t * angle beyond the inner cube")->check(CLI::Range(1e-6f, 1.0f));
+                     app.add_option("--near", o->nearDistance, "fast: rays start this far in front of the camera, in the scene's units (default: 5% of the inner cascade's side)")->check(CLI::PositiveNumber);
                      app.add_option("--march-steps", o->marchSteps, "fast: march steps per scene-box diagonal")->check(CLI::Range(1u, 65536u));
                      app.add_option("--samples-per-step", o->samplesPerStep, "fast: samples a training step aims for")->check(CLI::Range(256u, 1u << 26));
                      app.add_flag("--no-early-termination", o->noEarlyTermination, "fast: train on every marched sample, also behind opaque surfaces");

@@ -121,7 +121,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
              training ? std::optional(tableAdamOf(config)) : std::nullopt),
       network_(ctx, "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),
       grid_(ctx, model_.gridResolution, model_.cascades),
-      rays_(ctx, rayCapacity_),
+      rays_(ctx, rayCapacity_, model_.nearDistance > 0 ? model_.nearDistance : kNearPlane),
       marcher_(ctx, rayCapacity_),
       points_(ctx),
       compositor_(ctx),

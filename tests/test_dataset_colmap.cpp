@@ -89,6 +89,46 @@ TEST_F(DatasetColmap, PoseRoundTripAndPointsNormalisation) {
   }
 }
 
+// A room around the points box: 1331 grid points as above, plus 10 sparse "wall" points (0.75% of
+// them: the 99th percentile stays on the grid) whose largest offset from the box centre is 2.5 half extents and one stray point at 1000:
+// the box holds 99.9% of the points once scaled by 4 (the power of two above 2.5; the stray point is
+// past the 99.9th percentile), so the scene box is the points box times 4, with aabbScale 4.
+TEST_F(DatasetColmap, PointsBeyondThePointsBoxWidenItIntoCascades) {
+  const Vec3 target{2, 1, 2};
+  const std::vector<Vec3> eyes = {{8, 1, 3}, {-4, 0, 2.5}, {2, 7, 1}};
+  std::string images;
+  std::vector<std::string> names;
+  for (size_t i = 0; i < eyes.size(); ++i) {
+    names.push_back("img" + std::to_string(i) + ".png");
+    images += imageLine(int(i) + 1, fromOpenGl(poseLookingAt(eyes[i], target)), 1, names.back()) + "\n";
+  }
+  writeModel(kPinhole, images, names);
+  std::string pts = "# 3D point list\n";
+  int id = 1;
+  auto point = [&](double x, double y, double z) {
+    pts += std::to_string(id++) + " " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + " 128 128 128 0.5 1 0 2 3\n";
+  };
+  for (int a = 0; a <= 10; ++a)
+    for (int b = 0; b <= 10; ++b)
+      for (int c = 0; c <= 10; ++c) point(-2 + 0.8 * a, 0.2 * b, 1 + 0.2 * c);
+  for (int i = 0; i < 10; ++i) point(2 + 2.5 * 4.4, 0.1 * i, 2);  // the wall: x offset 2.5 * 4.4
+  point(1000, 1, 2);
+  writeText(dir() / "sparse" / "0" / "points3D.txt", pts);
+
+  Dataset d = Dataset::load(dir().string(), {.split = "all"});
+  EXPECT_EQ(d.boundsSource, "points3D");
+  EXPECT_EQ(d.aabbScale, 4.0f);
+  // The points box is the one above, times 4.
+  const double s = 1 / 4.4, half[3] = {1, 1.4 * s, 1.4 * s};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(d.bounds.min[k], -4 * half[k], 1e-5);
+    EXPECT_NEAR(d.bounds.max[k], 4 * half[k], 1e-5);
+  }
+  // The cameras are normalised by the points box alone, as without the wall.
+  for (size_t i = 0; i < eyes.size(); ++i)
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(d.cameras[i].c2w[4 * k + 3], s * (eyes[i][k] - target[k]), 1e-6);
+}
+
 TEST_F(DatasetColmap, OpenCvCameraLookingDownPlusZBecomesOpenGl) {
   // Camera 1: identity world-to-camera, so it looks along world +z with image rows going down
   // world +y. Camera 2: q = (cos 45, 0, sin 45, 0), turned 90 degrees about y so that it looks

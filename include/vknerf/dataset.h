@@ -43,11 +43,15 @@
 //     OpenGL convention by negating the camera's y and z axes. The scene is then translated and
 //     uniformly scaled (never rotated) so that its box, the 1st-99th percentiles of points3D per
 //     axis padded by 5% ("points3D") or else the camera box ("cameras"), is centred at the origin
-//     with its largest half extent 1.
+//     with its largest half extent 1. With points, that box is the inner cube of cascades: the scene
+//     box is it scaled by aabbScale, the power of two (at most 16) that holds 99.9% of the points
+//     (the walls and far background a capture sees sparsely).
 //   - LLFF: [right, up, back] = [R's column 1, -R's column 0, R's column 2] (NeRF's load_llff), in the
 //     file's world frame, neither recentred nor rescaled (the same cameras as transforms.json give
-//     the same rays). The box holds every camera's frustum between its near and far bound, over
-//     all photos of every split ("llff bounds"); the bounds are kept in Dataset::depthBounds.
+//     the same rays). The box is nested cascades (aabbScale) about an inner cube on the cameras'
+//     mean axis at 1.5 times the median near bound, wide enough for every frame there, doubled until
+//     it holds every camera's frustum between its near and far bound, over all photos of every split
+//     ("llff bounds"); the bounds are kept in Dataset::depthBounds.
 //   - From the cameras (of every split, so the splits agree): centred at the least-squares point
 //     closest to all optical axes, half extent the median over cameras of distance * tan(half the
 //     wider field of view) ("cameras"); then, when the loaded images have transparent pixels,

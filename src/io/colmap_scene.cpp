@@ -77,6 +77,31 @@ bool pointsBox(const std::vector<std::array<double, 3>>& points, std::array<doub
 // The fields of an image's pose in images.txt (images.bin holds the same).
 constexpr const char* kColmapPose = "pose (QW QX QY QZ TX TY TZ)";
 
+// The outer box's side over the points box's, a power of two (instant-ngp's aabb_scale): enough to
+// hold 99.9% of the points (by their largest coordinate offset from the box centre, in units of the
+// box's largest half extent), at most kMaxOuterScale. The points box leaves out what the cameras see
+// sparsely: the walls of a room, a far background. Inside the points box the cascades keep the
+// detail; the outer ones hold the rest, so that a ray through an opaque photo finds its surface
+// inside the box instead of borrowing it from a background.
+constexpr double kOuterShare = 0.999;
+constexpr float kMaxOuterScale = 16;
+
+float outerScale(const std::vector<std::array<double, 3>>& points, const std::array<double, 3>& centre, double half) {
+  std::vector<double> d;
+  d.reserve(points.size());
+  for (const auto& p : points) {
+    double m = 0;
+    for (int k = 0; k < 3; ++k) m = std::max(m, std::fabs(p[k] - centre[k]) / half);
+    if (std::isfinite(m)) d.push_back(m);
+  }
+  if (d.empty()) return 1;
+  const size_t q = std::min(d.size() - 1, size_t(kOuterShare * double(d.size() - 1) + 0.5));
+  std::nth_element(d.begin(), d.begin() + q, d.end());
+  float scale = 1;
+  while (scale < kMaxOuterScale && scale < d[q]) scale *= 2;
+  return scale;
+}
+
 struct PosedImage {
   const ColmapImage* image;
   const Intrinsics* intrinsics;
@@ -124,9 +149,10 @@ SceneSpec toScene(const ColmapModel& model, const fs::path& imagesDir, const Dat
     half = std::max(half, 0.5 * (hi[k] - lo[k]));
   }
   const double s = 1.0 / half;
+  if (scene.boxSource == "points3D") scene.aabbScale = outerScale(model.points, {centre[0], centre[1], centre[2]}, half);
   for (int k = 0; k < 3; ++k) {
-    scene.box.min[k] = float((lo[k] - centre[k]) * s);
-    scene.box.max[k] = float((hi[k] - centre[k]) * s);
+    scene.box.min[k] = float((lo[k] - centre[k]) * s * scene.aabbScale);
+    scene.box.max[k] = float((hi[k] - centre[k]) * s * scene.aabbScale);
   }
 
   std::vector<size_t> pick = holdoutIndices(images.size(), options.holdoutFraction, options.split);

@@ -413,6 +413,54 @@ TEST(DatasetLlff, FrustumBoxRefusesLensesAndMismatchedBounds) {
   EXPECT_MESSAGE_HAS(errorOf([&] { nerf::detail::boxFromFrustums(std::span(&c, 1), std::span(&b, 1)); }), "pinhole");
 }
 
+// A forward-facing capture's cascades: a 3x3 grid of cameras 0.1 apart looking down -Z, 40x30 at
+// focal 20 (frames +-z by +-0.75 z at depth z), near 1 and far 20. The inner cube sits on the axis
+// at depth 1.5 (the median near times 1.5) and holds every frame there (x within 1.5 + 0.1 of the
+// axis); the box, that cube scaled by a power of two about its centre, holds every frustum out to
+// the far bound (the frustum box), and half of it would not.
+TEST(DatasetLlff, ForwardFacingBoxNestsCascadesFromTheNearContentOut) {
+  std::vector<Camera> cams;
+  std::vector<std::array<float, 2>> bounds;
+  for (int i = 0; i < 9; ++i) {
+    Camera c = pinholeFromFocal(40, 30, 20);
+    c.c2w[3] = 0.1f * float(i % 3 - 1);
+    c.c2w[7] = 0.1f * float(i / 3 - 1);
+    cams.push_back(c);
+    bounds.push_back({i == 4 ? 0.8f : 1.0f, 20});
+  }
+  float scale = 0;
+  const Aabb frustums = nerf::detail::boxFromFrustums(cams, bounds);
+  const Aabb box = nerf::detail::cascadedBoxFromDepths(cams, bounds, frustums, scale);
+  ASSERT_GE(scale, 2.0f);
+  EXPECT_EQ(std::exp2(std::round(std::log2(scale))), scale) << "a power of two";
+  std::array<double, 3> centre, half;
+  for (int k = 0; k < 3; ++k) centre[k] = 0.5 * (box.min[k] + box.max[k]), half[k] = 0.5 * (box.max[k] - box.min[k]) / scale;
+  EXPECT_NEAR(centre[0], 0, 1e-6);
+  EXPECT_NEAR(centre[1], 0, 1e-6);
+  EXPECT_NEAR(centre[2], -1.5, 1e-6);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(half[k], half[0], 1e-6) << "a cube";
+    EXPECT_LE(box.min[k], frustums.min[k]);
+    EXPECT_GE(box.max[k], frustums.max[k]);
+  }
+  // Every camera's frame corners at depth 1.5 lie in the inner cube, and one reaches its side.
+  double reach = 0;
+  for (const Camera& c : cams)
+    for (double u : {-1.0, 1.0})
+      for (double v : {-0.75, 0.75}) {
+        const double x = c.c2w[3] + 1.5 * u, y = c.c2w[7] + 1.5 * v;
+        EXPECT_LE(std::fabs(x - centre[0]), half[0] + 1e-6);
+        EXPECT_LE(std::fabs(y - centre[1]), half[0] + 1e-6);
+        reach = std::max(reach, std::fabs(x - centre[0]));
+      }
+  EXPECT_NEAR(reach, half[0], 1e-5);
+  // Half the box would leave some frustum out.
+  bool outside = false;
+  for (int k = 0; k < 3; ++k)
+    outside = outside || frustums.min[k] < centre[k] - half[k] * scale / 2 || frustums.max[k] > centre[k] + half[k] * scale / 2;
+  EXPECT_TRUE(outside);
+}
+
 // ---- Bad files ----
 
 TEST(DatasetLlff, BadFilesNameTheFileAndTheField) {

@@ -105,6 +105,50 @@ Aabb boxFromCameras(std::span<const Camera> cameras) {
   return box;
 }
 
+Aabb cascadedBoxFromDepths(std::span<const Camera> cameras, std::span<const std::array<float, 2>> depthBounds,
+                           const Aabb& whole, float& aabbScale) {
+  if (cameras.empty() || cameras.size() != depthBounds.size())
+    throw Error("a forward-facing box needs one {near, far} per camera and at least one camera");
+  const double n = double(cameras.size());
+  Vec3 meanO{0, 0, 0}, meanD{0, 0, 0};
+  std::vector<double> nears;
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const Vec3 o = origin(cameras[i]), d = axis(cameras[i]);
+    for (int k = 0; k < 3; ++k) meanO[k] += o[k] / n, meanD[k] += d[k] / n;
+    nears.push_back(depthBounds[i][0]);
+  }
+  const double norm = std::sqrt(meanD[0] * meanD[0] + meanD[1] * meanD[1] + meanD[2] * meanD[2]);
+  if (!(norm > 1e-6)) throw Error("a forward-facing box needs cameras that look the same way on the whole");
+  std::nth_element(nears.begin(), nears.begin() + nears.size() / 2, nears.end());
+  const double depth = 1.5 * nears[nears.size() / 2];
+  Vec3 centre;
+  for (int k = 0; k < 3; ++k) centre[k] = meanO[k] + meanD[k] / norm * depth;
+  // Each camera's frame at that depth: the corners where the rays through its image corners reach it.
+  double half = 0.5 * depth;
+  for (const Camera& c : cameras) {
+    const auto& m = c.c2w;
+    const Vec3 o = origin(c), d = axis(c);
+    const double z = (centre[0] - o[0]) * d[0] + (centre[1] - o[1]) * d[1] + (centre[2] - o[2]) * d[2];
+    for (double u : {0.0, double(c.width)})
+      for (double v : {0.0, double(c.height)}) {
+        const double p[3] = {z * (u - c.cx) / c.fx, -z * (v - c.cy) / c.fy, -z};
+        for (int k = 0; k < 3; ++k)
+          half = std::max(half, std::fabs(m[4 * k] * p[0] + m[4 * k + 1] * p[1] + m[4 * k + 2] * p[2] + m[4 * k + 3] - centre[k]));
+      }
+  }
+  constexpr float kMaxScale = 128;  // 8 cascades, as TrainConfig::validate allows
+  double reach = 0;
+  for (int k = 0; k < 3; ++k) reach = std::max({reach, centre[k] - whole.min[k], whole.max[k] - centre[k]});
+  aabbScale = 1;
+  while (aabbScale < kMaxScale && half * aabbScale < reach) aabbScale *= 2;
+  Aabb box;
+  for (int k = 0; k < 3; ++k) {
+    box.min[k] = float(centre[k] - half * aabbScale);
+    box.max[k] = float(centre[k] + half * aabbScale);
+  }
+  return box;
+}
+
 Aabb boxFromFrustums(std::span<const Camera> cameras, std::span<const std::array<float, 2>> depthBounds) {
   if (cameras.empty() || cameras.size() != depthBounds.size())
     throw Error("a frustum box needs one {near, far} per camera and at least one camera");

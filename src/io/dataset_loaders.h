@@ -87,6 +87,15 @@ constexpr double kDeviceLimit = 1e15;
 // edges); throws otherwise, or when the spans' sizes differ or are zero.
 Aabb boxFromFrustums(std::span<const Camera> cameras, std::span<const std::array<float, 2>> depthBounds);
 
+// A forward-facing capture's box as nested cascades (instant-ngp's aabb_scale) from the same depth
+// bounds: the inner cube sits on the cameras' mean optical axis at 1.5 times the median near depth,
+// wide enough for every camera's frame there (and at least half that depth on each side), where the
+// nearest content lies and pixels are finest; the box is that cube doubled until it holds every
+// frustum out to its far bound (`frustums`, boxFromFrustums of the same), at most 128 times. Returns
+// the box, with its side over the inner cube's in `aabbScale`.
+Aabb cascadedBoxFromDepths(std::span<const Camera> cameras, std::span<const std::array<float, 2>> depthBounds,
+                           const Aabb& frustums, float& aabbScale);
+
 // Scene box from the cameras alone (see vknerf/dataset.h); needs at least one camera.
 Aabb boxFromCameras(std::span<const Camera> cameras);
 // Shrinks `box` to the bounds of the visual hull of the alpha masks (pixels with alpha > 0), found

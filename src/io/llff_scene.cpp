@@ -141,11 +141,12 @@ SceneSpec readLlff(const fs::path& file, const DatasetOptions& options) {
     bounds.push_back(*f.depthBounds);
   }
   scene.hasBox = true;
-  scene.box = boxFromFrustums(cameras, bounds);
-  scene.boxSource = "llff bounds";
+  const Aabb frustums = boxFromFrustums(cameras, bounds);
   for (int k = 0; k < 3; ++k)
-    if (!(std::fabs(scene.box.min[k]) <= kDeviceLimit && std::fabs(scene.box.max[k]) <= kDeviceLimit))
+    if (!(std::fabs(frustums.min[k]) <= kDeviceLimit && std::fabs(frustums.max[k]) <= kDeviceLimit))
       throw Error(name + ": the frustums between the near and far bounds reach beyond 1e15, the range the device computes with");
+  scene.box = cascadedBoxFromDepths(cameras, bounds, frustums, scene.aabbScale);
+  scene.boxSource = "llff bounds";
 
   const fs::path folder = file.parent_path(), imagesDir = folder / "images";
   if (!isDir(imagesDir)) throw Error(name + ": no images/ folder beside it ('" + imagesDir.string() + "' not found)");

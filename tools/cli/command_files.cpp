@@ -139,6 +139,12 @@ void CommandFiles::checkOutputAgainst(const Entry& out, const Entry& other) cons
     clash(out, "is one of the files of", other, " (its poses, COLMAP model and images)");
 }
 
+bool CommandFiles::declaresFolder(const std::string& folder) const {
+  for (const Entry& e : entries_)
+    if (e.kind == Kind::outputFolder && normal(e.path) == normal(folder)) return true;
+  return false;
+}
+
 void CommandFiles::check() const {
   for (size_t i = 0; i < entries_.size(); ++i) {
     const Entry& out = entries_[i];
@@ -152,6 +158,9 @@ void CommandFiles::check() const {
   for (const Entry& e : entries_) {
     switch (e.kind) {
       case Kind::output:
+        // A file in a declared output folder that is still to be made: that folder's check stands
+        // for it (it is made by createFolders(), before anything is written).
+        if (!exists(normal(e.path).parent_path().string()) && declaresFolder(normal(e.path).parent_path().string())) break;
         checkOutputPath(e.path, e.what);
         break;
       case Kind::outputFolder:

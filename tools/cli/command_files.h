@@ -51,6 +51,8 @@ class CommandFiles {
   [[noreturn]] void clash(const Entry& out, const std::string& relation, const Entry& other,
                           const std::string& note = "") const;
   void checkOutputAgainst(const Entry& out, const Entry& other) const;
+  // Whether `folder` is declared with outputFolder().
+  bool declaresFolder(const std::string& folder) const;
 
   std::string command_;
   std::vector<Entry> entries_;

@@ -5,8 +5,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "gpu/kernel_compiler.h"
 #include "gpu/physical_devices.h"
 #include "gpu/vk_check.h"
 
@@ -151,9 +153,13 @@ void Device::initCommon() {
   check(vkCreateCommandPool(device_, &pi, nullptr, &pool_), "vkCreateCommandPool");
   VkPipelineCacheCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
   check(vkCreatePipelineCache(device_, &ci, nullptr, &pipelineCache_), "vkCreatePipelineCache");
+  compiler_ = std::make_unique<KernelCompiler>(physical_, queueFamily_, features_,
+                                               kernelsCompileAhead(physical_, ownsDevice_),
+                                               std::thread::hardware_concurrency());
 }
 
 Device::~Device() {
+  compiler_.reset();  // its devices are children of this instance
   if (device_) {
     vkDeviceWaitIdle(device_);
     if (pipelineCache_) vkDestroyPipelineCache(device_, pipelineCache_, nullptr);

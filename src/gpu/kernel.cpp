@@ -1,8 +1,10 @@
 #include "gpu/kernel.h"
 
+#include <chrono>
 #include <utility>
 
 #include "gpu/device.h"
+#include "gpu/kernel_compiler.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -91,7 +93,10 @@ void PipelineObjects::destroy(VkDevice dev) {
 
 Kernel::Kernel(Context& ctx, KernelDesc desc) : ctx_(&ctx), desc_(std::move(desc)) {
   if (!desc_.shader.words) throw Error("kernel without a shader");
+  // Drivers other than lavapipe compile here: the time counts as compiling (KernelCompiler).
+  const auto start = std::chrono::steady_clock::now();
   objects_ = PipelineObjects::create(ctx.device(), device(ctx).pipelineCache(), desc_);
+  device(ctx).compiler().countPipeline(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 Kernel::~Kernel() { destroy(); }

@@ -33,7 +33,9 @@ struct KernelDesc {
 
 VkDescriptorType descriptorType(Binding b);
 
-// The Vulkan objects of one compute pipeline made from a KernelDesc on any VkDevice.
+// The Vulkan objects of one compute pipeline made from a KernelDesc on any VkDevice: a Kernel's on
+// vknerf's device, and a compiling device's (compile_device.h), which must build the very same
+// pipeline for the driver to find its code in the shader cache.
 struct PipelineObjects {
   VkShaderModule module = VK_NULL_HANDLE;
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;

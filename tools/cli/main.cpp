@@ -7,6 +7,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "progress.h"
 #include "vknerf/error.h"
 
 namespace vknerf::cli {
@@ -26,6 +27,7 @@ std::shared_ptr<Context> Globals::context() const {
   static std::shared_ptr<Context> ctx = [this] {
     auto created = Context::create({device, validation});
     std::fprintf(stderr, "vknerf: device %s\n", created->describe().c_str());
+    created->setCompileProgress(compileProgressPrinter());
     return created;
   }();
   return ctx;

@@ -2,7 +2,13 @@
 // variant a recording dispatches starts compiling once, and its submission waits for it, with
 // progress on the submitting thread; results are unchanged; a training step or render after the first compiles
 // nothing and creates no pipeline.
+#include <pthread.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdlib>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -13,6 +19,7 @@
 #include "gpu/device.h"
 #include "gpu/kernel.h"
 #include "gpu/kernel_compiler.h"
+#include "gpu/mesa_disk_cache.h"
 #include "gpu/recorder.h"
 #include "support/gpu_test.h"
 #include "support/tiny_config.h"
@@ -191,4 +198,51 @@ TEST(KernelCompiler, ReadsMesasShaderCacheSwitchAsMesaDoes) {
   }
   ScopedEnv v("MESA_SHADER_CACHE_DISABLE", "false");
   EXPECT_FALSE(gpu::mesaShaderCacheDisabled());
+}
+
+TEST(MesaDiskCache, KnowsItsWriterThreadsByName) {
+  EXPECT_TRUE(gpu::isMesaCacheWriter("vknerf:disk$0"));
+  EXPECT_TRUE(gpu::isMesaCacheWriter("vknerf_:disk$12"));  // long process names are cut to fit
+  EXPECT_FALSE(gpu::isMesaCacheWriter("vknerf"));
+  EXPECT_FALSE(gpu::isMesaCacheWriter("llvmpipe-0"));
+  EXPECT_FALSE(gpu::isMesaCacheWriter("vknerf:disk$"));
+  EXPECT_FALSE(gpu::isMesaCacheWriter("vknerf:disk$0a"));
+}
+
+// A thread named as Mesa's writer works a while, then waits on a condition variable as Mesa's
+// queue does when empty: the wait returns after it has gone back to waiting, well before the timeout.
+TEST(MesaDiskCache, WaitsUntilTheWriterWaitsForWork) {
+  std::mutex m;
+  std::condition_variable wake;
+  bool named = false, quit = false;
+  std::atomic<bool> working{true};
+  std::thread writer([&] {
+    pthread_setname_np(pthread_self(), "test:disk$7");
+    {
+      std::lock_guard<std::mutex> lock(m);
+      named = true;
+    }
+    wake.notify_all();
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(300);
+    while (std::chrono::steady_clock::now() < until) {
+    }
+    working = false;
+    std::unique_lock<std::mutex> lock(m);
+    wake.wait(lock, [&] { return quit; });
+  });
+  {
+    std::unique_lock<std::mutex> lock(m);
+    wake.wait(lock, [&] { return named; });
+  }
+  const auto timeout = std::chrono::seconds(60);
+  const auto start = std::chrono::steady_clock::now();
+  gpu::waitForMesaCacheWriters(timeout);
+  EXPECT_FALSE(working) << "returned while the writer was busy";
+  EXPECT_LT(std::chrono::steady_clock::now() - start, timeout) << "did not see the writer go back to waiting";
+  {
+    std::lock_guard<std::mutex> lock(m);
+    quit = true;
+  }
+  wake.notify_all();
+  writer.join();
 }

@@ -1,20 +1,13 @@
 #include "gpu/kernel_compiler.h"
 
-#include <strings.h>
-
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <memory>
 #include <utility>
 
-namespace vknerf::gpu {
+#include "gpu/mesa_disk_cache.h"
 
-bool mesaShaderCacheDisabled() {
-  const char* v = std::getenv("MESA_SHADER_CACHE_DISABLE");
-  if (!v) v = std::getenv("MESA_GLSL_CACHE_DISABLE");
-  return v && (!strcasecmp(v, "1") || !strcasecmp(v, "true") || !strcasecmp(v, "yes"));
-}
+namespace vknerf::gpu {
 
 bool kernelsCompileAhead(VkPhysicalDevice physical, bool ownDevice) {
   if (!ownDevice || mesaShaderCacheDisabled()) return false;
@@ -137,6 +130,10 @@ void KernelCompiler::finish() {
     compiled_.wait(lock, [&] { return outstanding() < before; });
     report();
   }
+  // The last variants' entries may still be queued for Mesa's writer, starved while the pool ran.
+  lock.unlock();
+  waitForMesaCacheWriters(std::chrono::seconds(10));
+  lock.lock();
   stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (std::exception_ptr e = std::exchange(error_, nullptr)) std::rethrow_exception(e);
 }

@@ -9,9 +9,9 @@
 // the variant (docs/performance.md has the measurements). So when an owned command buffer records
 // a dispatch of a variant not compiled yet (Recorder), a pool of threads, one per core, each with a
 // private device (compile_device.h), starts compiling it at once, while recording goes on; the
-// submission waits for them (finish()) and finds the variants in the disk cache. The cache is
-// keyed by content, so variants are remembered by content too: a second Kernel built from the same
-// description is already compiled.
+// submission waits for them and for Mesa to write them (finish(), mesa_disk_cache.h), then finds
+// them in the disk cache. The cache is keyed by content, so variants are remembered by content too:
+// a second Kernel built from the same description is already compiled.
 //
 // Elsewhere nothing is compiled ahead: other drivers compile at vkCreateComputePipelines (a
 // Kernel's constructor, whose time is counted here), lavapipe without its disk cache
@@ -42,10 +42,6 @@
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {
-
-// Whether Mesa's shader disk cache is switched off by the environment (as Mesa 22.3 reads it:
-// MESA_SHADER_CACHE_DISABLE, else the older MESA_GLSL_CACHE_DISABLE, set to 1, true or yes).
-bool mesaShaderCacheDisabled();
 
 // Whether kernels are compiled ahead on this device: lavapipe with its shader disk cache, and a
 // device vknerf created itself.

@@ -54,6 +54,7 @@ void interruptSavesALoadableCheckpoint(const std::string& signal, int expectedCo
                   " & pid=$!; sleep 6; kill -" + signal + " $pid; wait $pid");
   EXPECT_EQ(r.code, expectedCode) << r.output;
   EXPECT_NE(r.output.find("interrupted after"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" s compiling ("), std::string::npos) << "the summary says how long the kernels took\n" << r.output;
   auto rr = runCli("render " + model + " --orbit 1 --size 8 -o " + out);
   EXPECT_EQ(rr.code, 0) << rr.output;
   EXPECT_TRUE(std::filesystem::exists(out + "/rgb_0000.png"));

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "reference/mesh/marching_cubes.h"
 #include "support/cli_run.h"
@@ -55,7 +57,11 @@ TEST_F(MeshExport, TinyModelGivesAValidColouredMesh) {
   auto density = model.queryField(std::vector<float>{0, 0, 0}, std::vector<float>{0, 0, 1}).density;
   ASSERT_EQ(density.size(), 1u);
   s.threshold = density[0];  // a density the field takes: usually some surface around the centre
-  Mesh mesh = model.extractMesh(s);
+  std::vector<std::pair<uint64_t, uint64_t>> progress;
+  Mesh mesh = model.extractMesh(s, [&](uint64_t done, uint64_t total) { progress.emplace_back(done, total); });
+  ASSERT_FALSE(progress.empty());
+  EXPECT_EQ(progress.back(), std::make_pair(mesh.densityQueries, mesh.densityQueries));
+  for (size_t i = 1; i < progress.size(); ++i) EXPECT_GT(progress[i].first, progress[i - 1].first);
   EXPECT_EQ(mesh.colors.size(), mesh.positions.size());
   for (uint32_t i : mesh.triangles) ASSERT_LT(i, mesh.positions.size() / 3);
   for (size_t v = 0; v < mesh.positions.size(); v += 3)

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/image_io.h"
 #include "lib/process/colmap_log.h"
@@ -267,8 +269,13 @@ TEST_F(ProcessScene, TransformsJsonGivesTheCamerasOfTheColmapModel) {
     const fs::path scene = dir() / ("scene" + std::to_string(downscale));
     test::writeColmapBinary(scene / "sparse" / "0", model);
     writeImages(scene / "images", model);
-    const SceneBox box = writeTransforms(scene, downscale);
+    std::vector<std::pair<size_t, size_t>> progress;
+    const SceneBox box = writeTransforms(scene, downscale, [&](size_t done, size_t total) { progress.emplace_back(done, total); });
     EXPECT_EQ(box.source, "points3D");
+    // Every image decoded, then (downscale 2) every copy written, counted as one run.
+    const size_t total = model.images.size() * (downscale > 1 ? 2 : 1);
+    ASSERT_EQ(progress.size(), total);
+    for (size_t i = 0; i < total; ++i) EXPECT_EQ(progress[i], std::make_pair(i + 1, total));
     DatasetOptions all;
     all.split = "all";
     all.downscale = downscale;

@@ -1,17 +1,33 @@
 #!/usr/bin/env bash
-# Installs vknerf's build and test dependencies from Debian 12 packages (root or sudo).
-# clang and libclang-rt-dev (libFuzzer, the sanitizer runtimes): tools/sanitize.sh.
-# ffmpeg: `vknerf render --video` runs it (and its tests); `vknerf process` too, for a video.
-# colmap: `vknerf process` runs it (and its end-to-end test).
+# Installs vknerf's dependencies from Debian 12 packages (root or sudo).
+#   (no argument)  what the main job needs (the README's first command): build the vknerf command
+#                  line and run it on lavapipe.
+#   --all          that, and what the rest needs (the README's second command, .ci/run): the test
+#                  suite (GoogleTest, the validation layer, vulkaninfo), the benchmarks (Google
+#                  Benchmark; OpenBLAS for `bench mlp`), tools/sanitize.sh (clang, libclang-rt-dev:
+#                  the sanitizer runtimes and libFuzzer), the viewer and its test (GLFW, Xvfb), the
+#                  plotting scripts (matplotlib, numpy), and the programs `vknerf process` runs
+#                  (colmap; ffmpeg for a video) and `render --video` runs (ffmpeg), which their tests
+#                  run too.
 set -euo pipefail
+ALL=0
+case "${1:-}" in
+  "") ;;
+  --all) ALL=1 ;;
+  *) echo "usage: $0 [--all]" >&2; exit 2 ;;
+esac
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update
-$SUDO apt-get install -y --no-install-recommends \
-  build-essential cmake pkg-config git \
-  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools \
-  libglm-dev libstb-dev libturbojpeg0-dev nlohmann-json3-dev libcli11-dev \
+MAIN="build-essential cmake pkg-config \
+  libvulkan-dev mesa-vulkan-drivers glslang-tools \
+  libglm-dev libstb-dev libturbojpeg0-dev nlohmann-json3-dev libcli11-dev"
+REST="git vulkan-validationlayers vulkan-tools \
   libgtest-dev googletest libbenchmark-dev libopenblas-dev \
   libglfw3-dev xvfb xauth python3-matplotlib python3-numpy \
-  clang libclang-rt-dev ffmpeg colmap
+  clang libclang-rt-dev ffmpeg colmap"
+PACKAGES=$MAIN
+if [ "$ALL" = 1 ]; then PACKAGES="$MAIN $REST"; fi
+$SUDO apt-get update
+# shellcheck disable=SC2086  # one word per package
+$SUDO apt-get install -y --no-install-recommends $PACKAGES

@@ -4,6 +4,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,14 @@ struct DeviceInfo {
   bool usable = false;  // Vulkan 1.2+ with a compute queue
 };
 
+// Compiling the kernels (Context::compileStats): pipelines created, and on lavapipe the kernels
+// compiled ahead of their first dispatch; the wall time spent on both.
+struct CompileStats {
+  uint32_t pipelines = 0;      // compute pipelines created
+  uint32_t compiledAhead = 0;  // kernel variants compiled before their first dispatch (lavapipe)
+  double seconds = 0;
+};
+
 namespace gpu {
 class Device;  // vknerf's internal Vulkan host (not installed): what Context holds
 }
@@ -64,6 +73,13 @@ class Context {
   bool isCpu() const;
   bool floatAtomics() const;
   bool owned() const;
+
+  // Kernels compile before they first run. On lavapipe, which compiles a pipeline at its first
+  // dispatch, the kernels a submission is about to run for the first time are compiled just before
+  // it, in parallel on every core; elsewhere they compile when created. `progress`, called on the
+  // submitting thread as they finish, gets (compiled so far, known so far): "compiling kernels 14/38".
+  void setCompileProgress(std::function<void(uint64_t done, uint64_t total)> progress);
+  CompileStats compileStats() const;
 
   // Validation-layer warnings and errors reported since creation (own contexts with validation only).
   uint32_t validationMessages() const;

@@ -118,8 +118,10 @@ class Model {
   // The surface where the density crosses settings.threshold: the density sampled on a grid over
   // the box on the device, marching cubes there, each vertex coloured by the field seen from
   // outside (along the negative vertex normal). Throws vknerf::Error for an empty box or a
-  // resolution below 2 or beyond what the device's buffers hold.
-  Mesh extractMesh(const MeshSettings& settings = {}) const;
+  // resolution below 2 or beyond what the device's buffers hold. `progress`, when given, is called
+  // after each batch of density samples, the long part, with (samples queried, samples to query).
+  Mesh extractMesh(const MeshSettings& settings = {},
+                   const std::function<void(uint64_t done, uint64_t total)>& progress = {}) const;
 
  private:
   friend class Trainer;

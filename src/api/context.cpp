@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "gpu/device.h"
+#include "gpu/kernel_compiler.h"
 #include "gpu/physical_devices.h"
 
 namespace vknerf {
@@ -36,6 +37,10 @@ std::string Context::deviceName() const { return properties().deviceName; }
 bool Context::isCpu() const { return properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 bool Context::floatAtomics() const { return device_->floatAtomics(); }
 bool Context::owned() const { return device_->owned(); }
+void Context::setCompileProgress(std::function<void(uint64_t, uint64_t)> progress) {
+  device_->compiler().setProgress(std::move(progress));
+}
+CompileStats Context::compileStats() const { return device_->compiler().stats(); }
 uint32_t Context::validationMessages() const { return device_->validationMessages(); }
 bool Context::validationEnabled() const { return device_->validationEnabled(); }
 

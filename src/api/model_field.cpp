@@ -101,7 +101,7 @@ FieldSamples Model::queryField(const std::vector<float>& points, const std::vect
   return out;
 }
 
-Mesh Model::extractMesh(const MeshSettings& s) const {
+Mesh Model::extractMesh(const MeshSettings& s, const std::function<void(uint64_t, uint64_t)>& progress) const {
   Impl& m = *impl_;
   Context& ctx = *m.ctx;
   const ref::GridLayout g = gridOver(s.box.value_or(m.box), s.resolution);
@@ -139,6 +139,7 @@ Mesh Model::extractMesh(const MeshSettings& s) const {
     sampler.recordDensities(rec, f.field, first, n, grid);
     rec.end();
     rec.submitAndWait();
+    if (progress) progress(first + n, slots);
   }
 
   nerf::MarchingCubes mc(ctx);

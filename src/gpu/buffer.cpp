@@ -82,7 +82,7 @@ constexpr VkMemoryPropertyFlags kHostFlags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT
 
 Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const char* what) : ctx_(&ctx), size_(bytes), id_(nextBufferId++) {
   // Vulkan forbids empty buffers; an empty array still gets a valid (unused) handle.
-  VkDeviceSize alloc = std::max<VkDeviceSize>(bytes, 16);
+  VkDeviceSize alloc = std::max(bytes, kMinBytes);
   const bool unified = device(ctx).unifiedMemory();
   VkMemoryPropertyFlags want = unified ? (kHostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
                                        : VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);

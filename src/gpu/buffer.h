@@ -40,6 +40,9 @@ class Buffer {
 
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize size() const { return size_; }
+  // The VkBuffer's size: size(), but at least kMinBytes (Vulkan forbids empty buffers).
+  static constexpr VkDeviceSize kMinBytes = 16;
+  VkDeviceSize handleSize() const { return std::max(size_, kMinBytes); }
   uint64_t id() const { return id_; }  // unique per allocation; keys descriptor caches
   bool valid() const { return buffer_ != VK_NULL_HANDLE; }
   // Host pointer of a mapped (unified-memory) buffer; nullptr on discrete GPUs.

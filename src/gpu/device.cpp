@@ -5,8 +5,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "gpu/kernel_compiler.h"
 #include "gpu/physical_devices.h"
 #include "gpu/vk_check.h"
 
@@ -59,36 +61,39 @@ std::unique_ptr<Device> Device::create(const ContextOptions& options) {
   return d;
 }
 
-void Device::initDevice(int physicalIndex) {
-  physical_ = physicalDevices(instance_)[physicalIndex];
-  queueFamily_ = uint32_t(computeQueueFamily(physical_));
-
+KernelFeatures supportedKernelFeatures(VkPhysicalDevice physical) {
   VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomicFloat{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
   uint32_t extCount = 0;
-  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &extCount, nullptr);
+  vkEnumerateDeviceExtensionProperties(physical, nullptr, &extCount, nullptr);
   std::vector<VkExtensionProperties> exts(extCount);
-  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &extCount, exts.data());
+  vkEnumerateDeviceExtensionProperties(physical, nullptr, &extCount, exts.data());
   bool hasAtomicFloat = std::any_of(exts.begin(), exts.end(), [](auto& e) {
     return std::strcmp(e.extensionName, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) == 0;
   });
   VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   if (hasAtomicFloat) supported.pNext = &atomicFloat;
-  vkGetPhysicalDeviceFeatures2(physical_, &supported);
-  floatAtomics_ = hasAtomicFloat && atomicFloat.shaderBufferFloat32AtomicAdd;
+  vkGetPhysicalDeviceFeatures2(physical, &supported);
+  KernelFeatures f;
+  f.shaderInt64 = supported.features.shaderInt64;
+  f.bufferFloatAtomicAdd = hasAtomicFloat && atomicFloat.shaderBufferFloat32AtomicAdd;
+  f.sharedFloatAtomicAdd = f.bufferFloatAtomicAdd && atomicFloat.shaderSharedFloat32AtomicAdd;
+  return f;
+}
 
+VkDevice createComputeDevice(VkPhysicalDevice physical, uint32_t queueFamily, const KernelFeatures& f) {
   // Enable only what the kernels use.
   VkPhysicalDeviceShaderAtomicFloatFeaturesEXT enableAtomic{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
-  enableAtomic.shaderBufferFloat32AtomicAdd = atomicFloat.shaderBufferFloat32AtomicAdd;
-  enableAtomic.shaderSharedFloat32AtomicAdd = atomicFloat.shaderSharedFloat32AtomicAdd;
+  enableAtomic.shaderBufferFloat32AtomicAdd = f.bufferFloatAtomicAdd;
+  enableAtomic.shaderSharedFloat32AtomicAdd = f.sharedFloatAtomicAdd;
   VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  enable.features.shaderInt64 = supported.features.shaderInt64;
-  if (floatAtomics_) enable.pNext = &enableAtomic;
+  enable.features.shaderInt64 = f.shaderInt64;
+  if (f.bufferFloatAtomicAdd) enable.pNext = &enableAtomic;
   std::vector<const char*> deviceExts;
-  if (floatAtomics_) deviceExts.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+  if (f.bufferFloatAtomicAdd) deviceExts.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qi.queueFamilyIndex = queueFamily_;
+  qi.queueFamilyIndex = queueFamily;
   qi.queueCount = 1;
   qi.pQueuePriorities = &priority;
   VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
@@ -97,7 +102,17 @@ void Device::initDevice(int physicalIndex) {
   di.pQueueCreateInfos = &qi;
   di.enabledExtensionCount = uint32_t(deviceExts.size());
   di.ppEnabledExtensionNames = deviceExts.data();
-  check(vkCreateDevice(physical_, &di, nullptr, &device_), "vkCreateDevice");
+  VkDevice device = VK_NULL_HANDLE;
+  check(vkCreateDevice(physical, &di, nullptr, &device), "vkCreateDevice");
+  return device;
+}
+
+void Device::initDevice(int physicalIndex) {
+  physical_ = physicalDevices(instance_)[physicalIndex];
+  queueFamily_ = uint32_t(computeQueueFamily(physical_));
+  features_ = supportedKernelFeatures(physical_);
+  floatAtomics_ = features_.bufferFloatAtomicAdd;
+  device_ = createComputeDevice(physical_, queueFamily_, features_);
   vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
   initCommon();
 }
@@ -138,9 +153,13 @@ void Device::initCommon() {
   check(vkCreateCommandPool(device_, &pi, nullptr, &pool_), "vkCreateCommandPool");
   VkPipelineCacheCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
   check(vkCreatePipelineCache(device_, &ci, nullptr, &pipelineCache_), "vkCreatePipelineCache");
+  compiler_ = std::make_unique<KernelCompiler>(physical_, queueFamily_, features_,
+                                               kernelsCompileAhead(physical_, ownsDevice_),
+                                               std::thread::hardware_concurrency());
 }
 
 Device::~Device() {
+  compiler_.reset();  // its devices are children of this instance
   if (device_) {
     vkDeviceWaitIdle(device_);
     if (pipelineCache_) vkDestroyPipelineCache(device_, pipelineCache_, nullptr);

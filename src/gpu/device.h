@@ -15,6 +15,18 @@
 
 namespace vknerf::gpu {
 
+class KernelCompiler;
+
+// The optional features vknerf's kernels use, as a device supports them (and as vknerf enables them).
+struct KernelFeatures {
+  bool shaderInt64 = false;
+  bool bufferFloatAtomicAdd = false, sharedFloatAtomicAdd = false;  // VK_EXT_shader_atomic_float
+};
+KernelFeatures supportedKernelFeatures(VkPhysicalDevice physical);
+// A VkDevice with one queue of `queueFamily` and exactly `features` enabled: vknerf's own device,
+// and the private devices that compile kernels ahead (kernel_compiler.h).
+VkDevice createComputeDevice(VkPhysicalDevice physical, uint32_t queueFamily, const KernelFeatures& features);
+
 class Device {
  public:
   // vknerf's own instance and device (options as for Context::create).
@@ -45,6 +57,11 @@ class Device {
   void runOnce(const std::function<void(VkCommandBuffer)>& record);
   VkCommandPool commandPool() const { return pool_; }
   VkPipelineCache pipelineCache() const { return pipelineCache_; }
+  // Compiles kernels before their first dispatch (kernel_compiler.h); counts compile time.
+  KernelCompiler& compiler() { return *compiler_; }
+  const KernelCompiler& compiler() const { return *compiler_; }
+  // The features enabled on vknerf's own device (an adopted device's are the caller's: unknown).
+  const KernelFeatures& features() const { return features_; }
 
  private:
   Device() = default;
@@ -66,6 +83,8 @@ class Device {
   VkPhysicalDeviceMemoryProperties memProps_{};
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
+  KernelFeatures features_;
+  std::unique_ptr<KernelCompiler> compiler_;  // its private devices go before this one
   bool ownsDevice_ = false;
   bool floatAtomics_ = false;
   bool unified_ = false;

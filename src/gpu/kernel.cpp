@@ -1,22 +1,15 @@
 #include "gpu/kernel.h"
 
+#include <chrono>
 #include <utility>
 
 #include "gpu/device.h"
+#include "gpu/kernel_compiler.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
 namespace {
 constexpr uint32_t kSetsPerPool = 64;
-
-VkDescriptorType descriptorType(Binding b) {
-  switch (b) {
-    case Binding::Storage: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    case Binding::TexelRgba32f: return VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
-    case Binding::StorageImage: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-  }
-  return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-}
 
 void requireBindingCount(const KernelDesc& d, size_t n) {
   if (n != d.bindings.size())
@@ -36,43 +29,74 @@ VkDeviceSize storageRange(const Context& ctx, const KernelDesc& d, size_t i, con
 }
 }  // namespace
 
+VkDescriptorType descriptorType(Binding b) {
+  switch (b) {
+    case Binding::Storage: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    case Binding::TexelRgba32f: return VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+    case Binding::StorageImage: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  }
+  return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+PipelineObjects PipelineObjects::create(VkDevice dev, VkPipelineCache cache, const KernelDesc& desc) {
+  PipelineObjects o;
+  try {
+    VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    mi.codeSize = desc.shader.wordCount * sizeof(uint32_t);
+    mi.pCode = desc.shader.words;
+    check(vkCreateShaderModule(dev, &mi, nullptr, &o.module),
+          (std::string("vkCreateShaderModule(") + desc.shader.name + ")").c_str());
+
+    std::vector<VkDescriptorSetLayoutBinding> lb;
+    for (uint32_t i = 0; i < desc.bindings.size(); ++i)
+      lb.push_back({i, descriptorType(desc.bindings[i]), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    li.bindingCount = uint32_t(lb.size());
+    li.pBindings = lb.data();
+    check(vkCreateDescriptorSetLayout(dev, &li, nullptr, &o.setLayout), "vkCreateDescriptorSetLayout");
+
+    VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, desc.pushConstantBytes};
+    VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pli.setLayoutCount = 1;
+    pli.pSetLayouts = &o.setLayout;
+    pli.pushConstantRangeCount = desc.pushConstantBytes ? 1 : 0;
+    pli.pPushConstantRanges = &pcr;
+    check(vkCreatePipelineLayout(dev, &pli, nullptr, &o.layout), "vkCreatePipelineLayout");
+
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t i = 0; i < desc.specialization.size(); ++i) entries.push_back({i, i * 4u, 4});
+    VkSpecializationInfo si{uint32_t(entries.size()), entries.data(), desc.specialization.size() * 4,
+                            desc.specialization.data()};
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = o.module;
+    ci.stage.pName = "main";
+    ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
+    ci.layout = o.layout;
+    check(vkCreateComputePipelines(dev, cache, 1, &ci, nullptr, &o.pipeline),
+          (std::string("vkCreateComputePipelines(") + desc.shader.name + ")").c_str());
+  } catch (...) {
+    o.destroy(dev);
+    throw;
+  }
+  return o;
+}
+
+void PipelineObjects::destroy(VkDevice dev) {
+  if (pipeline) vkDestroyPipeline(dev, pipeline, nullptr);
+  if (layout) vkDestroyPipelineLayout(dev, layout, nullptr);
+  if (setLayout) vkDestroyDescriptorSetLayout(dev, setLayout, nullptr);
+  if (module) vkDestroyShaderModule(dev, module, nullptr);
+  *this = {};
+}
+
 Kernel::Kernel(Context& ctx, KernelDesc desc) : ctx_(&ctx), desc_(std::move(desc)) {
   if (!desc_.shader.words) throw Error("kernel without a shader");
-  VkDevice dev = ctx.device();
-
-  VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  mi.codeSize = desc_.shader.wordCount * sizeof(uint32_t);
-  mi.pCode = desc_.shader.words;
-  check(vkCreateShaderModule(dev, &mi, nullptr, &module_), (std::string("vkCreateShaderModule(") + desc_.shader.name + ")").c_str());
-
-  std::vector<VkDescriptorSetLayoutBinding> lb;
-  for (uint32_t i = 0; i < desc_.bindings.size(); ++i)
-    lb.push_back({i, descriptorType(desc_.bindings[i]), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-  VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  li.bindingCount = uint32_t(lb.size());
-  li.pBindings = lb.data();
-  check(vkCreateDescriptorSetLayout(dev, &li, nullptr, &setLayout_), "vkCreateDescriptorSetLayout");
-
-  VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, desc_.pushConstantBytes};
-  VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  pli.setLayoutCount = 1;
-  pli.pSetLayouts = &setLayout_;
-  pli.pushConstantRangeCount = desc_.pushConstantBytes ? 1 : 0;
-  pli.pPushConstantRanges = &pcr;
-  check(vkCreatePipelineLayout(dev, &pli, nullptr, &layout_), "vkCreatePipelineLayout");
-
-  std::vector<VkSpecializationMapEntry> entries;
-  for (uint32_t i = 0; i < desc_.specialization.size(); ++i) entries.push_back({i, i * 4u, 4});
-  VkSpecializationInfo si{uint32_t(entries.size()), entries.data(), desc_.specialization.size() * 4, desc_.specialization.data()};
-  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  ci.stage.module = module_;
-  ci.stage.pName = "main";
-  ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
-  ci.layout = layout_;
-  check(vkCreateComputePipelines(dev, device(ctx).pipelineCache(), 1, &ci, nullptr, &pipeline_),
-        (std::string("vkCreateComputePipelines(") + desc_.shader.name + ")").c_str());
+  // Drivers other than lavapipe compile here: the time counts as compiling (KernelCompiler).
+  const auto start = std::chrono::steady_clock::now();
+  objects_ = PipelineObjects::create(ctx.device(), device(ctx).pipelineCache(), desc_);
+  device(ctx).compiler().countPipeline(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 Kernel::~Kernel() { destroy(); }
@@ -83,10 +107,7 @@ void Kernel::destroy() {
   for (auto v : views_) vkDestroyBufferView(dev, v, nullptr);
   for (auto p : pools_) vkDestroyDescriptorPool(dev, p, nullptr);
   if (transientPool_) vkDestroyDescriptorPool(dev, transientPool_, nullptr);
-  if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
-  if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
-  if (setLayout_) vkDestroyDescriptorSetLayout(dev, setLayout_, nullptr);
-  if (module_) vkDestroyShaderModule(dev, module_, nullptr);
+  objects_.destroy(dev);
   views_.clear();
   pools_.clear();
   sets_.clear();
@@ -101,10 +122,7 @@ Kernel& Kernel::operator=(Kernel&& o) noexcept {
     destroy();
     ctx_ = std::exchange(o.ctx_, nullptr);
     desc_ = std::move(o.desc_);
-    module_ = std::exchange(o.module_, VK_NULL_HANDLE);
-    setLayout_ = std::exchange(o.setLayout_, VK_NULL_HANDLE);
-    layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
-    pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
+    objects_ = std::exchange(o.objects_, {});
     pools_ = std::move(o.pools_);
     setsInLastPool_ = o.setsInLastPool_;
     views_ = std::move(o.views_);
@@ -142,7 +160,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
   VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   ai.descriptorPool = pools_.back();
   ai.descriptorSetCount = 1;
-  ai.pSetLayouts = &setLayout_;
+  ai.pSetLayouts = &objects_.setLayout;
   VkDescriptorSet set;
   check(vkAllocateDescriptorSets(dev, &ai, &set), "vkAllocateDescriptorSets");
   ++setsInLastPool_;
@@ -196,7 +214,7 @@ VkDescriptorSet Kernel::transientSet(std::span<const BufferRange> bindings) {
     pi.poolSizeCount = 2;
     pi.pPoolSizes = sizes;
     check(vkCreateDescriptorPool(dev, &pi, nullptr, &transientPool_), "vkCreateDescriptorPool");
-    std::vector<VkDescriptorSetLayout> layouts(kTransientSets, setLayout_);
+    std::vector<VkDescriptorSetLayout> layouts(kTransientSets, objects_.setLayout);
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     ai.descriptorPool = transientPool_;
     ai.descriptorSetCount = kTransientSets;

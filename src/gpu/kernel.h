@@ -31,6 +31,21 @@ struct KernelDesc {
   std::vector<uint32_t> specialization;   // constant_id i = specialization[i] (floats by bit pattern)
 };
 
+VkDescriptorType descriptorType(Binding b);
+
+// The Vulkan objects of one compute pipeline made from a KernelDesc on any VkDevice: a Kernel's on
+// vknerf's device, and a compiling device's (compile_device.h), which must build the very same
+// pipeline for the driver to find its code in the shader cache.
+struct PipelineObjects {
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  // Throws vknerf::Error, having destroyed what it created.
+  static PipelineObjects create(VkDevice dev, VkPipelineCache cache, const KernelDesc& desc);
+  void destroy(VkDevice dev);
+};
+
 class Kernel {
  public:
   Kernel() = default;
@@ -41,8 +56,8 @@ class Kernel {
   Kernel(const Kernel&) = delete;
   Kernel& operator=(const Kernel&) = delete;
 
-  VkPipeline pipeline() const { return pipeline_; }
-  VkPipelineLayout layout() const { return layout_; }
+  VkPipeline pipeline() const { return objects_.pipeline; }
+  VkPipelineLayout layout() const { return objects_.layout; }
   const KernelDesc& desc() const { return desc_; }
   // The descriptor set binding exactly these ranges, created on first use. vknerf's own buffers only.
   VkDescriptorSet descriptorSet(std::span<const BufferRange> bindings);
@@ -60,10 +75,7 @@ class Kernel {
   void destroy();
   Context* ctx_ = nullptr;
   KernelDesc desc_;
-  VkShaderModule module_ = VK_NULL_HANDLE;
-  VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  PipelineObjects objects_;
   std::vector<VkDescriptorPool> pools_;
   uint32_t setsInLastPool_ = 0;
   std::vector<VkBufferView> views_;

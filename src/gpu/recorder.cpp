@@ -4,6 +4,7 @@
 #include <string>
 
 #include "gpu/device.h"
+#include "gpu/kernel_compiler.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -69,11 +70,12 @@ VkDescriptorSet Recorder::cachedSet(Kernel& k, std::span<const BufferRange> bind
   return k.descriptorSet(bindings);
 }
 
-void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
-                            bool indirect, const std::function<void()>& issue) {
+void Recorder::recordKernel(Kernel& k, std::span<const BufferRange> bindings, VkDescriptorSet set, const void* push,
+                            uint32_t pushBytes, const char* label, bool indirect, const std::function<void()>& issue) {
   if (pushBytes != k.desc().pushConstantBytes)
     throw Error(std::string("kernel ") + k.desc().shader.name + " expects " + std::to_string(k.desc().pushConstantBytes) +
                 " bytes of push constants, got " + std::to_string(pushBytes));
+  if (owned_) device(ctx_).compiler().dispatching(k, bindings);
   barrierIfNeeded(indirect);
   bool timed = queries_ && label && labels_.size() < maxTimestamps_;
   uint32_t q = uint32_t(labels_.size()) * 2;
@@ -92,7 +94,8 @@ void Recorder::recordKernel(Kernel& k, VkDescriptorSet set, const void* push, ui
 void Recorder::dispatch(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes,
                         uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
-  recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
+  recordKernel(k, bindings, cachedSet(k, bindings), push, pushBytes, label, false,
+               [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
 void Recorder::dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindings, const void* push,
@@ -110,13 +113,13 @@ void Recorder::dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindin
 void Recorder::dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
                                uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;
-  recordKernel(k, set, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
+  recordKernel(k, {}, set, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
 void Recorder::dispatchIndirect(Kernel& k, std::span<const BufferRange> bindings, const void* push,
                                 uint32_t pushBytes, const Buffer& args, VkDeviceSize offset, const char* label) {
   if (offset % 4 || offset + 12 > args.size()) throw Error("dispatchIndirect: arguments lie outside the buffer");
-  recordKernel(k, cachedSet(k, bindings), push, pushBytes, label, true,
+  recordKernel(k, bindings, cachedSet(k, bindings), push, pushBytes, label, true,
                [&] { vkCmdDispatchIndirect(cmd_, args.handle(), offset); });
 }
 
@@ -152,6 +155,7 @@ void Recorder::end() {
 
 void Recorder::submitAndWait() {
   if (!owned_) throw Error("Recorder::submitAndWait on a caller's command buffer");
+  device(ctx_).compiler().finish();
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd_;

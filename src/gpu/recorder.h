@@ -80,7 +80,10 @@ class Recorder {
   // written to `dst` when it executes. Small per-recording data (a camera) without a host upload.
   void update(Buffer& dst, VkDeviceSize offset, const void* data, VkDeviceSize bytes);
   void end();
-  void submitAndWait();  // owned command buffer only; may be called repeatedly after one recording
+  // Owned command buffer only; may be called repeatedly after one recording. Kernels an owned
+  // recording runs for the first time start compiling as they are recorded (KernelCompiler); the
+  // submission first waits for them (logged as host time before it).
+  void submitAndWait();
   // One record + submit, for tests and one-off work.
   VkCommandBuffer commandBuffer() const { return cmd_; }
 
@@ -97,8 +100,8 @@ class Recorder {
 
  private:
   void barrierIfNeeded(bool indirectNext = false);
-  void recordKernel(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, const char* label,
-                    bool indirect, const std::function<void()>& issue);
+  void recordKernel(Kernel& k, std::span<const BufferRange> bindings, VkDescriptorSet set, const void* push,
+                    uint32_t pushBytes, const char* label, bool indirect, const std::function<void()>& issue);
   static VkDescriptorSet cachedSet(Kernel& k, std::span<const BufferRange> bindings);
   Context& ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;

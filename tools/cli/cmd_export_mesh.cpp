@@ -8,6 +8,7 @@
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
+#include "progress.h"
 #include "vknerf/file_output.h"
 #include "vknerf/mesh.h"
 #include "vknerf/trainer.h"
@@ -41,7 +42,7 @@ int run(Options o, const Globals& g) {
   Model model = Model::load(g.context(), o.model);
   std::printf("density threshold %g, resolution %u\n", o.mesh.threshold, o.mesh.resolution);
   const auto start = std::chrono::steady_clock::now();
-  Mesh mesh = model.extractMesh(o.mesh);
+  Mesh mesh = model.extractMesh(o.mesh, progressPrinter("sampling the density"));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   writePly(o.output, mesh);
   std::printf("%zu vertices, %zu faces in %.1f s; written to %s\n", mesh.positions.size() / 3, mesh.triangles.size() / 3,

@@ -77,6 +77,7 @@ Registration processCommand(
         observer.say = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
         observer.stage = stagePrinter();
         observer.framesScored = progressPrinter("scoring video frames");
+        observer.sceneImages = progressPrinter("writing the scene: images");
         std::printf("%s", process::processCapture(*o, observer).c_str());
         std::printf("scene written to %s (train it with: vknerf train %s -o model.vknerf)\n", o->output.c_str(),
                     o->output.c_str());

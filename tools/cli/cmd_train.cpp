@@ -261,8 +261,14 @@ int train(const Options& o, const Globals& g) {
   const bool tty = ::isatty(fileno(stdout));
   const uint32_t first = trainer.steps();
   const uint32_t last = o.steps ? first + o.steps : UINT32_MAX;
+  // Training time: the wall time since the loop began, less the time spent compiling kernels (the
+  // first step's, on lavapipe), which --time, the rates and the ETA leave out.
   auto t0 = std::chrono::steady_clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  const double compiledBefore = ctx->compileStats().seconds;
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() -
+           (ctx->compileStats().seconds - compiledBefore);
+  };
   StepStats st;
   double lastPsnr = -1;  // none measured yet: the loss is read every --log-every steps
   while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !stopSignal) {
@@ -294,6 +300,9 @@ int train(const Options& o, const Globals& g) {
               trainer.statistics().deviceMiB, trainer.trainingPixelsDeviceMiB(), trainer.trainingPixelBindings());
   if (o.profile) printStepProfile(trainer.lastStepProfile());
   trainer.save(o.output);
+  const CompileStats compiled = ctx->compileStats();
+  std::printf("kernels: %.1f s compiling (%u pipelines, %u compiled ahead), not counted in the training time\n",
+              compiled.seconds, compiled.pipelines, compiled.compiledAhead);
   char psnr[64] = "no train PSNR measured: fewer steps than --log-every";
   if (lastPsnr >= 0) std::snprintf(psnr, sizeof psnr, "last train PSNR %.2f dB", lastPsnr);
   std::printf("%s after %u steps (%.1f s, %s); model saved to %s\n", stopSignal ? "interrupted" : "done",

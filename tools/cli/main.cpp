@@ -7,6 +7,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "progress.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 
@@ -22,11 +23,14 @@ Registration::Registration(std::string path, std::string help, Setup setup) {
 }
 
 std::shared_ptr<Context> Globals::context() const {
-  static std::shared_ptr<Context> ctx;
-  if (!ctx) {
-    ctx = Context::create({device, validation});
-    std::fprintf(stderr, "vknerf: device %s\n", ctx->describe().c_str());
-  }
+  // Initialised in one expression: its destructor is then registered after the driver and layers
+  // the creation loads have registered theirs, so it runs before theirs at exit.
+  static std::shared_ptr<Context> ctx = [this] {
+    auto created = Context::create({device, validation});
+    std::fprintf(stderr, "vknerf: device %s\n", created->describe().c_str());
+    created->setCompileProgress(compileProgressPrinter());
+    return created;
+  }();
   return ctx;
 }
 

@@ -42,6 +42,38 @@ std::function<void(uint64_t, uint64_t)> progressPrinter(std::string what, bool c
   };
 }
 
+std::function<void(uint64_t, uint64_t)> compileProgressPrinter() {
+  using Clock = std::chrono::steady_clock;
+  constexpr double kLogEverySeconds = 5, kQuickSeconds = 1;
+  struct State {
+    bool tty = ::isatty(fileno(stdout));
+    bool between = true;  // no batch in progress: the next call starts one
+    Clock::time_point start, lastLine;
+  };
+  auto st = std::make_shared<State>();
+  return [st](uint64_t done, uint64_t total) {
+    const auto now = Clock::now();
+    if (st->between) st->start = st->lastLine = now, st->between = false;
+    const bool finished = done >= total;
+    const double seconds = std::chrono::duration<double>(now - st->start).count();
+    const double pct = total ? 100.0 * double(done) / double(total) : 100.0;
+    char line[96];
+    std::snprintf(line, sizeof line, "compiling kernels %llu/%llu (%.0f%%)", (unsigned long long)done,
+                  (unsigned long long)total, pct);
+    if (st->tty) {
+      if (finished && seconds < kQuickSeconds) std::printf("\r\033[K");
+      else std::printf("\r%s%s", line, finished ? "\n" : "");
+      std::fflush(stdout);
+    } else if (std::chrono::duration<double>(now - st->lastLine).count() >= kLogEverySeconds ||
+               (finished && seconds >= kLogEverySeconds)) {
+      std::printf("%s\n", line);
+      std::fflush(stdout);
+      st->lastLine = now;
+    }
+    if (finished) st->between = true;
+  };
+}
+
 double hostPeakMiB() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);

@@ -116,7 +116,7 @@ std::string run(const ProcessOptions& o, const ProcessObserver& observer, Stagin
   fs::rename(model->folder, staging.path() / "sparse" / "0", ec);
   if (ec) throw Error("cannot move the model '" + model->folder.string() + "': " + ec.message());
 
-  const SceneBox box = writeTransforms(staging.path(), o.downscale);
+  const SceneBox box = writeTransforms(staging.path(), o.downscale, observer.sceneImages);
   staging.publish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ModelSummary published = *model;

@@ -24,6 +24,7 @@ struct ProcessObserver {
   std::function<void(const std::string& line)> say;  // a finished step, one line
   StageReport stage;                                  // a COLMAP stage moving on
   std::function<void(size_t done, size_t total)> framesScored;  // video frames scored for sharpness
+  std::function<void(size_t done, size_t total)> sceneImages;   // images read, then copies written (scene_writer.h)
 };
 
 // Runs everything and returns the report (report.h). Throws vknerf::Error with a one-line reason;

@@ -44,10 +44,13 @@ fs::path stagingFolder(const fs::path& target) {
   return t.parent_path() / ("." + t.filename().string() + ".partial-" + std::to_string(::getpid()));
 }
 
-SceneBox writeTransforms(const fs::path& scene, uint32_t downscale) {
+SceneBox writeTransforms(const fs::path& scene, uint32_t downscale,
+                         const std::function<void(size_t, size_t)>& progress) {
   DatasetOptions options;
   options.split = "all";
   options.downscale = downscale;
+  const size_t passes = downscale > 1 ? 2 : 1;  // decoding, then writing the copies
+  if (progress) options.progress = [&](size_t done, size_t total) { progress(done, passes * total); };
   const Dataset d = Dataset::load((scene / "sparse" / "0").string(), options);
   const std::string folder = downscale > 1 ? "images_" + std::to_string(downscale) : "images";
   if (downscale > 1) fs::create_directories(scene / folder);
@@ -66,6 +69,7 @@ SceneBox writeTransforms(const fs::path& scene, uint32_t downscale) {
     if (downscale > 1) {
       file.replace_extension(".png");  // lossless: the copy is what training compares with
       nerf::savePng((scene / folder / file).string(), d.images[i]);
+      if (progress) progress(d.cameras.size() + i + 1, 2 * d.cameras.size());
     }
     nlohmann::json m = nlohmann::json::array();
     for (int r = 0; r < 4; ++r) m.push_back({c.c2w[4 * r], c.c2w[4 * r + 1], c.c2w[4 * r + 2], c.c2w[4 * r + 3]});

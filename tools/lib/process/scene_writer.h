@@ -11,6 +11,7 @@
 //   SCENE/colmap.log        the output of colmap (and ffmpeg)
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "vknerf/camera.h"
@@ -29,8 +30,10 @@ struct SceneBox {
 // Reads the COLMAP model in scene/sparse/0 the way `vknerf train` does and writes
 // scene/transforms.json with the same cameras and box (and scene/images_N/ for downscale N > 1, the
 // JSON then naming those with intrinsics divided by N, exactly as `vknerf train SCENE/sparse/0
-// --downscale N` would). Returns the box. Throws vknerf::Error.
-SceneBox writeTransforms(const std::filesystem::path& scene, uint32_t downscale);
+// --downscale N` would). Returns the box. Throws vknerf::Error. `progress`, when given, counts the
+// images decoded and then (downscale N > 1) the copies written: (done, total).
+SceneBox writeTransforms(const std::filesystem::path& scene, uint32_t downscale,
+                         const std::function<void(size_t done, size_t total)>& progress = {});
 
 // Throws vknerf::Error unless `target` is absent, an empty folder or a scene vknerf process wrote
 // (colmap.log and sparse/ in it): publishScene removes what it replaces, and anything else there

@@ -95,6 +95,29 @@ TEST(FileOutput, DepthColourMapToleratesNonFiniteDepthsAndRanges) {
   }
 }
 
+TEST(FileOutput, SheetDepthRangeSpansTheOpaquePixelsOfEveryView) {
+  // Two views: opaque depths 1..100 shared between them, a NaN among them, and transparent pixels
+  // at 1000 (the far field) that the range must not reach.
+  vknerf::RenderedImage a, b;
+  for (int d = 1; d <= 100; ++d) {
+    vknerf::RenderedImage& v = d % 2 ? a : b;
+    v.depth.push_back(float(d));
+    v.opacity.push_back(0.9f);
+    v.depth.push_back(1000.0f);
+    v.opacity.push_back(0.2f);
+  }
+  a.depth.push_back(std::numeric_limits<float>::quiet_NaN());
+  a.opacity.push_back(1.0f);
+  const auto range = vknerf::nerf::depthRangeOfOpaquePixels({&a, &b}, 0.05f);
+  ASSERT_TRUE(range.has_value());
+  EXPECT_FLOAT_EQ(range->nearDepth, 6.0f);   // the 5% quantile of 1..100: index 4.95 -> 5 -> depth 6
+  EXPECT_FLOAT_EQ(range->farDepth, 95.0f);   // index 94.05 -> 94 -> depth 95
+  vknerf::RenderedImage clear;
+  clear.depth = {1.0f, 2.0f};
+  clear.opacity = {0.1f, 0.4f};
+  EXPECT_FALSE(vknerf::nerf::depthRangeOfOpaquePixels({&clear}).has_value());
+}
+
 TEST(FileOutput, CsvFieldsAreQuotedPerRfc4180) {
   EXPECT_EQ(vknerf::nerf::csvField("r_0.png"), "r_0.png");
   EXPECT_EQ(vknerf::nerf::csvField("a,b"), "\"a,b\"");

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -42,6 +41,34 @@ std::vector<bool> sheetViews(size_t n, uint32_t wanted) {
   return chosen;
 }
 
+struct SheetView {
+  std::string label;
+  std::vector<float> truth;  // RGB, composited over the model's background
+  RenderedImage render;
+};
+
+// Depth coloured over what the views' opaque pixels span (1st to 99th percentile), one range for
+// the whole sheet so that rows compare: the range `vknerf render` takes from the scene box would
+// make a cup in a box around the room one colour. The box's range where no pixel is opaque.
+void writeSheet(const Options& o, const std::vector<SheetView>& views, const Model& model, const Dataset& data) {
+  std::vector<const RenderedImage*> renders;
+  for (const SheetView& v : views) renders.push_back(&v.render);
+  const nerf::DepthRange depth = nerf::depthRangeOfOpaquePixels(renders).value_or(
+      nerf::depthRangeFor(nerf::meanCameraDistance(data.cameras), model.bounds()));
+  char range[64], scale[64];
+  std::snprintf(range, sizeof range, "depth %.2f to %.2f", depth.nearDepth, depth.farDepth);
+  std::snprintf(scale, sizeof scale, "error 0 to %.2f", kSheetErrorScale);
+  nerf::ContactSheet sheet(std::array<std::string, 4>{"ground truth", "render", range, scale}, o.sheetSize);
+  for (const SheetView& v : views) {
+    const RenderedImage& img = v.render;
+    sheet.addRow(v.label, {nerf::rgbaOf({img.width, img.height, v.truth, {}, {}, {}}), nerf::rgbaOf(img),
+                           nerf::depthRgba(img, depth.nearDepth, depth.farDepth),
+                           nerf::errorRgba(img.rgb, v.truth, img.width, img.height, kSheetErrorScale)});
+  }
+  sheet.save(o.sheet);
+  std::printf("wrote %s: %zu views, ground truth | render | depth | error\n", o.sheet.c_str(), sheet.rows());
+}
+
 int run(const Options& o, const Globals& g) {
   // Before the evaluation: a report that cannot be written, or would replace an input, would lose it.
   CommandFiles files("eval");
@@ -58,16 +85,8 @@ int run(const Options& o, const Globals& g) {
   if (o.limit && n > o.limit) n = o.limit;
   nlohmann::json images = nlohmann::json::array();
   double sumPsnr = 0, sumSsim = 0, sumSeconds = 0;
-  // Depth coloured over the range `vknerf render` uses for these cameras.
-  const nerf::DepthRange depth = nerf::depthRangeFor(nerf::meanCameraDistance(data.cameras), model.bounds());
-  std::optional<nerf::ContactSheet> sheet;
   const std::vector<bool> onSheet = sheetViews(n, o.sheetViews);
-  if (!o.sheet.empty()) {
-    char range[64], scale[64];
-    std::snprintf(range, sizeof range, "depth %.2f to %.2f", depth.nearDepth, depth.farDepth);
-    std::snprintf(scale, sizeof scale, "error 0 to %.2f", kSheetErrorScale);
-    sheet.emplace(std::array<std::string, 4>{"ground truth", "render", range, scale}, o.sheetSize);
-  }
+  std::vector<SheetView> sheetViewsKept;  // drawn once their depths' range is known
   for (size_t i = 0; i < n; ++i) {
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = model.render(data.cameras[i], progressPrinter("rendering " + data.names[i] + ": pixels", true));
@@ -77,13 +96,10 @@ int run(const Options& o, const Globals& g) {
     sumPsnr += p, sumSsim += q, sumSeconds += s;
     images.push_back({{"name", data.names[i]}, {"psnr", p}, {"ssim", q}, {"seconds", s}});
     std::printf("%-40s PSNR %6.2f dB  SSIM %.4f  %.3f s\n", data.names[i].c_str(), p, q, s);
-    if (sheet && onSheet[i]) {
+    if (!o.sheet.empty() && onSheet[i]) {
       char label[64];
       std::snprintf(label, sizeof label, "  PSNR %.2f dB  SSIM %.3f", p, q);
-      sheet->addRow(std::filesystem::path(data.names[i]).filename().string() + label,
-                    {nerf::rgbaOf({img.width, img.height, gt, {}, {}, {}}), nerf::rgbaOf(img),
-                     nerf::depthRgba(img, depth.nearDepth, depth.farDepth),
-                     nerf::errorRgba(img.rgb, gt, img.width, img.height, kSheetErrorScale)});
+      sheetViewsKept.push_back({std::filesystem::path(data.names[i]).filename().string() + label, std::move(gt), std::move(img)});
     }
   }
   nlohmann::json result = {{"model", o.model}, {"scene", o.scene}, {"split", o.split}, {"count", n},
@@ -99,10 +115,7 @@ int run(const Options& o, const Globals& g) {
       f << nerf::csvField(im["name"].get<std::string>()) << "," << im["psnr"] << "," << im["ssim"] << "," << im["seconds"] << "\n";
     writeFileAtomically(o.csv, f.str());
   }
-  if (sheet) {
-    sheet->save(o.sheet);
-    std::printf("wrote %s: %zu views, ground truth | render | depth | error\n", o.sheet.c_str(), sheet->rows());
-  }
+  if (!o.sheet.empty()) writeSheet(o, sheetViewsKept, model, data);
   return 0;
 }
 

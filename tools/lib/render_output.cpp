@@ -42,6 +42,21 @@ DepthRange depthRangeFor(float cameraDistance, const Aabb& b) {
   return {std::max(cameraDistance - 0.5f * diag, 0.0f), cameraDistance + 0.5f * diag};
 }
 
+std::optional<DepthRange> depthRangeOfOpaquePixels(const std::vector<const RenderedImage*>& views, float share) {
+  std::vector<float> depths;
+  for (const RenderedImage* v : views)
+    for (size_t p = 0; p < v->depth.size() && p < v->opacity.size(); ++p)
+      if (v->opacity[p] >= 0.5f && std::isfinite(v->depth[p])) depths.push_back(v->depth[p]);
+  if (depths.empty()) return std::nullopt;
+  const auto at = [&](float q) {
+    const size_t k = std::min(depths.size() - 1, size_t(q * float(depths.size() - 1) + 0.5f));
+    std::nth_element(depths.begin(), depths.begin() + k, depths.end());
+    return depths[k];
+  };
+  const float nearDepth = at(share), farDepth = at(1.0f - share);
+  return DepthRange{nearDepth, std::max(farDepth, nearDepth + 1e-6f)};
+}
+
 ImageRGBA8 rgbaOf(const RenderedImage& img) {
   ImageRGBA8 out{img.width, img.height, std::vector<uint8_t>(size_t(img.width) * img.height * 4, 255)};
   for (size_t p = 0; p < size_t(img.width) * img.height; ++p)

@@ -3,6 +3,7 @@
 // floats (PFM, readable by most image tools and numpy in a few lines).
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,10 @@ struct DepthRange {
   float nearDepth = 0, farDepth = 1;
 };
 DepthRange depthRangeFor(float cameraDistance, const Aabb& box);
+// The range the depths of these views' opaque pixels (opacity >= 0.5) span, from their
+// `share`-quantile to their (1 - share)-quantile: a sheet of a few views reads its depths over what
+// they hold, where depthRangeFor's box may be a room around a cup. Empty when no pixel is opaque.
+std::optional<DepthRange> depthRangeOfOpaquePixels(const std::vector<const RenderedImage*>& views, float share = 0.01f);
 // The cameras' mean distance from the origin (0 for none): orbits and depth ranges centre on it.
 float meanCameraDistance(const std::vector<Camera>& cameras);
 // Depth mapped with the colour map over [nearDepth, farDepth]; transparent pixels black.

@@ -337,7 +337,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--samples-per-step", o->samplesPerStep, "fast: samples a training step aims for")->check(CLI::Range(256u, 1u << 26));
                      app.add_flag("--no-early-termination", o->noEarlyTermination, "fast: train on every marched sample, also behind opaque surfaces");
                      app.add_option("--distortion-loss", o->distortionLoss, "fast: weight of the distortion loss against fog and floaters (0: off; default 0.001 on a CPU)")->check(CLI::Range(0.0f, 100.0f));
-                     app.add_option("--far-field", o->farField, "fast: what rays see behind the scene box: learned (a colour per direction, trained), constant (white; random in training when the photos have alpha) or auto (learned when no training pixel has alpha)")->check(CLI::IsMember({"auto", "constant", "learned"}));
+                     app.add_option("--far-field", o->farField, "fast: what rays see behind the scene box: learned (a colour per direction, trained), constant (white in renders, a random colour behind each training ray) or auto (learned when no training pixel has alpha)")->check(CLI::IsMember({"auto", "constant", "learned"}));
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_option("--seed", o->seed, "Random seed");

@@ -4,7 +4,8 @@
 #   2. render test camera $CAMERA with `vknerf render` (the reference PNG);
 #   3. run vknerf-view under Xvfb on the same camera for 3 frames and take its screenshot;
 #   4. compare the two PNGs;
-#   5. the same for --train: the viewer trains two steps, shows the model, saves it; the CLI renders it.
+#   5. the same for --train: the viewer trains two steps, shows the model, saves it; the CLI renders it;
+#   6. a screenshot onto the model is refused and the model kept.
 # The viewer renders through Model::recordRender into a storage image and presents via the X11 WSI, so
 # this covers window, swapchain, adoption, the render, the blit and the readback.
 #
@@ -64,4 +65,14 @@ run viewer_train xvfb-run -a -s "-screen 0 640x480x24" "$BUILD/vknerf-view" "$WO
 grep "frame time" "$WORK/viewer_train.log"
 run render_trained "$BUILD/vknerf" render "$WORK/trained.vknerf" "$SCENE" --downscale 4 --limit 1 -o "$WORK/cli_trained"
 "$BUILD/vknerf-png-diff" "$WORK/train_shot.png" "$WORK/cli_trained/rgb_0000.png" --max-mean "$MAX_MEAN"
+# A screenshot onto the model (through a symlink) is refused before any window opens; the model is kept.
+cp "$WORK/tiny.vknerf" "$WORK/tiny.copy"
+ln -s "$WORK/tiny.vknerf" "$WORK/link.png"
+set +e
+"$BUILD/vknerf-view" "$WORK/tiny.vknerf" --frames 1 --screenshot "$WORK/link.png" >"$WORK/clash.log" 2>&1
+code=$?
+set -e
+if [ $code -ne 2 ] || ! grep -q "is the model" "$WORK/clash.log" || ! cmp -s "$WORK/tiny.vknerf" "$WORK/tiny.copy"; then
+  cat "$WORK/clash.log"; echo "FAIL: --screenshot onto the model: exit $code (2 due), the model must be kept"; exit 1
+fi
 echo "PASS: viewer screenshots match vknerf render (loaded model, test camera $CAMERA; --train, camera 0) in $((SECONDS - start)) s"

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +25,7 @@
 #include "vknerf/context.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
+#include "vknerf/file_output.h"
 #include "vknerf/trainer.h"
 #include "window_device.h"
 
@@ -297,7 +299,16 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
+  // The screenshot never replaces the model or a scene's file, whatever path names it (a link too).
+  for (const auto& [path, what] : {std::pair{o.model, "the model"}, {o.scene, "the scene"}, {o.trainScene, "the --train scene"}}) {
+    std::error_code ec;
+    if (!o.screenshot.empty() && !path.empty() && std::filesystem::equivalent(o.screenshot, path, ec)) {
+      std::fprintf(stderr, "vknerf-view: --screenshot %s is %s %s; choose another output\n", o.screenshot.c_str(), what, path.c_str());
+      return 2;
+    }
+  }
   try {
+    if (!o.screenshot.empty()) vknerf::checkOutputPath(o.screenshot, "--screenshot");
     return viewer::run(o);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "vknerf-view: %s\n", e.what());

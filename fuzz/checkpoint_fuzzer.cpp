@@ -4,7 +4,7 @@
 #include <cstring>
 #include <vector>
 
-#include "io/checkpoint.h"
+#include "io/checkpoint/checkpoint.h"
 #include "scratch_folder.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "io/checkpoint.h"
-#include "io/config_json.h"
-#include "io/image_io.h"
+#include "io/checkpoint/checkpoint.h"
+#include "io/checkpoint/config_json.h"
+#include "io/image/image_io.h"
 #include "scratch_folder.h"
 #include "support/colmap_model_files.h"
 #include "support/llff_files.h"

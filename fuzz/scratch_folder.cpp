@@ -7,7 +7,7 @@
 #include <fstream>
 #include <vector>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 
 namespace vknerf::fuzz {
 

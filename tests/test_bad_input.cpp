@@ -19,8 +19,8 @@
 #include <nlohmann/json.hpp>
 
 #include "support/cli_run.h"
-#include "io/checkpoint.h"
-#include "io/image_io.h"
+#include "io/checkpoint/checkpoint.h"
+#include "io/image/image_io.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;

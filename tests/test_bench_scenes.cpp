@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "lib/bench/run_plan.h"
 #include "lib/bench/run_reports.h"
 #include "lib/bench/scene_table.h"

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "io/checkpoint.h"
+#include "io/checkpoint/checkpoint.h"
 #include "lib/metrics.h"
 #include "support/temp_dir.h"
 #include "vknerf/error.h"

@@ -4,7 +4,7 @@
 
 #include <limits>
 
-#include "io/config_json.h"
+#include "io/checkpoint/config_json.h"
 #include "vknerf/error.h"
 
 namespace vknerf {

@@ -205,7 +205,7 @@ TEST_F(DatasetImage, TruncatedJpegIsRefusedNotDecodedAsGrey) {
 }
 
 // An empty IDAT chunk ahead of the image data is valid PNG; stb_image 2.27 copies it with
-// memcpy(NULL, p, 0) (found by fuzz/image_fuzzer.cpp, see src/io/stb_implementation.cpp).
+// memcpy(NULL, p, 0) (found by fuzz/image_fuzzer.cpp, see src/io/image/stb_implementation.cpp).
 TEST_F(DatasetImage, PngWithAnEmptyDataChunkLoads) {
   ImageRGBA8 img = patternImage(5, 3, 1);
   auto png = nerf::encodePng(img.width, img.height, 4, img.rgba.data());

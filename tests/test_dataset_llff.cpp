@@ -10,8 +10,8 @@
 #include <random>
 
 #include "gpu/buffer.h"
-#include "io/dataset_loaders.h"
-#include "io/image_io.h"
+#include "io/dataset/dataset_loaders.h"
+#include "io/image/image_io.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/rays.h"
 #include "support/cli_run.h"

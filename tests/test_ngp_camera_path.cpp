@@ -9,7 +9,7 @@
 #include <numbers>
 #include <string>
 
-#include "io/ngp_camera_path.h"
+#include "io/camera_path/ngp_camera_path.h"
 #include "support/cli_run.h"
 #include "support/dataset_files.h"
 #include "support/error_message.h"

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "lib/process/colmap_log.h"
 #include "lib/process/process.h"
 #include "lib/process/report.h"

@@ -5,7 +5,7 @@
 #include "support/gpu_test.h"
 #include "support/temp_dir.h"
 #include "support/tiny_config.h"
-#include "io/checkpoint.h"
+#include "io/checkpoint/checkpoint.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
 

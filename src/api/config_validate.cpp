@@ -1,5 +1,5 @@
 // TrainConfig::validate: one check of a configuration's fields, for flags and checkpoints alike.
-// Field names are the checkpoint's keys (src/io/config_json.cpp), so a message points into the file.
+// Field names are the checkpoint's keys (src/io/checkpoint/config_json.cpp), so a message points into the file.
 #include <cmath>
 #include <cstdio>
 #include <variant>

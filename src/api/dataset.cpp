@@ -10,9 +10,9 @@
 #include <mutex>
 #include <thread>
 
-#include "io/dataset_loaders.h"
-#include "io/image_io.h"
-#include "io/memory_fit.h"
+#include "io/dataset/dataset_loaders.h"
+#include "io/image/image_io.h"
+#include "io/dataset/memory_fit.h"
 #include "vknerf/error.h"
 
 namespace vknerf {

@@ -10,9 +10,9 @@
 #include <utility>
 
 #include "gpu/recorder.h"
-#include "io/checkpoint.h"
-#include "io/config_json.h"
-#include "io/memory_fit.h"
+#include "io/checkpoint/checkpoint.h"
+#include "io/checkpoint/config_json.h"
+#include "io/dataset/memory_fit.h"
 #include "api/fast_capacity.h"
 #include "api/model_impl.h"
 #include "nerf/loss/photometric_loss.h"

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "io/colmap_camera.h"
+#include "io/colmap/colmap_camera.h"
 
 namespace vknerf::test {
 

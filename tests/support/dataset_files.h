@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "support/temp_dir.h"
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"

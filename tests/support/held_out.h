@@ -3,7 +3,7 @@
 // views (their mean), which is what a model that learned nothing about geometry approaches.
 #include <vector>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "lib/metrics.h"
 #include "vknerf/trainer.h"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 
 namespace vknerf::test {
 namespace {

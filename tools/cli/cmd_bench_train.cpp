@@ -10,7 +10,7 @@
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "lib/csv.h"
 #include "lib/metrics.h"
 #include "vknerf/dataset.h"

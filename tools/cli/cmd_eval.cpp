@@ -11,7 +11,7 @@
 #include "command_files.h"
 #include "command.h"
 #include "progress.h"
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "lib/contact_sheet.h"
 #include "lib/csv.h"
 #include "lib/metrics.h"

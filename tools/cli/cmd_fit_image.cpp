@@ -14,7 +14,7 @@
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "lib/fit_image.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"

@@ -17,7 +17,7 @@
 #include "command.h"
 #include "progress.h"
 #include "step_profile_report.h"
-#include "io/config_json.h"
+#include "io/checkpoint/config_json.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "vknerf/error.h"
 
 namespace fs = std::filesystem;

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"

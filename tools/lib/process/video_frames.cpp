@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "lib/process/input_images.h"
 #include "lib/process/sharpness.h"
 #include "lib/process/subprocess.h"

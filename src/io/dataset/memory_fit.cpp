@@ -1,4 +1,4 @@
-#include "io/memory_fit.h"
+#include "io/dataset/memory_fit.h"
 
 #include <unistd.h>
 

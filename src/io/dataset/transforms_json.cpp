@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "io/dataset_loaders.h"
-#include "io/json_file.h"
+#include "io/dataset/dataset_loaders.h"
+#include "io/file/json_file.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {

@@ -16,7 +16,7 @@
 #include <iterator>
 #include <type_traits>
 
-#include "io/colmap_model.h"
+#include "io/colmap/colmap_model.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {

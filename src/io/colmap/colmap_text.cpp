@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/colmap_model.h"
+#include "io/colmap/colmap_model.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {

@@ -1,4 +1,4 @@
-#include "io/config_json.h"
+#include "io/checkpoint/config_json.h"
 
 #include "vknerf/error.h"
 

@@ -1,5 +1,5 @@
 // COLMAP camera models: https://colmap.github.io/cameras.html lists the parameter order of each.
-#include "io/colmap_camera.h"
+#include "io/colmap/colmap_camera.h"
 
 #include <algorithm>
 #include <cmath>

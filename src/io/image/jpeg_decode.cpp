@@ -1,4 +1,4 @@
-#include "io/jpeg_decode.h"
+#include "io/image/jpeg_decode.h"
 
 #include <turbojpeg.h>
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/json_file.h"
+#include "io/file/json_file.h"
 #include "vknerf/camera_path.h"
 
 namespace vknerf::nerf::detail {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <utility>
 
-#include "io/dataset_loaders.h"
+#include "io/dataset/dataset_loaders.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {

@@ -1,5 +1,5 @@
 // Camera paths (vknerf/camera_path.h): the format told apart by content, and nerfstudio's reader
-// (instant-ngp's is io/ngp_camera_path.cpp). nerfstudio's poses are camera-to-world in the OpenGL
+// (instant-ngp's is io/camera_path/ngp_camera_path.cpp). nerfstudio's poses are camera-to-world in the OpenGL
 // convention, as vknerf's, and its fov is vertical, in degrees (ns-render turns it into the focal
 // length (H / 2) / tan(fov / 2)).
 #include "vknerf/camera_path.h"
@@ -7,9 +7,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/dataset_loaders.h"
-#include "io/json_file.h"
-#include "io/ngp_camera_path.h"
+#include "io/dataset/dataset_loaders.h"
+#include "io/file/json_file.h"
+#include "io/camera_path/ngp_camera_path.h"
 #include "vknerf/error.h"
 
 namespace vknerf {

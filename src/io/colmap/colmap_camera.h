@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/dataset_loaders.h"
+#include "io/dataset/dataset_loaders.h"
 
 namespace vknerf::nerf::detail {
 

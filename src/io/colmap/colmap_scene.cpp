@@ -7,7 +7,7 @@
 // +0.5 exactly as in vknerf's rays and the principal point carries over unchanged.
 #include <algorithm>
 
-#include "io/colmap_model.h"
+#include "io/colmap/colmap_model.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {

@@ -1,4 +1,4 @@
-#include "io/json_file.h"
+#include "io/file/json_file.h"
 
 #include <algorithm>
 #include <cerrno>

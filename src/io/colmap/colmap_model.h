@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "io/colmap_camera.h"
-#include "io/dataset_loaders.h"
+#include "io/colmap/colmap_camera.h"
+#include "io/dataset/dataset_loaders.h"
 
 namespace vknerf::nerf::detail {
 

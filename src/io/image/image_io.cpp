@@ -1,4 +1,4 @@
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "io/jpeg_decode.h"
+#include "io/image/jpeg_decode.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 

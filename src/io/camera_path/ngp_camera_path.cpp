@@ -1,8 +1,8 @@
-// instant-ngp's camera path (io/ngp_camera_path.h). Every convention here follows instant-ngp's own
+// instant-ngp's camera path (io/camera_path/ngp_camera_path.h). Every convention here follows instant-ngp's own
 // sources: CameraKeyframe and CameraPath::eval_camera_path (camera_path.h / camera_path.cu), the
 // dataset's scale and offset and ngp_matrix_to_nerf (nerf_loader.cu / nerf_loader.h), the vertical
 // fov (Testbed::set_fov with the default fov axis 1) and run.py's frame times.
-#include "io/ngp_camera_path.h"
+#include "io/camera_path/ngp_camera_path.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <numbers>
 
-#include "io/dataset_loaders.h"
+#include "io/dataset/dataset_loaders.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {

@@ -4,7 +4,7 @@
 //   {'descr': '<f8', 'fortran_order': False, 'shape': (20, 17), }
 // padded with spaces and ended by a newline. It is parsed by hand, as strictly as numpy writes it:
 // the three keys once each, nothing else.
-#include "io/npy.h"
+#include "io/llff/npy.h"
 
 #include <algorithm>
 #include <bit>

@@ -14,8 +14,8 @@
 #include <cctype>
 #include <cstdio>
 
-#include "io/dataset_loaders.h"
-#include "io/npy.h"
+#include "io/dataset/dataset_loaders.h"
+#include "io/llff/npy.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf::detail {

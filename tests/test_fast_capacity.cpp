@@ -1,11 +1,11 @@
-// The fast model's capacity from the data (src/api/fast_capacity.h): the finest hash resolution from
+// The fast model's capacity from the data (src/models/fast/fast_capacity.h): the finest hash resolution from
 // the cameras' pixel footprint over the inner cube, the table from the training pixels and the box
 // in view, where rays start, the caps of a CPU device, and explicit settings kept.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "api/fast_capacity.h"
+#include "models/fast/fast_capacity.h"
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"
 

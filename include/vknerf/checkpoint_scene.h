@@ -15,4 +15,8 @@ namespace vknerf {
 // same, and the training images' size, which there must match.
 void checkTrainedOn(const std::string& checkpoint, const Dataset& scene, const DatasetOptions& options);
 
+// Whether the file at `path` begins as a checkpoint does (its magic); false when it cannot be read.
+// The checkpoint's contents are not checked: Model::load and Trainer::resume do that.
+bool looksLikeCheckpoint(const std::string& path);
+
 }  // namespace vknerf

@@ -62,7 +62,7 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
   m.hashFeatures = 2;
   m.hashBaseResolution = 16;
   // The table size and the finest resolution (through the growth factor) follow the training data:
-  // 0 leaves them to the Trainer (src/api/fast_capacity.h).
+  // 0 leaves them to the Trainer (src/models/fast/fast_capacity.h).
   m.hashLog2Size = 0;
   m.hashGrowth = 0;
   m.gridResolution = 128;
@@ -82,7 +82,7 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     // scene (45 s budgets, held-out PSNR): 128 march steps per diagonal beat 256 (+1.5 dB: half the
     // samples per ray, twice the rays), 2^14 samples per step beat 2^15 and 2^16 (more, cheaper
     // steps), and a 2^15-entry table per level matched 2^17 at a third of the Adam cost (the
-    // capacity rule of src/api/fast_capacity.h gives the sample scene that table and 256 cells).
+    // capacity rule of src/models/fast/fast_capacity.h gives the sample scene that table and 256 cells).
     m.hashLevels = 8;
     m.gridResolution = 64;
     m.marchSteps = 128;

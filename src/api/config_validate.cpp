@@ -62,7 +62,7 @@ void validateModel(const FastModel& m) {
   density("model.density", m.density);
   inRange("model.hash_levels", m.hashLevels, 1, 32);
   inRange("model.hash_features", m.hashFeatures, 1, 8);
-  // 0: from the dataset (src/api/fast_capacity.h)
+  // 0: from the dataset (src/models/fast/fast_capacity.h)
   if (m.hashLog2Size != 0) inRange("model.hash_log2_size", m.hashLog2Size, 2, 26);
   inRange("model.hash_base_resolution", m.hashBaseResolution, 1, 65536);
   if (m.hashGrowth != 0) inRange("model.hash_growth", m.hashGrowth, 1.0, 16.0, false);

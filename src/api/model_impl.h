@@ -1,10 +1,10 @@
 #pragma once
-// Model's insides, shared by the files that implement it (trainer.cpp: loading, host rendering;
-// model_record.cpp: rendering into a caller's command buffer).
+// Model's insides, shared by the files that implement it (model.cpp: loading, host rendering;
+// model_record.cpp: rendering into a caller's command buffer; trainer.cpp: the model it trains).
 #include <memory>
 
 #include "models/field_pipeline.h"
-#include "vknerf/trainer.h"
+#include "vknerf/model.h"
 
 namespace vknerf {
 
@@ -16,7 +16,12 @@ struct RecordState;
 struct RecordStateDeleter {
   void operator()(RecordState* s) const;
 };
+struct Checkpoint;
 }  // namespace nerf
+
+// Uploads the arrays of `ck` into the pipeline's state (model.cpp). A checksum proves the bytes are
+// as written, not that they are a model: throws vknerf::Error for a non-finite parameter.
+void uploadState(const nerf::Checkpoint& ck, nerf::FieldPipeline& pipe);
 
 struct Model::Impl {
   std::shared_ptr<Context> ctx;

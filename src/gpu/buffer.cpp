@@ -37,7 +37,7 @@ std::string mebibytes(uint64_t bytes) {
                     " bytes)";
   if (auto account = MemoryAccount::current(); account && account->bytes() > 0)
     msg += " with " + mebibytes(account->bytes()) + " allocated for the same model before it";
-  throw Error(msg + ": " + resultName(r));
+  throw OutOfMemoryError(msg + ": " + resultName(r));
 }
 
 Raw allocate(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemoryPropertyFlags want,

@@ -17,7 +17,8 @@
 #include "nerf/occupancy/occupancy_grid.h"
 #include "vknerf/camera.h"
 #include "vknerf/config.h"
-#include "vknerf/trainer.h"
+#include "vknerf/model_statistics.h"
+#include "vknerf/render_settings.h"
 
 namespace vknerf::nerf {
 

@@ -18,6 +18,7 @@
 #include "progress.h"
 #include "step_profile_report.h"
 #include "io/checkpoint/config_json.h"
+#include "vknerf/checkpoint_scene.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -148,13 +149,9 @@ void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
 // Only a checkpoint (or an empty file) may be replaced by one: anything else at the output path is
 // someone's data, and overwriting it is never what was meant.
 void checkReplaceable(const std::string& output) {
-  std::ifstream in(output, std::ios::binary);
-  if (!in) return;
-  char magic[8] = {};
-  in.read(magic, 8);
-  if (in.gcount() == 0) return;
-  if (in.gcount() < 8 || std::string(magic, 8) != "VKNERFCK")
-    throw Error("model " + output + ": exists and is not a vknerf checkpoint; refusing to overwrite it");
+  std::error_code ec;
+  if (!std::filesystem::exists(output, ec) || std::filesystem::is_empty(output, ec) || looksLikeCheckpoint(output)) return;
+  throw Error("model " + output + ": exists and is not a vknerf checkpoint; refusing to overwrite it");
 }
 
 int run(const Options& o, const Globals& g) {
@@ -236,10 +233,8 @@ int train(const Options& o, const Globals& g) {
   std::optional<Trainer> built;
   try {
     built.emplace(ctx, std::move(data), cfg);  // the host copy goes as the device's fills
-  } catch (const Error& e) {
-    const std::string why = e.what();
-    if (why.find("OUT_OF_DEVICE_MEMORY") == std::string::npos && why.find("OUT_OF_HOST_MEMORY") == std::string::npos) throw;
-    throw Error(why + " while building the model for " + std::to_string(cfg.raysPerBatch) +
+  } catch (const OutOfMemoryError& e) {
+    throw Error(std::string(e.what()) + " while building the model for " + std::to_string(cfg.raysPerBatch) +
                 " rays per batch; lower --rays" + (cfg.isFast() ? " or --samples-per-step" : "") + " or raise --downscale");
   }
   Trainer& trainer = *built;

@@ -46,6 +46,13 @@ struct Reader {
 
 }  // namespace
 
+bool Checkpoint::startsWithMagic(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  return in.gcount() == 8 && std::memcmp(magic, kMagic, 8) == 0;
+}
+
 uint64_t fnv1a(const uint8_t* data, size_t n, uint64_t h) {
   for (size_t i = 0; i < n; ++i) h = (h ^ data[i]) * 1099511628211ull;
   return h;

@@ -33,6 +33,8 @@ struct Checkpoint {
 
   void save(const std::string& path) const;
   static Checkpoint load(const std::string& path);
+  // Whether the file at `path` begins as a checkpoint does (false when it cannot be read).
+  static bool startsWithMagic(const std::string& path);
   // The file's bytes already in memory; `path` names it in messages.
   static Checkpoint parse(const uint8_t* data, size_t size, const std::string& path);
 

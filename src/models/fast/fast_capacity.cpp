@@ -1,4 +1,4 @@
-#include "api/fast_capacity.h"
+#include "models/fast/fast_capacity.h"
 
 #include <algorithm>
 #include <cmath>

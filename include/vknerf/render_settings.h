@@ -1,0 +1,15 @@
+#pragma once
+// Sampling when rendering a loaded model (Model::load); 0 keeps what the model was trained with.
+#include <cstdint>
+
+namespace vknerf {
+
+struct RenderSettings {
+  uint32_t coarseSamples = 0, fineSamples = 0;  // vanilla: stratified + importance samples per ray
+  uint32_t marchSteps = 0;                      // fast: march steps per scene-box diagonal
+  // fast: a ray stops once its transmittance is below this (what lies behind adds less than that
+  // times its colour); 0 shades every sample the march finds. In [0, 1).
+  float minTransmittance = 1e-4f;
+};
+
+}  // namespace vknerf

@@ -1,0 +1,88 @@
+// Model: loading a checkpoint and rendering a view on the host (model_record.cpp records a view
+// into a caller's command buffer).
+#include "vknerf/model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "api/model_impl.h"
+#include "gpu/recorder.h"
+#include "io/checkpoint/checkpoint.h"
+#include "io/checkpoint/checkpoint_record.h"
+#include "nerf/rays/rays.h"
+#include "vknerf/error.h"
+
+namespace vknerf {
+
+RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(uint64_t, uint64_t)>& progress) const {
+  if (cam.width == 0 || cam.height == 0) throw Error("render: camera has an empty image size");
+  if (!(cam.fx > 0) || !(cam.fy > 0)) throw Error("render: camera focal length must be positive");
+  Context& c = *ctx;
+  auto packed = nerf::packCameras(std::span<const Camera>(&cam, 1));
+  auto camBuf = gpu::Buffer::of(c, packed);
+  const uint32_t total = cam.width * cam.height, cap = pipe->rayCapacity();
+  RenderedImage img;
+  img.width = cam.width;
+  img.height = cam.height;
+  img.rgb.resize(size_t(total) * 3);
+  img.depth.resize(total);
+  img.opacity.resize(total);
+  img.background.resize(size_t(total) * 3);
+  gpu::Recorder rec(c);
+  for (uint32_t first = 0; first < total; first += cap) {
+    const uint32_t n = std::min(cap, total - first);
+    rec.begin();
+    pipe->recordRender(rec, camBuf, 0, first, n, config.background, true);
+    rec.end();
+    rec.submitAndWait();
+    auto color = pipe->color().download<float>(size_t(n) * 4);
+    auto depth = pipe->depth().download<float>(n);
+    auto background = pipe->backgrounds().download<float>(size_t(n) * 4);
+    for (uint32_t i = 0; i < n; ++i) {
+      const size_t p = first + i;
+      for (int k = 0; k < 3; ++k) img.rgb[p * 3 + k] = color[i * 4 + k], img.background[p * 3 + k] = background[i * 4 + k];
+      const float o = color[i * 4 + 3];
+      img.opacity[p] = o;
+      img.depth[p] = o > 1e-4f ? depth[i] / o : 0.0f;
+    }
+    if (progress) progress(first + n, total);
+  }
+  return img;
+}
+
+Model::Model(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Model::~Model() = default;
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+const TrainConfig& Model::config() const { return impl_->config; }
+const Aabb& Model::bounds() const { return impl_->box; }
+RenderedImage Model::render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const {
+  return impl_->render(camera, progress);
+}
+
+// A NaN or infinite parameter would render as garbage (or crash the depth writer) without a word.
+void uploadState(const nerf::Checkpoint& ck, nerf::FieldPipeline& pipe) {
+  for (const nerf::StateArray& a : pipe.state()) {
+    auto values = ck.get<float>(a.name, a.count);
+    for (size_t i = 0; a.numbers && i < values.size(); ++i)
+      if (!std::isfinite(values[i]))
+        throw Error(ck.path + ": checkpoint section '" + a.name + "' holds a non-finite value at index " + std::to_string(i));
+    a.buffer->upload(values);
+  }
+  pipe.stateLoaded();
+}
+
+Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const RenderSettings& settings) {
+  auto ck = nerf::Checkpoint::load(path);
+  const nerf::CheckpointRecord record(ck);
+  auto impl = std::make_unique<Impl>();
+  impl->ctx = ctx;
+  impl->config = record.config();
+  impl->box = record.bounds();
+  impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false, settings);
+  impl->pipe = impl->own.get();
+  uploadState(ck, *impl->pipe);
+  return Model(std::move(impl));
+}
+
+}  // namespace vknerf

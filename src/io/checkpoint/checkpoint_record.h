@@ -1,0 +1,56 @@
+#pragma once
+// The JSON record a checkpoint carries besides its arrays: the format, the training configuration,
+// the step, the scene box and the scene it was trained on (camera count and first image's size).
+// The one place that knows its layout: the Trainer writes it, Model::load, Trainer::resume and
+// checkTrainedOn read it. Every field is read when asked, so a checkpoint written before the
+// scene record (the box alone) still loads; a missing or mistyped field throws vknerf::Error
+// naming the file and the field.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "io/checkpoint/checkpoint.h"
+#include "vknerf/camera.h"
+#include "vknerf/config.h"
+
+namespace vknerf::nerf {
+
+// The training set a checkpoint was fitted to, as recorded.
+struct SceneRecord {
+  uint32_t cameras = 0, width = 0, height = 0;
+};
+
+// What a scene shows of itself for the checks against a checkpoint's record.
+struct SceneFacts {
+  Aabb box;
+  float boxTolerance = 1e-4f;  // float printing precision
+  std::optional<uint32_t> cameras;                          // the training split's camera count
+  std::optional<std::pair<uint32_t, uint32_t>> imageSize;  // its first image's size
+};
+
+class CheckpointRecord {
+ public:
+  // The record's text, as Checkpoint::config stores it.
+  static std::string write(const TrainConfig& config, uint32_t step, const Aabb& bounds, const SceneRecord& scene);
+  // Parses the record of `ck` (loaded from ck.path).
+  explicit CheckpointRecord(const Checkpoint& ck);
+
+  TrainConfig config() const;
+  // Whether `config` trains the same model as the recorded one (the model part of the
+  // configuration, as stored, is the same; training settings may differ).
+  bool sameModel(const TrainConfig& config) const;
+  Aabb bounds() const;
+  uint32_t step() const;
+  // Weights fitted to another scene would train or render inside this scene's box: throws naming
+  // the checkpoint when `scene` is not the one it was trained on.
+  void checkScene(const SceneFacts& scene) const;
+
+ private:
+  std::string path_;
+  nlohmann::json j_;
+};
+
+}  // namespace vknerf::nerf

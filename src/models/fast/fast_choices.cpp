@@ -1,0 +1,34 @@
+#include "models/fast/fast_choices.h"
+
+#include <cmath>
+
+#include "models/fast/fast_capacity.h"
+#include "vknerf/error.h"
+
+namespace vknerf::nerf {
+
+uint32_t cascadesFor(float aabbScale) {
+  uint32_t c = 1;
+  constexpr uint32_t kMaxCascades = 8;  // as TrainConfig::validate allows
+  while (c < kMaxCascades && std::ldexp(1.0f, int(c - 1)) < aabbScale) ++c;
+  return c;
+}
+
+std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevice, bool transparentPixels) {
+  if (model.cascades == 0) model.cascades = cascadesFor(train.aabbScale);
+  std::string note = resolveFastCapacity(model, train, cpuDevice);
+  // Photos without alpha leave what lies behind the scene box to the model: a learned far field.
+  if (model.farField == FarField::Auto) {
+    model.farField = transparentPixels ? FarField::Constant : FarField::Learned;
+    note += std::string(note.empty() ? "" : "\n") + "far field: " +
+            (transparentPixels ? "constant (the photos have alpha)" : "learned (the photos have no alpha)");
+  }
+  // Where a photo is transparent its target is composited over the background: a learned one would
+  // be fitted to itself there.
+  if (model.farField == FarField::Learned && transparentPixels)
+    throw Error("model.far_field learned needs opaque photos, and some training pixel has alpha < 255 "
+                "(use the far field auto or constant)");
+  return note;
+}
+
+}  // namespace vknerf::nerf

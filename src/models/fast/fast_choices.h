@@ -1,0 +1,21 @@
+#pragma once
+// What the fast model decides for itself from the training set, where its configuration leaves a
+// choice open: the occupancy cascades from the scene's aabb_scale, the capacity (fast_capacity.h),
+// and the far field from whether the photos have alpha. The Trainer calls it once, before the
+// model is built; the model's configuration then holds every choice, so a checkpoint records them.
+#include <string>
+
+#include "vknerf/config.h"
+#include "vknerf/dataset.h"
+
+namespace vknerf::nerf {
+
+// instant-ngp's cascades for an aabb_scale: enough doublings of the inner cube to reach the box.
+uint32_t cascadesFor(float aabbScale);
+
+// Fills what `model` leaves open; `transparentPixels`: some training pixel has alpha < 255.
+// Returns the lines that say what was chosen and why (empty when nothing was open). Throws
+// vknerf::Error for a learned far field over transparent photos.
+std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevice, bool transparentPixels);
+
+}  // namespace vknerf::nerf

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "vknerf/camera.h"
-#include "vknerf/trainer.h"
+#include "vknerf/rendered_image.h"
 
 namespace vknerf {
 

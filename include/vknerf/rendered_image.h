@@ -1,0 +1,18 @@
+#pragma once
+// A view rendered on the host (Model::render): colour, depth, opacity and the background behind it.
+#include <cstdint>
+#include <vector>
+
+namespace vknerf {
+
+struct RenderedImage {
+  uint32_t width = 0, height = 0;
+  std::vector<float> rgb;      // 3 per pixel, composited over the background
+  std::vector<float> depth;    // expected depth sum w_i t_i / opacity (0 where opacity is ~0)
+  std::vector<float> opacity;  // 1 - T_final
+  // 3 per pixel: the colour behind the field that rgb is composited over (a learned far field's
+  // colour in the pixel's direction, else the constant background); empty in images made by hand.
+  std::vector<float> background;
+};
+
+}  // namespace vknerf

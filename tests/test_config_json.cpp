@@ -2,9 +2,13 @@
 // before a key existed reads as what it was then.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
+#include <set>
 
 #include "io/checkpoint/config_json.h"
+#include "support/error_message.h"
+#include "vknerf/config_fields.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -81,6 +85,113 @@ TEST(ConfigJson, FarFieldRoundTripsAndDefaultsToConstantForOldModels) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.vknerf"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("model.far_field"), std::string::npos) << e.what();
+  }
+}
+
+// A checkpoint's configuration keeps the keys of the first format where older builds and older
+// checkpoints expect them: the model's own under "model", the fast model's training fields at the
+// top level. (Keys added later may be anywhere.)
+TEST(ConfigJson, TheFirstFormatsKeysStayWhereTheyWere) {
+  const auto keys = [](const nlohmann::json& j) {
+    std::set<std::string> k;
+    for (const auto& [key, value] : j.items()) k.insert(key);
+    return k;
+  };
+  const auto has = [](const std::set<std::string>& all, const std::set<std::string>& some) {
+    return std::includes(all.begin(), all.end(), some.begin(), some.end());
+  };
+  const std::set<std::string> common = {"background", "beta1", "beta2", "decay_steps", "epsilon", "lr", "lr_final",
+                                        "model", "random_background", "rays_per_batch", "seed"};
+  const nlohmann::json vanilla = nerf::toJson(TrainConfig{}), fast = nerf::toJson(fastConfig(16));
+  EXPECT_TRUE(has(keys(vanilla), common)) << vanilla.dump();
+  EXPECT_TRUE(has(keys(vanilla["model"]), {"name", "width", "depth", "skip_layer", "pos_levels", "dir_levels", "density",
+                                           "coarse_samples", "fine_samples", "separate_fine"}))
+      << vanilla.dump();
+  EXPECT_TRUE(has(keys(fast), common)) << fast.dump();
+  EXPECT_TRUE(has(keys(fast), {"samples_per_batch", "grid_update_interval", "grid_warmup_steps", "hash_lr_scale",
+                               "early_termination", "distortion_loss"}))
+      << fast.dump();
+  EXPECT_TRUE(has(keys(fast["model"]), {"name", "width", "depth", "feature_width", "density", "hash_levels",
+                                        "hash_features", "hash_log2_size", "hash_base_resolution", "hash_growth",
+                                        "sh_degree", "grid_resolution", "cascades", "cone_angle", "near_distance",
+                                        "march_steps", "max_samples_per_ray", "far_field"}))
+      << fast.dump();
+  EXPECT_EQ(vanilla["model"]["name"], "vanilla");
+  EXPECT_EQ(fast["model"]["name"], "fast");
+  EXPECT_EQ(fast["model"]["far_field"], "auto");                                // by name
+  EXPECT_EQ(fast["model"]["density"], uint32_t(DensityActivation::TruncExp));  // by number
+}
+
+// A fast model saved by the first format (its keys only) loads as it trained then.
+TEST(ConfigJson, AFastModelOfTheFirstFormatLoads) {
+  const TrainConfig defaults = fastConfig(16);
+  auto j = nerf::toJson(defaults);
+  for (const char* later : {"feature_width", "hash_levels", "hash_features", "hash_log2_size", "hash_base_resolution",
+                            "hash_growth", "sh_degree", "grid_resolution", "cascades", "cone_angle", "near_distance",
+                            "march_steps", "max_samples_per_ray", "far_field"})
+    j["model"].erase(later);
+  for (const char* later : {"samples_per_batch", "grid_update_interval", "grid_warmup_steps", "hash_lr_scale",
+                            "early_termination", "distortion_loss"})
+    j.erase(later);
+  const FastModel m = nerf::trainConfigFromJson(j, "first.vknerf").fastModel();
+  EXPECT_EQ(m.featureWidth, 0u);  // the whole width
+  EXPECT_EQ(m.cascades, 1u);
+  EXPECT_EQ(m.nearDistance, 0.0f);
+  EXPECT_EQ(m.distortionLoss, 0.0f);
+  EXPECT_EQ(m.farField, FarField::Constant);
+  EXPECT_EQ(m.hashLevels, defaults.fastModel().hashLevels);
+  EXPECT_EQ(m.coneAngle, defaults.fastModel().coneAngle);
+  EXPECT_EQ(m.samplesPerBatch, defaults.fastModel().samplesPerBatch);
+}
+
+// Every key of the first format is needed: without one, or with one of the wrong type, the message
+// names the file and the key.
+TEST(ConfigJson, AMissingOrMistypedFirstFormatKeyNamesFileAndKey) {
+  for (const TrainConfig& c : {TrainConfig{}, fastConfig(16)}) {
+    const auto j = nerf::toJson(c);
+    for (const char* key : {"lr", "seed", "background"}) {
+      auto broken = j;
+      broken.erase(key);
+      const std::string message = test::errorOf([&] { nerf::trainConfigFromJson(broken, "old.vknerf"); });
+      EXPECT_MESSAGE_HAS(message, "old.vknerf: checkpoint config: ");
+      EXPECT_MESSAGE_HAS(message, std::string("key '") + key + "' not found");
+    }
+    auto broken = j;
+    broken["model"].erase("width");
+    EXPECT_MESSAGE_HAS(test::errorOf([&] { nerf::trainConfigFromJson(broken, "old.vknerf"); }), "key 'width' not found");
+    broken = j;
+    broken["model"]["depth"] = "deep";
+    EXPECT_MESSAGE_HAS(test::errorOf([&] { nerf::trainConfigFromJson(broken, "old.vknerf"); }),
+                       "old.vknerf: checkpoint config: [json.exception.type_error.302]");
+  }
+}
+
+// What is written reads back, for values other than the defaults too.
+TEST(ConfigJson, EveryFieldRoundTrips) {
+  TrainConfig v;
+  v.vanillaModel().skipLayer = 3, v.vanillaModel().separateFineNetwork = false, v.background = {0.25f, 0.5f, 0};
+  v.seed = 7, v.learningRate = 3e-3f;
+  TrainConfig f = fastConfig(12);
+  FastModel& m = f.fastModel();
+  m.coneAngle = 1.0f / 64, m.cascades = 3, m.nearDistance = 0.1f, m.hashGrowth = 1.38f, m.earlyTermination = false;
+  m.farField = FarField::Learned, m.density = DensityActivation::Softplus, m.distortionLoss = 0.001f;
+  for (const TrainConfig& c : {v, f}) {
+    const auto j = nerf::toJson(c);
+    EXPECT_EQ(nerf::toJson(nerf::trainConfigFromJson(j, "m.vknerf")), j);
+  }
+}
+
+// The table: a key and a flag name one field each; a field only the fast model reads says so in its
+// flag's help, as `vknerf train --help` always did.
+TEST(ConfigFields, KeysAndFlagsAreOneFieldEachAndFastFlagsSaySo) {
+  std::set<std::string> vanillaKeys, fastKeys, flags;
+  for (const ConfigField& f : configFields()) {
+    if (f.vanilla) EXPECT_TRUE(vanillaKeys.insert(f.path()).second) << f.path();
+    if (f.fast) EXPECT_TRUE(fastKeys.insert(f.path()).second) << f.path();
+    EXPECT_TRUE(f.vanilla || f.fast) << f.path();
+    if (!f.flag.name) continue;
+    EXPECT_TRUE(flags.insert(f.flag.name).second) << f.flag.name;
+    if (!f.vanilla) EXPECT_EQ(std::string(f.flag.help).rfind("fast", 0), 0u) << f.flag.name;
   }
 }
 

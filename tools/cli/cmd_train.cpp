@@ -15,9 +15,9 @@
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
+#include "config_flags.h"
 #include "progress.h"
 #include "step_profile_report.h"
-#include "io/checkpoint/config_json.h"
 #include "vknerf/checkpoint_scene.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
@@ -42,16 +42,11 @@ extern "C" void onStopSignal(int sig) {
 
 struct Options {
   std::string scene, output, config = "vanilla", summary;
-  uint32_t width = 0, depth = 0, coarse = 0, fine = 0;
-  uint32_t hashLevels = 0, hashLog2Size = 0, hashMaxResolution = 0, grid = 0, marchSteps = 0, samplesPerStep = 0;
-  uint32_t cascades = 0, featureWidth = 0;
-  float coneAngle = 0, nearDistance = 0;
-  float distortionLoss = -1;  // -1: not given (0 is a valid value)
-  std::string farField;       // "": not given
-  uint32_t steps = 0, downscale = 1, rays = 0, logEvery = 50, saveEvery = 1000, seed = 0;
+  uint32_t steps = 0, downscale = 1, logEvery = 50, saveEvery = 1000;
   double seconds = 0;
-  bool resume = false, profile = false, noEarlyTermination = false;
-  bool configGiven = false, seedGiven = false;  // flags whose default is also a valid value
+  bool resume = false, profile = false;
+  bool configGiven = false;  // its default is also a valid value
+  std::shared_ptr<const ConfigFlags> configFlags;  // --rays ... --seed: the fields they set
 };
 
 std::string clock(double s) {
@@ -62,60 +57,6 @@ std::string clock(double s) {
 
 int train(const Options& o, const Globals& g);
 
-// The first flag given that only the other model configuration reads, or "".
-std::string flagsForTheOtherModel(const Options& o, const TrainConfig& cfg) {
-  if (cfg.isFast()) {
-    if (o.coarse) return "--coarse";
-    if (o.fine) return "--fine";
-    return "";
-  }
-  const std::pair<bool, const char*> fastOnly[] = {
-      {o.hashLevels != 0, "--hash-levels"}, {o.hashLog2Size != 0, "--hash-log2-size"},
-      {o.hashMaxResolution != 0, "--hash-max-resolution"}, {o.grid != 0, "--grid"}, {o.cascades != 0, "--cascades"}, {o.coneAngle != 0, "--cone-angle"},
-      {o.nearDistance != 0, "--near"}, {o.featureWidth != 0, "--feature-width"}, {o.marchSteps != 0, "--march-steps"}, {o.samplesPerStep != 0, "--samples-per-step"},
-      {o.noEarlyTermination, "--no-early-termination"}, {o.distortionLoss >= 0, "--distortion-loss"},
-      {!o.farField.empty(), "--far-field"}};
-  for (auto [given, flag] : fastOnly)
-    if (given) return flag;
-  return "";
-}
-
-void applyFlags(const Options& o, TrainConfig& cfg) {
-  if (o.rays) cfg.raysPerBatch = o.rays;
-  if (auto* v = std::get_if<VanillaModel>(&cfg.model)) {
-    if (o.width) v->width = o.width;
-    if (o.depth) v->depth = o.depth, v->skipLayer = std::min(v->skipLayer, o.depth - 1);
-    if (o.coarse) v->coarseSamples = o.coarse;
-    if (o.fine) v->fineSamples = o.fine;
-  } else {
-    FastModel& f = cfg.fastModel();
-    if (o.width) f.width = o.width;
-    if (o.depth) f.depth = o.depth;
-    if (o.featureWidth) f.featureWidth = o.featureWidth;
-    if (o.hashLevels) f.hashLevels = o.hashLevels;
-    if (o.hashLog2Size) f.hashLog2Size = o.hashLog2Size;
-    // Without --hash-max-resolution a growth left to the dataset (0) stays so: the finest
-    // resolution it picks is then spread over the levels asked for.
-    if (o.hashMaxResolution || (o.hashLevels && f.hashGrowth != 0)) {
-      // keep N_min and the finest resolution, spread the levels geometrically between them
-      const double finest = o.hashMaxResolution ? o.hashMaxResolution
-                                                 : f.hashBaseResolution * std::pow(double(f.hashGrowth), 7.0);
-      f.hashGrowth = f.hashLevels > 1 ? float(std::pow(finest / f.hashBaseResolution, 1.0 / (f.hashLevels - 1))) : 1.0f;
-    }
-    if (o.grid) f.gridResolution = o.grid;
-    if (o.cascades) f.cascades = o.cascades;
-    if (o.coneAngle) f.coneAngle = o.coneAngle;
-    if (o.nearDistance) f.nearDistance = o.nearDistance;
-    if (o.marchSteps) f.marchSteps = o.marchSteps, f.maxSamplesPerRay = o.marchSteps;
-    if (o.samplesPerStep) f.samplesPerBatch = o.samplesPerStep;
-    if (o.noEarlyTermination) f.earlyTermination = false;
-    if (o.distortionLoss >= 0) f.distortionLoss = o.distortionLoss;
-    for (FarField ff : {FarField::Auto, FarField::Constant, FarField::Learned})
-      if (o.farField == farFieldName(ff)) f.farField = ff;
-  }
-  cfg.seed = o.seed;
-}
-
 // A resumed run keeps the checkpoint's configuration: a flag asking for something else would be
 // silently ignored, so name it and the checkpoint's value instead.
 void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
@@ -125,25 +66,9 @@ void checkAgainstCheckpoint(const Options& o, const TrainConfig& saved) {
   };
   if (o.configGiven && o.config != modelName(saved.model))
     conflict("--config", o.config, std::string("model ") + modelName(saved.model));
-  if (const std::string wrong = flagsForTheOtherModel(o, saved); !wrong.empty())
+  if (const std::string wrong = o.configFlags->forTheOtherModel(saved); !wrong.empty())
     conflict(wrong, "", std::string(modelName(saved.model)) + " model");
-  TrainConfig asked = saved;
-  applyFlags(o, asked);
-  if (!o.seedGiven) asked.seed = saved.seed;
-  const nlohmann::json a = nerf::toJson(asked), b = nerf::toJson(saved);
-  const std::pair<const char*, const char*> keys[] = {
-      {"--rays", "/rays_per_batch"}, {"--seed", "/seed"}, {"--width", "/model/width"}, {"--depth", "/model/depth"},
-      {"--coarse", "/model/coarse_samples"}, {"--fine", "/model/fine_samples"},
-      {"--hash-levels", "/model/hash_levels"}, {"--hash-log2-size", "/model/hash_log2_size"},
-      {"--hash-max-resolution", "/model/hash_growth"}, {"--grid", "/model/grid_resolution"}, {"--cascades", "/model/cascades"}, {"--cone-angle", "/model/cone_angle"},
-      {"--near", "/model/near_distance"}, {"--feature-width", "/model/feature_width"}, {"--march-steps", "/model/march_steps"}, {"--samples-per-step", "/samples_per_batch"},
-      {"--no-early-termination", "/early_termination"}, {"--distortion-loss", "/distortion_loss"},
-      {"--far-field", "/model/far_field"}};
-  for (auto [flag, key] : keys) {
-    const nlohmann::json::json_pointer ptr(key);
-    if (a.contains(ptr) && a.at(ptr) != b.at(ptr))
-      conflict(flag, a.at(ptr).dump(), std::string(key + 1) + " " + b.at(ptr).dump());
-  }
+  if (const auto c = o.configFlags->conflictWith(saved)) conflict(c->flag, c->asked, c->stored);
 }
 
 // Only a checkpoint (or an empty file) may be replaced by one: anything else at the output path is
@@ -219,10 +144,10 @@ int train(const Options& o, const Globals& g) {
   if (resuming) {
     checkAgainstCheckpoint(o, cfg);
   } else {
-    if (const std::string wrong = flagsForTheOtherModel(o, cfg); !wrong.empty())
+    if (const std::string wrong = o.configFlags->forTheOtherModel(cfg); !wrong.empty())
       throw UsageError("train: " + wrong + " applies to the " + (cfg.isFast() ? "vanilla" : "fast") +
                        " model, not --config " + o.config);
-    applyFlags(o, cfg);
+    o.configFlags->applyTo(cfg);
     try {
       cfg.validate();
     } catch (const Error& e) {
@@ -315,33 +240,14 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--steps", o->steps, "Number of training steps");
                      app.add_option("--time", o->seconds, "Wall-clock budget in seconds (default without --steps: 300)")->check(PositiveFinite);
                      app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
-                     app.add_option("--rays", o->rays, "Rays per batch (default: sized for the device)");
-                     app.add_option("--width", o->width, "MLP width (multiple of 8)")->check(CLI::Range(8u, 1024u));
-                     app.add_option("--depth", o->depth, "MLP trunk layers")->check(CLI::Range(2u, 16u));
-                     app.add_option("--coarse", o->coarse, "Stratified samples per ray")->check(CLI::Range(1u, 1024u));
-                     app.add_option("--fine", o->fine, "Importance samples per ray")->check(CLI::Range(1u, 1024u));
-                     app.add_option("--feature-width", o->featureWidth, "fast: features the density layer passes to the colour layer (multiple of 4, at most --width)")->check(CLI::Range(4u, 1024u));
-                     app.add_option("--hash-levels", o->hashLevels, "fast: hash grid levels")->check(CLI::Range(1u, 24u));
-                     app.add_option("--hash-log2-size", o->hashLog2Size, "fast: log2 of the hash table entries per level")->check(CLI::Range(2u, 24u));
-                     app.add_option("--hash-max-resolution", o->hashMaxResolution, "fast: finest grid level's cells per axis")->check(CLI::Range(2u, 65536u));
-                     app.add_option("--grid", o->grid, "fast: occupancy grid cells per axis")->check(CLI::Range(1u, 256u));
-                     app.add_option("--cascades", o->cascades, "fast: nested occupancy cascades (default: from the scene's aabb_scale)")->check(CLI::Range(1u, 8u));
-                     app.add_option("--cone-angle", o->coneAngle, "fast, with cascades: step = t * angle beyond the inner cube")->check(CLI::Range(1e-6f, 1.0f));
-                     app.add_option("--near", o->nearDistance, "fast: rays start this far in front of the camera, in the scene's units (default: 5% of the inner cascade's side)")->check(CLI::PositiveNumber);
-                     app.add_option("--march-steps", o->marchSteps, "fast: march steps per scene-box diagonal")->check(CLI::Range(1u, 65536u));
-                     app.add_option("--samples-per-step", o->samplesPerStep, "fast: samples a training step aims for")->check(CLI::Range(256u, 1u << 26));
-                     app.add_flag("--no-early-termination", o->noEarlyTermination, "fast: train on every marched sample, also behind opaque surfaces");
-                     app.add_option("--distortion-loss", o->distortionLoss, "fast: weight of the distortion loss against fog and floaters (0: off; default 0.001 on a CPU)")->check(CLI::Range(0.0f, 100.0f));
-                     app.add_option("--far-field", o->farField, "fast: what rays see behind the scene box: learned (a colour per direction, trained), constant (white in renders, a random colour behind each training ray) or auto (learned when no training pixel has alpha)")->check(CLI::IsMember({"auto", "constant", "learned"}));
+                     o->configFlags = std::make_shared<ConfigFlags>(app);
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
-                     app.add_option("--seed", o->seed, "Random seed");
                      app.add_flag("--profile", o->profile, "Print where the last step's time went: each submission's kernels, the host time between them");
                      app.add_option("--summary", o->summary, "Also write the run's numbers as JSON: steps, seconds, samples per ray (mean over all steps), device and host MiB, last train PSNR");
                      app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config is kept; flags must agree with it)");
                      return [o, &g, &app] {
                        o->configGiven = app.count("--config") > 0;
-                       o->seedGiven = app.count("--seed") > 0;
                        return run(*o, g);
                      };
                    });

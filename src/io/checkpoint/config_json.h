@@ -1,5 +1,6 @@
 #pragma once
-// TrainConfig <-> JSON, as stored in checkpoints.
+// TrainConfig <-> JSON, as stored in checkpoints, made from the table of fields
+// (src/api/config_fields.cpp).
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -9,8 +10,9 @@
 namespace vknerf::nerf {
 
 nlohmann::json toJson(const TrainConfig& c);
-// Keys added after the first checkpoint version fall back to the defaults; a missing or mistyped
-// original key, or a value TrainConfig::validate rejects, throws vknerf::Error naming `file` and the key.
+// Keys added after the first checkpoint version fall back to the defaults (or to what models saved
+// before them had); a missing or mistyped original key, or a value TrainConfig::validate rejects,
+// throws vknerf::Error naming `file` and the key.
 TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& file);
 
 }  // namespace vknerf::nerf

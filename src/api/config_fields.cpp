@@ -185,7 +185,7 @@ std::vector<ConfigField> table() {
             if (f.hashGrowth != 0) spreadHashLevels(f, f.hashBaseResolution * std::pow(double(f.hashGrowth), 7.0));
           }),
       model("hash_features", &FastModel::hashFeatures).addedLater().range(1, 8),
-      // 0: from the dataset (src/api/fast_capacity.h)
+      // 0: from the dataset (src/models/fast/fast_capacity.h)
       model("hash_log2_size", &FastModel::hashLog2Size).addedLater().range(2, 26).zeroIsAuto()
           .flag("--hash-log2-size", "fast: log2 of the hash table entries per level").flagRange(2, 24),
       model("hash_base_resolution", &FastModel::hashBaseResolution).addedLater().range(1, 65536),

@@ -9,6 +9,7 @@
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "nerf/rays/rays.h"
+#include "rays/rays_shared.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;
@@ -163,10 +164,8 @@ TEST_F(ContextTest, OutOfMemoryNamesTheBufferAndItsSize) {
 TEST_F(ContextTest, IndirectDispatchReadsGroupCountsFromTheDevice) {
   // rays.comp asked for 1000 rays, but the indirect arguments allow 2 workgroups of 64: exactly
   // 128 rays are written, the rest keep their sentinel.
-  struct Push {
-    float aabbMin[4], aabbMax[4];
-    uint32_t mode, camera, first, count;
-  } push{{-1, -1, -1, 0}, {1, 1, 1, 0}, 0, 0, 0, 1000};
+  using Push = glsl::RaysPush;
+  Push push{{-1, -1, -1, 0}, {1, 1, 1, 0}, 0, 0, 0, 1000};
   gpu::Kernel rays(ctx(), {gpu::shaders::rays, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push), {}});
   Camera cam;
   cam.fx = cam.fy = 10;

@@ -24,6 +24,7 @@
 #include "support/gpu_test.h"
 #include "support/tiny_config.h"
 #include "vknerf/trainer.h"
+#include "encoding/encode_sh_shared.h"
 
 using namespace vknerf;
 
@@ -38,9 +39,7 @@ class KernelCompilerTest : public test::GpuTest {
 };
 
 // shaders/encoding/encode_sh.comp's push constants; limitBase ROW_LIMIT_NONE: every row.
-struct ShPush {
-  uint32_t count, strideVec4, offsetVec4, limitBase;
-};
+using glsl::ShPush;
 
 bool sameStats(const CompileStats& a, const CompileStats& b) {
   return a.pipelines == b.pipelines && a.compiledAhead == b.compiledAhead;
@@ -88,7 +87,7 @@ TEST_F(KernelCompilerTest, EachVariantCompilesOnceBeforeItsSubmission) {
   gpu::Kernel sh(ctx(), {gpu::shaders::encode_sh,
                          {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage},
                          sizeof(ShPush),
-                         {3}});
+                         {{glsl::ShSpec::DEGREE, 3}}});
   const std::vector<float> dirs = {0.6f, 0.0f, 0.8f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f};  // two unit directions
   std::vector<float> pow2(16 * 4, 0.0f), other(17 * 4, 0.0f);
   std::copy(dirs.begin(), dirs.end(), pow2.begin());

@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 // Frequency (positional) encoding gamma(p), one invocation per row:
 //   [p_0 .. p_{D-1}] if INCLUDE_INPUT, then for k in 0..L-1:
@@ -7,20 +8,12 @@
 // per-float store cost of scalar stores on lavapipe); the block's last vec4 is zero-padded.
 layout(local_size_x = 64) in;
 
-layout(constant_id = 0) const uint DIMS = 3u;           // input components used, 1..4
-layout(constant_id = 1) const uint LEVELS = 10u;        // L
-layout(constant_id = 2) const uint INCLUDE_INPUT = 1u;  // 0 or 1
+#include "encoding/encode_frequency_shared.h"
 const uint OUT_DIMS = DIMS * (2u * LEVELS + INCLUDE_INPUT);
 const uint OUT_VEC4 = (OUT_DIMS + 3u) / 4u;
 
 layout(std430, binding = 0) readonly buffer Inputs { vec4 inputs[]; };
 layout(std430, binding = 1) writeonly buffer Features { vec4 features[]; };
-
-layout(push_constant) uniform Push {
-  uint count;         // rows
-  uint strideVec4;    // row stride in vec4s
-  uint offsetVec4;    // first column / 4
-} pc;
 
 const float PI = 3.14159265358979;
 

@@ -13,9 +13,7 @@
 
 layout(local_size_x = 64) in;
 
-layout(constant_id = 0) const uint LEVELS = 16u;
-layout(constant_id = 1) const uint FEATURES = 2u;     // 1, 2, 4 or 8
-layout(constant_id = 2) const uint LOG2_TABLE = 19u;
+#include "encoding/hash_grid_shared.h"
 // Levels are processed in groups that fill whole vec4s of output (4 / F levels, or one level of
 // two vec4s for F = 8), so every accumulator is a temporary of the loop body: no array indexed
 // by a loop counter (lavapipe would spill it to per-lane scratch memory).
@@ -27,14 +25,7 @@ layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer table;
 layout(std430, binding = 2) writeonly buffer Features { vec4 features[]; };
 
-layout(push_constant) uniform Push {
-  uint count;        // rows
-  uint strideVec4;   // row stride in vec4s
-  uint offsetVec4;   // first column / 4
-  uint denseMask;    // bit l: level l is densely indexed
-  uvec4 res[6];      // resolution of level l at res[l / 4][l % 4]
-  uint limitBase;    // row_limit.glsl
-} pc;
+#include "encoding/encode_hash_shared.h"
 
 void main() {
   uint row = gl_GlobalInvocationID.x;

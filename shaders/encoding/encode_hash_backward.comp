@@ -14,10 +14,8 @@
 
 layout(local_size_x = 64) in;
 
-layout(constant_id = 0) const uint LEVELS = 16u;
-layout(constant_id = 1) const uint FEATURES = 2u;
-layout(constant_id = 2) const uint LOG2_TABLE = 19u;
-layout(constant_id = 3) const uint MERGE = 0u;
+#include "encoding/hash_grid_shared.h"
+#include "encoding/encode_hash_backward_shared.h"
 // Levels in groups that read whole vec4s of dL/dfeatures (as encode_hash.comp), so nothing is an
 // array indexed by a loop counter.
 const uint GROUP = FEATURES >= 4u ? 1u : 4u / FEATURES;
@@ -30,14 +28,7 @@ layout(std430, binding = 2) buffer Grads { float grads[]; };
 #define ROW_LIMIT_BINDING 3
 #include "gpu/row_limit.glsl"
 
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideVec4;
-  uint offsetVec4;
-  uint denseMask;
-  uvec4 res[6];
-  uint limitBase;  // row_limit.glsl: the rows at and past the device limit add nothing
-} pc;
+#include "encoding/encode_hash_shared.h"
 
 void scatter(uint index, float value) {
   if (MERGE != 0u && subgroupAllEqual(index)) {

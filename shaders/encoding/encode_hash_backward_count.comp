@@ -11,9 +11,7 @@
 
 layout(local_size_x = 64) in;
 
-layout(constant_id = 0) const uint LEVELS = 16u;
-layout(constant_id = 1) const uint FEATURES = 2u;
-layout(constant_id = 2) const uint LOG2_TABLE = 19u;
+#include "encoding/hash_grid_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
 layout(std430, binding = 1) buffer Counts { uint counts[]; };

@@ -24,9 +24,7 @@
 
 layout(local_size_x = 64) in;
 
-layout(constant_id = 0) const uint FEATURES = 2u;
-layout(constant_id = 1) const uint CHUNK = 256u;  // slots per invocation
-layout(constant_id = 2) const uint STAGE = 0u;
+#include "encoding/encode_hash_backward_reduce_shared.h"
 
 layout(std430, binding = 0) readonly buffer Cursor { uint cursor[]; };  // end of entry e's slots
 // Slots as encode_hash_backward_scatter.comp writes them: RECORD uvec4s, the entry then F values.
@@ -35,11 +33,6 @@ layout(std430, binding = 1) readonly buffer Slots { uvec4 slots[]; };
 layout(std430, binding = 2) buffer Grads { float grads[]; };
 layout(std430, binding = 3) buffer SpanMax { uint spanMax[]; };  // per owner chunk and feature
 layout(std430, binding = 4) buffer SpanAcc { uint spanAcc[]; };  // (low, high) per owner chunk and feature
-
-layout(push_constant) uniform Push {
-  uint slots;      // slots of this pass
-  uint entryBase;  // table entry of the pass's entry 0
-} pc;
 
 uint entryBegin(uint e) { return e == 0u ? 0u : cursor[e - 1u]; }
 uint slotEntry(uint j) { return slots[j * RECORD].x; }

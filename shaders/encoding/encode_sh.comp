@@ -7,7 +7,7 @@
 // block's last vec4 zero-padded.
 layout(local_size_x = 64) in;
 
-layout(constant_id = 0) const uint DEGREE = 4u;  // 1..4
+#include "encoding/encode_sh_shared.h"
 const uint OUT_DIMS = DEGREE * DEGREE;
 const uint OUT_VEC4 = (OUT_DIMS + 3u) / 4u;
 
@@ -15,13 +15,6 @@ layout(binding = 0, rgba32f) uniform readonly imageBuffer directions;
 layout(std430, binding = 1) writeonly buffer Features { vec4 features[]; };
 #define ROW_LIMIT_BINDING 2
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideVec4;
-  uint offsetVec4;
-  uint limitBase;  // row_limit.glsl
-} pc;
 
 void main() {
   uint row = gl_GlobalInvocationID.x;

@@ -10,17 +10,7 @@
 // Count and scatter: one invocation per sample of rows [rowBase, rowBase + count) of the bound
 // chunk, levels [levelBegin, levelEnd) of the pass. Entry e of the pass is
 // ((l - levelBegin) << LOG2_TABLE) + index: the table's own level-major order, offset by the pass.
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideVec4;
-  uint offsetVec4;
-  uint denseMask;
-  uvec4 res[6];
-  uint rowBase;
-  uint levelBegin;
-  uint levelEnd;
-  uint limitBase;  // row_limit.glsl: the chunk's first row in the limited batch
-} pc;
+#include "encoding/hash_sort_shared.h"
 #include "gpu/row_limit.glsl"
 
 // Whether row rowBase + i of the bound chunk is one of this pass's samples (and below the row limit).

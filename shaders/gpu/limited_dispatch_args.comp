@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // Workgroup counts for dispatches cut to a row count that only the device knows (row_limit.glsl):
 // entry (c, k) is the VkDispatchIndirectCommand of chunk c (rows [c * chunkRows, (c + 1) * chunkRows)
 // of a `count`-row batch, cut to the limit) for a kernel of rowsPerGroup[k] rows per workgroup.
@@ -9,13 +10,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Limit { uint limit; };
 layout(std430, binding = 1) writeonly buffer Args { uint args[]; };
 
-layout(push_constant) uniform Push {
-  uint count;      // rows of the batch as recorded
-  uint chunkRows;
-  uint chunks;
-  uint kinds;      // entries per chunk (1..4)
-  uvec4 rowsPerGroup;
-} pc;
+#include "gpu/limited_dispatch_args_shared.h"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

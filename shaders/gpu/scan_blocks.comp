@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // Exclusive prefix sum, level 1 of 2+: each workgroup scans one block of 1024 uints (16 per
 // invocation) and writes the block's total; scan_add.comp then adds the scanned block totals.
 // Inputs past inputCount read as 0, so scanning n counts into n + 1 outputs puts the grand total
@@ -10,12 +11,7 @@ layout(std430, binding = 0) readonly buffer In { uint inputs[]; };
 layout(std430, binding = 1) writeonly buffer Out { uint outputs[]; };
 layout(std430, binding = 2) writeonly buffer BlockSums { uint blockSums[]; };
 
-layout(push_constant) uniform Push {
-  uint inputCount;
-  uint outputCount;
-  uint clampTo;
-  uint writeBlockSums;
-} pc;
+#include "gpu/scan_blocks_shared.h"
 
 const uint kInvocations = 64u, kPerInvocation = 16u;
 const uint kBlock = kInvocations * kPerInvocation;

@@ -33,12 +33,7 @@ const uint kPixelBindings = 8u;
 #define ROW_LIMIT_BINDING 14
 #include "gpu/row_limit.glsl"
 
-layout(push_constant) uniform Push {
-  uint numRays;
-  float gradScale;
-  uint firstBinding;  // binding index of pixels0; 0 in the first dispatch, which writes the partials
-  uint limitBase;     // row_limit.glsl
-} pc;
+#include "loss/loss_photometric_shared.h"
 
 shared float sums[128];
 

@@ -8,12 +8,7 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) writeonly buffer Background { vec4 background[]; };
 
-layout(push_constant) uniform Push {
-  vec4 constant;  // rgb, a = 1: the colour in constant mode
-  uint random;    // 1: rng01(seed, ray, 100 + channel); 0: the constant
-  uint seed;
-  uint count;     // rays
-} pc;
+#include "loss/random_background_shared.h"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

@@ -10,12 +10,7 @@ layout(std430, binding = 0) readonly buffer Field { vec4 field[]; };  // rgb, si
 layout(std430, binding = 1) writeonly buffer Grid { float density[]; };
 layout(std430, binding = 2) readonly buffer Blocks { uint blocks[]; };
 
-layout(push_constant) uniform Push {
-  uvec4 n;
-  uvec4 blockCount;
-  uint first;
-  uint count;
-} pc;
+#include "mesh/grid_density_shared.h"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

@@ -11,16 +11,7 @@ layout(local_size_x = 256) in;
 layout(std430, binding = 0) writeonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 1) readonly buffer Blocks { uint blocks[]; };
 
-layout(push_constant) uniform Push {
-  uvec4 n;           // samples per axis (w unused)
-  uvec4 blockCount;  // blocks per axis (w unused)
-  vec4 origin;
-  vec4 spacing;
-  vec4 boxMin;
-  vec4 boxMax;
-  uint first;
-  uint count;
-} pc;
+#include "mesh/grid_points_shared.h"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

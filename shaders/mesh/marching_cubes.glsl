@@ -7,15 +7,7 @@
 
 layout(local_size_x = 256) in;
 
-layout(push_constant) uniform Push {
-  uvec4 n;        // samples per axis (w unused)
-  vec4 origin;    // world position of sample (0, 0, 0)
-  vec4 spacing;   // between neighbouring samples, per axis
-  uint first;     // first edge or cell of this dispatch
-  uint count;     // edges or cells in this dispatch
-  uint chunk;     // elements per scanned chunk
-  float threshold;
-} pc;
+#include "mesh/marching_cubes_shared.h"
 
 const uint kTableStride = 16u;  // ref::kMcTableStride
 // ref::kCubeEdgeCorner: cube edge e runs along axis e / 4 from this corner.

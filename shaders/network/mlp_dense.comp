@@ -13,15 +13,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint KA4 = 64;     // padded width of input A
-layout(constant_id = 2) const uint KB4 = 0;      // padded width of input B (0: none)
-layout(constant_id = 3) const uint N4 = 64;      // padded output width
-layout(constant_id = 4) const uint NTRUE = 64;   // output columns >= NTRUE are stored as 0
-layout(constant_id = 5) const uint ACT = 1;      // MLP_ACT_*
-layout(constant_id = 6) const uint WOFF4 = 0;    // vec4 offset of W in the parameter buffer
-layout(constant_id = 7) const uint R = 4;        // rows per invocation
-layout(constant_id = 8) const uint NB = 8;       // output columns per block (multiple of 4)
+#include "network/mlp_dense_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer A;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer B;
@@ -30,12 +22,6 @@ layout(std430, binding = 3) writeonly buffer Y { vec4 y4[]; };
 #include "network/dense_block.glsl"  // after R and P
 #define ROW_LIMIT_BINDING 4
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideA4, strideB4, strideY4;  // row strides in vec4
-  uint limitBase;                     // row_limit.glsl
-} pc;
 
 const uint NMAIN = N4 - N4 % NB;
 

@@ -14,16 +14,7 @@
 #extension GL_EXT_shader_atomic_float : require
 #extension GL_GOOGLE_include_directive : require
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint K4 = 64;
-layout(constant_id = 2) const uint N4 = 64;    // row length of the gradient block
-layout(constant_id = 3) const uint N0 = 0;     // first column covered by this dispatch
-layout(constant_id = 4) const uint NW = 64;    // columns covered (multiple of NT)
-layout(constant_id = 5) const uint KT = 8;
-layout(constant_id = 6) const uint NT = 8;
-layout(constant_id = 7) const uint U = 8;
-layout(constant_id = 8) const uint GOFF = 0;   // float offset of the block in the gradient buffer
-layout(constant_id = 9) const bool ONES = false;
+#include "network/mlp_dense_dw_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer X;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer DZ;
@@ -32,14 +23,6 @@ layout(std430, binding = 2) buffer Grads { float g[]; };
 #include "gpu/row_gather.glsl"  // X (the forward's activations) at the gathered rows
 #define ROW_LIMIT_BINDING 4
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideX4, strideZ4;  // row strides in vec4
-  uint iters;
-  uint gather;              // row_gather.glsl
-  uint limitBase;           // row_limit.glsl
-} pc;
 
 void main() {
   uint G = gl_NumWorkGroups.x * gl_WorkGroupSize.x;

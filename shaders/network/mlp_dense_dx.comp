@@ -8,15 +8,7 @@
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint KA4 = 64;
-layout(constant_id = 2) const uint KB4 = 0;
-layout(constant_id = 3) const uint N4 = 64;
-layout(constant_id = 4) const uint WOFF4 = 0;
-layout(constant_id = 5) const uint R = 4;
-layout(constant_id = 6) const uint KBLK = 8;    // divides KA4 (the B part goes 4 at a time)
-layout(constant_id = 7) const uint MODE_A = 2;
-layout(constant_id = 8) const uint MODE_B = 0;
+#include "network/mlp_dense_dx_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer DZ;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer A;  // for MODE_A == 2
@@ -28,13 +20,6 @@ layout(std430, binding = 4) buffer DB { vec4 db4[]; };
 #include "gpu/row_gather.glsl"  // A (the forward's activations) at the gathered rows
 #define ROW_LIMIT_BINDING 6
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideZ4, strideA4, strideDA4, strideDB4;  // row strides in vec4
-  uint gather;                                    // row_gather.glsl
-  uint limitBase;                                 // row_limit.glsl
-} pc;
 
 // acc[r][kk] = sum_n dz[r][n] W[ROW0 + k0 + kk][n]
 #define DX_BLOCK(BLK, ROW0, k0)                                                                  \

@@ -12,13 +12,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint R = 4;        // rows per invocation
-layout(constant_id = 2) const uint K4 = 64;      // the trunk's width: the feature layer's input
-layout(constant_id = 3) const uint N4 = 68;      // the feature layer's padded width (V + 4)
-layout(constant_id = 4) const uint V = 64;       // sigma's column (a multiple of 4)
-layout(constant_id = 5) const uint WOFF4 = 0;    // vec4 offset of the feature layer's weights
-layout(constant_id = 6) const uint DENSITY = 0;  // MLP_DENSITY_*
+#include "network/mlp_nerf_density_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer H;  // the trunk's last output
 layout(binding = 1, rgba32f) uniform readonly imageBuffer P;
@@ -26,12 +20,6 @@ layout(std430, binding = 2) writeonly buffer Density { float density[]; };
 #include "network/dense_block.glsl"  // after R and P
 #define ROW_LIMIT_BINDING 3
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideH4;   // row stride of H in vec4
-  uint limitBase;  // row_limit.glsl
-} pc;
 
 void main() {
   uint row0 = gl_GlobalInvocationID.x;

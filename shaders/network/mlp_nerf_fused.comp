@@ -14,23 +14,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint R = 4;          // rows per invocation
-layout(constant_id = 2) const uint KP4 = 16;       // padded width of the position features
-layout(constant_id = 3) const uint KD4 = 16;       // padded width of the direction features
-layout(constant_id = 4) const uint W = 64;         // trunk width (multiple of 8)
-layout(constant_id = 5) const uint DEPTH = 1;      // trunk layers, 1 or 2
-layout(constant_id = 6) const uint V = 16;         // feature width (multiple of 4); sigma is column V
-layout(constant_id = 7) const uint DENSITY = 0;    // MLP_DENSITY_*
-layout(constant_id = 8) const uint KEEP = 0;       // 1: store the activations for backward
-layout(constant_id = 9) const uint NB = 8;         // output columns per block (multiple of 4)
-// vec4 offsets of each layer's weights in the parameter buffer (NerfShape::layers)
-layout(constant_id = 10) const uint T0OFF4 = 0;
-layout(constant_id = 11) const uint T1OFF4 = 0;
-layout(constant_id = 12) const uint FOFF4 = 0;
-layout(constant_id = 13) const uint COFF4 = 0;
-layout(constant_id = 14) const uint HOFF4 = 0;
-layout(constant_id = 15) const uint UNROLL = 1;     // 1: unroll the output blocks (FUSED_LAYER)
+#include "network/mlp_nerf_fused_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer Pos;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer Dir;
@@ -44,12 +28,6 @@ layout(std430, binding = 7) writeonly buffer C { vec4 cKept[]; };
 #include "network/dense_block.glsl"  // after R and P
 #define ROW_LIMIT_BINDING 8
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideP4, strideD4, strideOut4;  // row strides in vec4
-  uint limitBase;                       // row_limit.glsl
-} pc;
 
 const uint V4 = V + 4u;   // the feature layer's padded output: V features, sigma, 3 zero columns
 const uint W2 = W / 2u;

@@ -6,11 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint K4 = 64;
-layout(constant_id = 2) const uint WOFF4 = 0;
-layout(constant_id = 3) const uint SIGMA_COL = 128;  // multiple of 4
-layout(constant_id = 4) const uint DENSITY = 0;      // MLP_DENSITY_*
+#include "network/mlp_nerf_head_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer C;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer F;
@@ -18,12 +14,6 @@ layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) writeonly buffer Out { vec4 out4[]; };
 #define ROW_LIMIT_BINDING 4
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideC4, strideF4, strideOut4;
-  uint limitBase;  // row_limit.glsl
-} pc;
 
 void main() {
   uint row = gl_GlobalInvocationID.x;

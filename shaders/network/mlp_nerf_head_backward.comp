@@ -7,11 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint K4 = 64;
-layout(constant_id = 2) const uint WOFF4 = 0;
-layout(constant_id = 3) const uint SIGMA_COL = 128;
-layout(constant_id = 4) const uint DENSITY = 0;
+#include "network/mlp_nerf_head_backward_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer DOut;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer Out;
@@ -25,13 +21,6 @@ layout(std430, binding = 7) writeonly buffer DC { vec4 dc4[]; };
 #include "gpu/row_gather.glsl"  // the forward's rows (DOut, Out, C, F) at the gathered rows
 #define ROW_LIMIT_BINDING 9
 #include "gpu/row_limit.glsl"
-
-layout(push_constant) uniform Push {
-  uint count;
-  uint strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4;
-  uint gather;     // row_gather.glsl
-  uint limitBase;  // row_limit.glsl: the rows at and past the device limit are left untouched
-} pc;
 
 void main() {
   uint row = gl_GlobalInvocationID.x;

@@ -1,18 +1,13 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // Output layer of the plain MLP, backward through its sigmoid: dZ = dY * y (1 - y) per vec4 of
 // columns; padding columns (>= NTRUE) get 0 so their weights never move.
 layout(local_size_x = 64) in;
-layout(constant_id = 0) const uint N4 = 4;
-layout(constant_id = 1) const uint NTRUE = 3;
+#include "network/mlp_sigmoid_backward_shared.h"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer DY;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer Y;
 layout(std430, binding = 2) writeonly buffer DZ { vec4 dz4[]; };
-
-layout(push_constant) uniform Push {
-  uint count;  // rows
-  uint strideDY4, strideY4, strideDZ4;
-} pc;
 
 void main() {
   uint i = gl_GlobalInvocationID.x, row = i / (N4 / 4u), q = i % (N4 / 4u);

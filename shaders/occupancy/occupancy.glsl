@@ -56,19 +56,7 @@ uvec3 cellOf(vec3 p, uint r) { return uvec3(clamp(floor(p), vec3(0.0), vec3(floa
 
 layout(local_size_x = 32) in;  // one invocation per ray; small groups spread few rays over threads
 
-layout(push_constant) uniform Push {
-  vec4 boxMin;      // xyz; w = dt
-  vec4 gridScale;   // xyz = R / (boxMax - boxMin), computed once on the host; w unused
-  uint numRays;
-  uint resolution;  // R
-  uint maxSamples;  // cap per ray
-  uint seed;
-  uint jitter;      // first lattice point at u = rng01(seed, ray, 0) steps, else at t_near
-  uint capacity;    // samples the output buffers hold (march_write.comp)
-  uint cascades;    // 1: the lattice march over one grid; more: the cascaded cone march below
-  float coneAngle;  // cascaded march: dt(t) = clamp(t coneAngle, dt, dtMax)
-  float dtMax;
-} pc;
+#include "sampling/march_shared.h"
 
 struct MarchRay {
   vec3 go, gd;       // origin and direction in grid coordinates

@@ -9,9 +9,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Bits { uint occupancyBits[]; };
 layout(std430, binding = 1) buffer Count { uint occupiedCells; };
 
-layout(push_constant) uniform Push {
-  uint numCells;
-} pc;
+#include "occupancy/occupancy_count_shared.h"
 
 void main() {
   uint first = flatIndex(64u) * 16u;

@@ -13,12 +13,7 @@ layout(std430, binding = 1) readonly buffer Fresh { uint freshBits[]; };
 layout(std430, binding = 2) writeonly buffer Bits { uint occupancyBits[]; };
 layout(std430, binding = 3) readonly buffer Mean { float meanDensity; };
 
-layout(push_constant) uniform Push {
-  uint numCells;
-  float decay;
-  float threshold;
-  uint capAtMean;
-} pc;
+#include "occupancy/occupancy_ema_shared.h"
 
 void main() {
   uint w = flatIndex(64u);

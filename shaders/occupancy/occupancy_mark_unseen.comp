@@ -16,14 +16,7 @@ struct ViewBound {
 layout(std430, binding = 0) readonly buffer Views { ViewBound views[]; };
 layout(std430, binding = 1) buffer Density { float gridDensity[]; };
 
-layout(push_constant) uniform Push {
-  uint resolution;
-  uint cascades;
-  uint numCells;
-  uint numViews;
-  float centreX, centreY, centreZ;
-  float halfX, halfY, halfZ;
-} pc;
+#include "occupancy/occupancy_mark_unseen_shared.h"
 
 bool pointSeen(ViewBound b, vec3 p) {
   precise float qx = b.row0.x * p.x + b.row0.y * p.y + b.row0.z * p.z + b.row0.w;
@@ -41,7 +34,8 @@ void main() {
   uint local = i % perCascade;
   uvec3 c = uvec3(local % r, (local / r) % r, local / (r * r));
   float scale = 1.0 / float(1u << (pc.cascades - 1u - i / perCascade));
-  vec3 centre = vec3(pc.centreX, pc.centreY, pc.centreZ), half_ = vec3(pc.halfX, pc.halfY, pc.halfZ);
+  vec3 centre = vec3(pc.centre[0], pc.centre[1], pc.centre[2]),
+       half_ = vec3(pc.halfExtent[0], pc.halfExtent[1], pc.halfExtent[2]);
   for (uint k = 0u; k < 8u; ++k) {
     uvec3 corner = c + uvec3(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
     precise vec3 n = (vec3(corner) * (2.0 / float(r)) - 1.0) * scale;

@@ -12,9 +12,7 @@ layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer Density { float gridDensity[]; };
 layout(std430, binding = 1) writeonly buffer Mean { float meanDensity; };
 
-layout(push_constant) uniform Push {
-  uint numCells;
-} pc;
+#include "occupancy/occupancy_mean_shared.h"
 
 shared float sums[256];
 

@@ -11,13 +11,7 @@ layout(local_size_x = 256) in;
 layout(std430, binding = 0) writeonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 1) writeonly buffer Cells { uint cells[]; };
 
-layout(push_constant) uniform Push {
-  uint resolution;
-  uint count;
-  uint seed;
-  uint randomCells;
-  uint cascades;  // cell = cascade * R^3 + local cell; cascade c spans 2^(c - cascades + 1) of the box
-} pc;
+#include "occupancy/occupancy_points_shared.h"
 
 void main() {
   uint j = flatIndex(256u);

@@ -11,11 +11,7 @@ layout(std430, binding = 0) readonly buffer Cells { uint cells[]; };
 layout(std430, binding = 1) readonly buffer Density { float density[]; };
 layout(std430, binding = 2) buffer Fresh { uint freshBits[]; };  // float bits, zeroed by the host
 
-layout(push_constant) uniform Push {
-  uint count;
-  uint stride;     // floats per point in density[] (4 when reading sigma out of a field vec4)
-  uint component;  // which of them is the density
-} pc;
+#include "occupancy/occupancy_splat_shared.h"
 
 void main() {
   uint j = flatIndex(256u);

@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // Adam over a flat float parameter buffer with gradient, first- and second-moment buffers of the
 // same size; the gradient is zeroed after the step so the next backward pass can accumulate.
 // Each invocation updates 4 parameters through rgba32f storage texel buffers: on lavapipe their
@@ -18,17 +19,7 @@ layout(std430, binding = 5) buffer GradsF { float grads1[]; };
 layout(std430, binding = 6) buffer Moment1F { float m1[]; };
 layout(std430, binding = 7) buffer Moment2F { float v1[]; };
 
-layout(push_constant) uniform Push {
-  float lr;
-  float beta1;
-  float beta2;
-  float epsilon;
-  float correction1;  // 1 / (1 - beta1^t)
-  float correction2;  // 1 / (1 - beta2^t)
-  uint count;         // parameters
-  uint skipZero;      // 1: a parameter whose gradient is exactly 0 keeps p, m and v (sparse rows)
-  uint tailIndex;     // index of parameter 4 * (count / 4) in the tail bindings
-} pc;
+#include "optim/adam_shared.h"
 
 // Same operation order as ref::adamStep. `live` masks lanes that must keep their old values.
 void adam(inout vec4 p, inout vec4 m, inout vec4 v, vec4 g, bvec4 live) {

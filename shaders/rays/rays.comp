@@ -11,14 +11,7 @@ layout(std430, binding = 0) readonly buffer Cameras { Camera cameras[]; };
 layout(std430, binding = 1) writeonly buffer Rays { vec4 rays[]; };       // 2 per ray
 layout(std430, binding = 2) writeonly buffer PixelIds { uvec2 pixelIds[]; };  // (camera, pixel)
 
-layout(push_constant) uniform Push {
-  vec4 aabbMin;      // xyz; w = near plane (minimum t)
-  vec4 aabbMax;
-  uint mode;         // 0: pixels [first, first+count) of camera `camera`; 1: random pixels of random cameras
-  uint camera;       // mode 0; in mode 1 the number of cameras
-  uint first;        // mode 0: first pixel index; mode 1: RNG seed
-  uint count;        // number of rays
-} pc;
+#include "rays/rays_shared.h"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // One round of a render that marches its rays in segments (src/nerf/render/segment_accumulator.h):
 // the compositor has composited each ray's latest segment from a transmittance of 1 over a black
 // background; this puts it behind what the ray has gathered so far (the "over" operator):
@@ -23,13 +24,7 @@ layout(std430, binding = 8) buffer Counters {
   uint shadedSamples; // samples composited
 };
 
-layout(push_constant) uniform Push {
-  uint numRays;
-  uint cap;    // the most samples a ray was marched this round
-  uint first;  // 1: nothing gathered yet (every ray starts at T = 1)
-  uint last;   // 1: every ray ends with this round
-  float minTransmittance;
-} pc;
+#include "render/accumulate_segment_shared.h"
 
 void main() {
   uint r = gl_GlobalInvocationID.x;

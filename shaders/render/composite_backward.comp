@@ -37,16 +37,7 @@ layout(std430, binding = 6) buffer DField { vec4 dField[]; };            // dL/d
 // binding 7: the forward pass's kept counts, unbound here
 layout(std430, binding = 8) readonly buffer Rays { vec4 rays[]; };       // (o, t_near), (d, t_far): the distortion loss's
 
-layout(push_constant) uniform Push {
-  vec4 background;
-  uint numRays;
-  uint samplesPerRay;
-  uint useBackgroundBuffer;
-  float maxOpticalDepth;
-  uint writeKept;  // the forward pass's; unused here
-  float distortion;  // the distortion loss's weight per ray; 0: none
-  float coneAngle, dtMin, dtMax;  // the march's spacing (MarchSpacing), for the distortion loss
-} pc;
+#include "render/composite_shared.h"
 
 void main() {
   uint ray = gl_GlobalInvocationID.x;

@@ -18,14 +18,7 @@ layout(std430, binding = 5) writeonly buffer Depth { float depth[]; };
 layout(std430, binding = 6) writeonly buffer Weights { float weights[]; };
 layout(std430, binding = 7) writeonly buffer KeptCounts { uint keptCounts[]; };  // per ray, when writeKept
 
-layout(push_constant) uniform Push {
-  vec4 background;     // rgb, when useBackgroundBuffer == 0
-  uint numRays;
-  uint samplesPerRay;  // 0: packed layout through rayOffsets
-  uint useBackgroundBuffer;
-  float maxOpticalDepth;  // early termination; +inf: composite every sample
-  uint writeKept;
-} pc;
+#include "render/composite_shared.h"
 
 void main() {
   uint ray = gl_GlobalInvocationID.x;

@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // Rendered pixels [first, first + count) of a view, one invocation per pixel, into an embedding
 // application's render target (Model::recordRender). Permutations (CMakeLists.txt, vknerf_add_shader):
 // write_render_target: a storage buffer of RGBA32F texels; write_render_target_rgba32f and
@@ -16,13 +17,7 @@ layout(binding = 2, TARGET_IMAGE_FORMAT) uniform writeonly image2D target;
 layout(std430, binding = 2) writeonly buffer Target { vec4 texels[]; };  // width * height, row-major
 #endif
 
-layout(push_constant) uniform Push {
-  uint first;        // pixel index of ray 0 of the block
-  uint count;        // rays in the block
-  uint width;        // of the view, pixels
-  uint channel;      // 0: colour, 1: depth (vknerf::RenderChannel)
-  float depthScale;  // depth channel: written grey = depth * depthScale
-} pc;
+#include "render/write_render_target_shared.h"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // The samples each ray kept before early termination, packed: ray r's first kept[r] marched samples
 // (from rayOffsets[r] on) become rows keptOffsets[r] .. keptOffsets[r + 1] of the packed batch, in
 // order. Each packed row gets the marched row it came from (the backward reads the forward's rows
@@ -12,9 +13,7 @@ layout(binding = 2, rgba32f) uniform readonly imageBuffer positions;            
 layout(std430, binding = 3) writeonly buffer Rows { uint rows[]; };
 layout(std430, binding = 4) writeonly buffer KeptPositions { vec4 keptPositions[]; };
 
-layout(push_constant) uniform Push {
-  uint numRays;
-} pc;
+#include "sampling/kept_rows_shared.h"
 
 void main() {
   uint ray = gl_GlobalInvocationID.x;

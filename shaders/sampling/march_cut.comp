@@ -14,13 +14,7 @@ layout(std430, binding = 1) buffer Totals { uint totals[4]; };
 layout(std430, binding = 2) writeonly buffer Whole { uint whole[]; };
 #include "sampling/packed_totals.glsl"
 
-layout(push_constant) uniform Push {
-  uint numRays;
-  uint localSize;
-  uint maxGroupsX;
-  uint capacity;
-  uint rayAlign;
-} pc;
+#include "sampling/march_cut_shared.h"
 
 shared uint keptRays, keptSamples;
 

@@ -17,12 +17,7 @@ layout(std430, binding = 2) readonly buffer SampleRay { uint sampleRay[]; };
 layout(std430, binding = 3) writeonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 4) writeonly buffer Directions { vec4 directions[]; };
 
-layout(push_constant) uniform Push {
-  vec4 boxMin;
-  vec4 boxMax;
-  uint chunkRows;  // rows of each dispatch's chunk
-  uint limitBase;  // the chunk's first sample (row_limit.glsl)
-} pc;
+#include "sampling/march_points_shared.h"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

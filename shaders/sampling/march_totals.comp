@@ -9,10 +9,6 @@ layout(std430, binding = 0) readonly buffer Offsets { uint offsets[]; };  // num
 layout(std430, binding = 1) writeonly buffer Totals { uint totals[4]; };
 #include "sampling/packed_totals.glsl"
 
-layout(push_constant) uniform Push {
-  uint numRays;
-  uint localSize;
-  uint maxGroupsX;
-} pc;
+#include "sampling/march_totals_shared.h"
 
 void main() { writePackedTotals(offsets[pc.numRays], pc.localSize, pc.maxGroupsX); }

@@ -14,14 +14,7 @@ layout(std430, binding = 1) readonly buffer Coarse { vec2 coarse[]; };    // (t,
 layout(std430, binding = 2) readonly buffer Weights { float weights[]; }; // nCoarse per ray
 layout(std430, binding = 3) writeonly buffer Merged { vec2 merged[]; };   // nCoarse + nFine per ray
 
-layout(push_constant) uniform Push {
-  uint numRays;
-  uint nCoarse;
-  uint nFine;
-  uint seed;
-  uint jitter;
-  float padding;
-} pc;
+#include "sampling/sample_pdf_shared.h"
 
 uint coarseBase;
 float tNear, tFar;

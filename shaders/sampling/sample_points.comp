@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // Sample positions and directions for the field: one invocation per sample of a fixed-layout batch
 // (ray r owns samples [r*N, (r+1)*N)). The position o + t d is mapped from the scene box onto
 // [-1, 1]^3, the range the encodings expect; the direction is the ray's unit direction as is.
@@ -9,12 +10,7 @@ layout(std430, binding = 1) readonly buffer Samples { vec2 samples[]; };  // (t,
 layout(std430, binding = 2) writeonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 3) writeonly buffer Directions { vec4 directions[]; };
 
-layout(push_constant) uniform Push {
-  vec4 boxMin;
-  vec4 boxMax;
-  uint count;           // samples in the batch
-  uint samplesPerRay;   // N
-} pc;
+#include "sampling/sample_points_shared.h"
 
 void main() {
   uint s = gl_GlobalInvocationID.x;

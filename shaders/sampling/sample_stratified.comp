@@ -9,12 +9,7 @@
 layout(std430, binding = 0) readonly buffer Rays { vec4 rays[]; };        // (o, t_near), (d, t_far)
 layout(std430, binding = 1) writeonly buffer Samples { vec2 samples[]; };  // (t, delta), N per ray
 
-layout(push_constant) uniform Push {
-  uint numRays;
-  uint samplesPerRay;
-  uint seed;
-  uint jitter;
-} pc;
+#include "sampling/sample_stratified_shared.h"
 
 float jitterOf(uint ray, uint i) { return pc.jitter != 0u ? rng01(pc.seed, ray, i) : 0.5; }
 

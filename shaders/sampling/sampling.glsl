@@ -27,8 +27,7 @@ float fineDraw(uint seed, uint ray, uint j, uint n, bool jitter) {
 
 // Local size from the host (spec constant 0). Declared here, with a name, because glslang folds a
 // gl_WorkGroupSize read that precedes the local_size_x_id declaration to the constant 1.
-layout(constant_id = 0) const uint kLocalSize = 64;
-layout(local_size_x_id = 0) in;
+#include "sampling/sampling_shared.h"
 
 // Flat invocation index of a dispatch split over x and y (x is capped by maxComputeWorkGroupCount).
 uint flatInvocation() {

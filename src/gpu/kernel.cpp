@@ -64,9 +64,12 @@ PipelineObjects PipelineObjects::create(VkDevice dev, VkPipelineCache cache, con
     check(vkCreatePipelineLayout(dev, &pli, nullptr, &o.layout), "vkCreatePipelineLayout");
 
     std::vector<VkSpecializationMapEntry> entries;
-    for (uint32_t i = 0; i < desc.specialization.size(); ++i) entries.push_back({i, i * 4u, 4});
-    VkSpecializationInfo si{uint32_t(entries.size()), entries.data(), desc.specialization.size() * 4,
-                            desc.specialization.data()};
+    std::vector<uint32_t> values;
+    for (const SpecConstant& s : desc.specialization) {
+      entries.push_back({s.id, uint32_t(values.size() * 4), 4});
+      values.push_back(s.value);
+    }
+    VkSpecializationInfo si{uint32_t(entries.size()), entries.data(), values.size() * 4, values.data()};
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

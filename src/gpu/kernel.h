@@ -24,11 +24,19 @@ enum class Binding {
   StorageImage,  // GLSL: layout(<format>) uniform writeonly image2D; a caller's view (transientSet only)
 };
 
+// The value of the shader's `layout(constant_id = id)` constant (floats by bit pattern). The ids are
+// named in the kernel's shaders/<stage>/<kernel>_shared.h, which the shader declares them from:
+// {glsl::MlpDenseSpec::KA4, 16}. A constant left out keeps the shader's default.
+struct SpecConstant {
+  uint32_t id;
+  uint32_t value;
+};
+
 struct KernelDesc {
-  ShaderCode shader;                      // gpu::shaders::<name of shaders/<stage>/<name>.comp>
-  std::vector<Binding> bindings;          // binding i of set 0
-  uint32_t pushConstantBytes = 0;
-  std::vector<uint32_t> specialization;   // constant_id i = specialization[i] (floats by bit pattern)
+  ShaderCode shader;                          // gpu::shaders::<name of shaders/<stage>/<name>.comp>
+  std::vector<Binding> bindings;              // binding i of set 0
+  uint32_t pushConstantBytes = 0;             // sizeof the kernel's glsl::...Push
+  std::vector<SpecConstant> specialization;
 };
 
 VkDescriptorType descriptorType(Binding b);

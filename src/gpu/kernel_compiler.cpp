@@ -47,7 +47,7 @@ std::string KernelCompiler::key(const Kernel& k, std::span<const BufferRange> bi
   std::string key = d.shader.name;
   key += '/' + std::to_string(pow2) + '/' + std::to_string(d.pushConstantBytes) + '/';
   for (Binding b : d.bindings) key += char('0' + int(b));
-  for (uint32_t s : d.specialization) key += ',' + std::to_string(s);
+  for (const SpecConstant& s : d.specialization) key += ',' + std::to_string(s.id) + '=' + std::to_string(s.value);
   return key;
 }
 

@@ -4,13 +4,11 @@
 #include <vector>
 
 #include "vknerf/error.h"
+#include "gpu/limited_dispatch_args_shared.h"
 
 namespace vknerf::gpu {
 namespace {
-struct ArgsPush {  // limited_dispatch_args.comp
-  uint32_t count, chunkRows, chunks, kinds;
-  uint32_t rowsPerGroup[4];
-};
+using ArgsPush = glsl::LimitedDispatchArgsPush;
 }  // namespace
 
 LimitedDispatch::LimitedDispatch(Context& ctx) : ctx_(ctx), none_(std::make_unique<Buffer>(ctx, 16)) {}

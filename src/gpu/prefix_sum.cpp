@@ -3,16 +3,14 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "gpu/scan_blocks_shared.h"
+#include "gpu/scan_add_shared.h"
 
 namespace vknerf::gpu {
 namespace {
 
-struct BlocksPush {
-  uint32_t inputCount, outputCount, clampTo, writeBlockSums;
-};
-struct AddPush {
-  uint32_t outputCount, clampTo;
-};
+using BlocksPush = glsl::ScanBlocksPush;
+using AddPush = glsl::ScanAddPush;
 
 constexpr uint32_t kScanBlock = 1024, kAddLocal = 256;
 

@@ -6,13 +6,12 @@
 
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
+#include "render/far_field_shared.h"
 
 namespace vknerf::nerf {
 
 namespace {
-struct CountPush {
-  uint32_t count;
-};
+using CountPush = glsl::FarFieldPush;
 constexpr uint32_t kLocal = 64;  // both kernels' local_size_x
 constexpr uint32_t kMlpWidth = 64;
 

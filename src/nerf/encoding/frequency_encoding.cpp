@@ -5,12 +5,11 @@
 
 #include "reference/encoding/frequency_encoding.h"
 #include "vknerf/error.h"
+#include "encoding/encode_frequency_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct Push {
-  uint32_t count, strideVec4, offsetVec4;
-};
+using Push = glsl::FrequencyPush;
 constexpr uint32_t kLocal = 64;
 
 uint32_t checkedDims(uint32_t inputDims, uint32_t levels) {
@@ -30,7 +29,9 @@ FrequencyEncoding::FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t 
       outputDims_(ref::frequencyEncodingDims(inputDims, levels, includeInput)),
       includeInput_(includeInput),
       kernel_(ctx, {gpu::shaders::encode_frequency, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push),
-                    {inputDims, levels, includeInput ? 1u : 0u}}) {
+                    {{glsl::FrequencySpec::DIMS, inputDims},
+                     {glsl::FrequencySpec::LEVELS, levels},
+                     {glsl::FrequencySpec::INCLUDE_INPUT, includeInput ? 1u : 0u}}}) {
   if (outputDims_ == 0) throw Error("FrequencyEncoding: no output columns (0 levels and no raw input)");
 }
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <string>
 
+#include "encoding/encode_hash_backward_reduce_shared.h"
+#include "encoding/encode_hash_backward_shared.h"
+#include "encoding/hash_grid_shared.h"
 #include "gpu/prefix_sum.h"
 #include "vknerf/error.h"
 
@@ -38,6 +41,18 @@ const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
          std::to_string(ctx.properties().limits.maxStorageBufferRange) + "); lower levels, F or T");
   return c;
 }
+
+// The grid's shape, which the forward pass and every backward kernel but the reduce specialize on.
+std::vector<gpu::SpecConstant> gridSpec(const HashGridConfig& c) {
+  using Spec = glsl::HashGridSpec;
+  return {{Spec::LEVELS, c.levels}, {Spec::FEATURES, c.featuresPerLevel}, {Spec::LOG2_TABLE, c.log2TableSize}};
+}
+
+std::vector<gpu::SpecConstant> backwardSpec(const HashGridConfig& c, HashBackwardMode mode) {
+  std::vector<gpu::SpecConstant> spec = gridSpec(c);
+  spec.push_back({glsl::HashBackwardSpec::MERGE, uint32_t(mode)});
+  return spec;
+}
 }  // namespace
 
 HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode)
@@ -47,7 +62,7 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
       forward_(ctx, {gpu::shaders::encode_hash,
                      {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                       gpu::Binding::Storage},
-                     sizeof(Push), {config.levels, config.featuresPerLevel, config.log2TableSize}}),
+                     sizeof(Push), gridSpec(config)}),
       limited_(ctx),
       limitedBackward_(ctx) {
   for (uint32_t l = 0; l < config_.levels; ++l) {
@@ -60,7 +75,7 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
       throw Error("HashEncoding: SortReduce scans 2^" + std::to_string(config_.log2TableSize) +
                   " entries per level, more than one prefix-sum dispatch covers (" +
                   std::to_string(scanCapacity(ctx)) + "); lower T or use Atomic");
-    const std::vector<uint32_t> spec{config.levels, config.featuresPerLevel, config.log2TableSize};
+    const std::vector<gpu::SpecConstant> spec = gridSpec(config);
     count_ = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward_count,
                                {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage},
                                sizeof(SortPush), spec});
@@ -71,8 +86,10 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
     for (uint32_t stage = 0; stage < 3; ++stage)
       reduce_[stage] = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward_reduce,
                                          std::vector<gpu::Binding>(5, gpu::Binding::Storage),
-                                         2 * sizeof(uint32_t),
-                                         {config.featuresPerLevel, kChunk, stage}});
+                                         sizeof(glsl::HashReducePush),
+                                         {{glsl::HashReduceSpec::FEATURES, config.featuresPerLevel},
+                                          {glsl::HashReduceSpec::CHUNK, kChunk},
+                                          {glsl::HashReduceSpec::STAGE, stage}}});
     setSortSlotBudget(uint32_t(std::min<VkDeviceSize>(
         kSortSlotBytes, ctx.properties().limits.maxStorageBufferRange) / slotBytes(config.featuresPerLevel)));
   } else if (ctx.floatAtomics()) {
@@ -81,7 +98,7 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                                   {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                                    gpu::Binding::Storage},
                                   sizeof(Push),
-                                  {config.levels, config.featuresPerLevel, config.log2TableSize, uint32_t(mode)}});
+                                  backwardSpec(config, mode)});
   }
 }
 
@@ -226,11 +243,11 @@ void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& 
       scan_->record(rec, counts, entries, cursor, entries);
       rec.dispatch(scatter_, {positions, dFeatures, cursor, slotRange, limited.limit}, sp,
                    gpu::groupsFor(sp.count, kLocal), 1, 1, "encode_hash_backward_scatter");
-      const uint32_t reducePush[2] = {slots, l0 << T};
+      const glsl::HashReducePush reducePush{slots, l0 << T};
       const uint32_t groups = gpu::groupsFor(gpu::groupsFor(slots, kChunk), kLocal);
       for (auto& k : reduce_)
-        rec.dispatch(k, {cursor, slotRange, exactly(grads), spanMax_, spanAcc_}, reducePush, sizeof reducePush,
-                     groups, 1, 1, "encode_hash_backward_reduce");
+        rec.dispatch(k, {cursor, slotRange, exactly(grads), spanMax_, spanAcc_}, reducePush, groups, 1, 1,
+                     "encode_hash_backward_reduce");
     }
   }
 }

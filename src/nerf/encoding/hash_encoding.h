@@ -13,6 +13,8 @@
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 #include "reference/encoding/hash_encoding.h"
+#include "encoding/encode_hash_shared.h"
+#include "encoding/hash_sort_shared.h"
 
 namespace vknerf::gpu {
 class PrefixSum;
@@ -81,22 +83,14 @@ class HashEncoding {
                       const gpu::BufferRange& grads, const gpu::BufferRange* rowLimit = nullptr);
 
  private:
-  struct Push {
-    uint32_t count, strideVec4, offsetVec4, denseMask;
-    uint32_t res[24];
-    uint32_t limitBase;  // shaders/row_limit.glsl
-  };
+  using Push = glsl::HashPush;
   gpu::BufferRange exactly(const gpu::BufferRange& table) const;
   template <class Fn>
   void forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
                  const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn);
 
-  // Count and scatter kernels' push constants (shaders/hash_sort.glsl).
-  struct SortPush {
-    uint32_t count, strideVec4, offsetVec4, denseMask;
-    uint32_t res[24];
-    uint32_t rowBase, levelBegin, levelEnd, limitBase;
-  };
+  // Count and scatter kernels' push constants (shaders/encoding/hash_sort_shared.h).
+  using SortPush = glsl::HashSortPush;
   void recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& positions, const gpu::BufferRange& dFeatures,
                         const Push& p, const gpu::BufferRange& grads, const gpu::LimitedRows& limited);
   void ensureSortScratch(uint64_t slots, uint64_t entries);

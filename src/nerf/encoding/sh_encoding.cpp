@@ -4,12 +4,11 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "encoding/encode_sh_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct Push {
-  uint32_t count, strideVec4, offsetVec4, limitBase;
-};
+using Push = glsl::ShPush;
 constexpr uint32_t kLocal = 64;
 
 uint32_t checkedDegree(uint32_t degree) {
@@ -23,7 +22,7 @@ ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
     : ctx_(ctx),
       degree_(checkedDegree(degree)),
       kernel_(ctx, {gpu::shaders::encode_sh, {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push),
-                    {degree}}),
+                    {{glsl::ShSpec::DEGREE, degree}}}),
       limited_(ctx) {}
 
 void ShEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& directions,

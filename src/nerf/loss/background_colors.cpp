@@ -1,11 +1,9 @@
 #include "nerf/loss/background_colors.h"
+#include "loss/random_background_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct BackgroundPush {
-  float constant[4];
-  uint32_t random, seed, count;
-};
+using glsl::BackgroundPush;
 constexpr uint32_t kBackgroundLocal = 64;
 
 void dispatchBackground(gpu::Recorder& rec, gpu::Kernel& k, const gpu::BufferRange& background,

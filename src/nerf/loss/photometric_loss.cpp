@@ -7,15 +7,11 @@
 #include "gpu/limited_dispatch.h"
 #include "reference/loss/photometric_loss.h"
 #include "vknerf/error.h"
+#include "loss/loss_photometric_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct LossPush {
-  uint32_t numRays;
-  float gradScale;
-  uint32_t firstBinding;
-  uint32_t limitBase;  // shaders/gpu/row_limit.glsl
-};
+using glsl::LossPush;
 constexpr uint32_t kOtherBindings = 7;  // pred, pixel ids, cameras, background, dPred, partials, ray limit
 
 gpu::KernelDesc lossKernel(Context& ctx) {

@@ -1,17 +1,12 @@
 #include "nerf/mesh/density_grid.h"
+#include "mesh/grid_points_shared.h"
+#include "mesh/grid_density_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct PointsPush {
-  uint32_t n[4], blockCount[4];
-  float origin[4], spacing[4], boxMin[4], boxMax[4];
-  uint32_t first, count;
-};
-struct DensityPush {
-  uint32_t n[4], blockCount[4];
-  uint32_t first, count;
-};
+using PointsPush = glsl::GridPointsPush;
+using DensityPush = glsl::GridDensityPush;
 constexpr uint32_t kLocal = 256;
 
 }  // namespace

@@ -6,16 +6,12 @@
 
 #include "gpu/recorder.h"
 #include "vknerf/error.h"
+#include "mesh/marching_cubes_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct Push {
-  uint32_t n[4];
-  float origin[4], spacing[4];
-  uint32_t first, count, chunk;
-  float threshold;
-};
+using Push = glsl::MarchingCubesPush;
 
 constexpr uint32_t kLocal = 256;  // shaders/mesh/marching_cubes.glsl
 constexpr uint32_t kAlign = 1024;  // chunks start at multiples of this (binding offset alignment)

@@ -5,20 +5,19 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "network/mlp_dense_shared.h"
+#include "network/mlp_dense_dx_shared.h"
+#include "network/mlp_dense_dw_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct RowPush {  // mlp_dense.comp
-  uint32_t count, strideA4, strideB4, strideY4, limitBase;
-};
-
-struct DxPush {  // mlp_dense_dx.comp
-  uint32_t count, strideZ4, strideA4, strideDA4, strideDB4, gather, limitBase;
-};
-struct DwPush {  // mlp_dense_dw.comp
-  uint32_t count, strideX4, strideZ4, iters, gather, limitBase;
-};
+using RowPush = glsl::MlpDensePush;
+using DxPush = glsl::MlpDenseDxPush;
+using DwPush = glsl::MlpDenseDwPush;
+using RowSpec = glsl::MlpDenseSpec;
+using DxSpec = glsl::MlpDenseDxSpec;
+using DwSpec = glsl::MlpDenseDwSpec;
 
 // Largest of `preferred`, 8, 4 that divides n (n is a multiple of 4).
 uint32_t blockFor(uint32_t n, uint32_t preferred) {
@@ -92,8 +91,15 @@ void DenseLayer::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Bu
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
                                gpu::Binding::Storage, gpu::Binding::Storage},
                               sizeof(RowPush),
-                              {t_.local, s.ka4(), s.kb4(), s.n4(), s.n, act, u32(s.offset / 4, "weight offset"), t_.rows,
-                               std::min(t_.block, s.n4())}});
+                              {{RowSpec::LOCAL_SIZE_X, t_.local},
+                               {RowSpec::KA4, s.ka4()},
+                               {RowSpec::KB4, s.kb4()},
+                               {RowSpec::N4, s.n4()},
+                               {RowSpec::NTRUE, s.n},
+                               {RowSpec::ACT, act},
+                               {RowSpec::WOFF4, u32(s.offset / 4, "weight offset")},
+                               {RowSpec::R, t_.rows},
+                               {RowSpec::NB, std::min(t_.block, s.n4())}}});
   }
   const Mat& bb = s.kb ? b : a;
   gpu::dispatchLimited(rec, *forward_, {a.range, bb.range, params, y.range},
@@ -116,8 +122,15 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const g
                       {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
                        gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                       sizeof(DxPush),
-                      {t_.local, s.ka4(), s.kb4(), s.n4(), u32(s.offset / 4, "weight offset"), t_.dxRows,
-                       blockFor(s.ka4(), t_.dxBlock), uint32_t(modeA), uint32_t(modeB)}};
+                      {{DxSpec::LOCAL_SIZE_X, t_.local},
+                       {DxSpec::KA4, s.ka4()},
+                       {DxSpec::KB4, s.kb4()},
+                       {DxSpec::N4, s.n4()},
+                       {DxSpec::WOFF4, u32(s.offset / 4, "weight offset")},
+                       {DxSpec::R, t_.dxRows},
+                       {DxSpec::KBLK, blockFor(s.ka4(), t_.dxBlock)},
+                       {DxSpec::MODE_A, uint32_t(modeA)},
+                       {DxSpec::MODE_B, uint32_t(modeB)}}};
     it = dx_.emplace(key, gpu::Kernel(ctx_, std::move(d))).first;
   }
   const Mat& aa = modeA == GradMode::StoreReluMasked ? a : dz;
@@ -140,7 +153,16 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
                       {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                        gpu::Binding::Storage, gpu::Binding::Storage},
                       sizeof(DwPush),
-                      {t_.dwLocal, k4, s.n4(), n0, nw, kt, ntile, t_.dwU, u32(goff, "gradient offset"), ones ? 1u : 0u}};
+                      {{DwSpec::LOCAL_SIZE_X, t_.dwLocal},
+                       {DwSpec::K4, k4},
+                       {DwSpec::N4, s.n4()},
+                       {DwSpec::N0, n0},
+                       {DwSpec::NW, nw},
+                       {DwSpec::KT, kt},
+                       {DwSpec::NT, ntile},
+                       {DwSpec::U, t_.dwU},
+                       {DwSpec::GOFF, u32(goff, "gradient offset")},
+                       {DwSpec::ONES, ones ? 1u : 0u}}};
     parts.push_back(std::make_unique<DwPart>(DwPart{gpu::Kernel(ctx_, std::move(d)), (k4 / kt) * (nw / ntile)}));
   };
   add(0, nMain, nt);

@@ -4,31 +4,28 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "network/mlp_nerf_head_shared.h"
+#include "network/mlp_nerf_density_shared.h"
+#include "network/mlp_nerf_fused_shared.h"
+#include "network/mlp_nerf_head_backward_shared.h"
+#include "network/mlp_sigmoid_backward_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct HeadPush {  // mlp_nerf_head.comp
-  uint32_t count, strideC4, strideF4, strideOut4, limitBase;
-};
-
-struct DensityPush {  // mlp_nerf_density.comp
-  uint32_t count, strideH4, limitBase;
-};
-
-struct FusedPush {  // mlp_nerf_fused.comp
-  uint32_t count, strideP4, strideD4, strideOut4, limitBase;
-};
+using HeadPush = glsl::MlpHeadPush;
+using DensityPush = glsl::MlpDensityPush;
+using FusedPush = glsl::MlpFusedPush;
+using HeadBackwardPush = glsl::MlpHeadBackwardPush;
+using SigmoidBackwardPush = glsl::MlpSigmoidBackwardPush;
+using HeadSpec = glsl::MlpHeadSpec;
+using DensitySpec = glsl::MlpDensitySpec;
+using FusedSpec = glsl::MlpFusedSpec;
+using HeadBackwardSpec = glsl::MlpHeadBackwardSpec;
+using SigmoidBackwardSpec = glsl::MlpSigmoidBackwardSpec;
 
 // MlpTuning's per-variant masks: bit 0 inference, bit 1 with the activations kept.
 uint32_t variantBit(uint32_t mask, bool keep) { return (mask >> (keep ? 1 : 0)) & 1u; }
-
-struct HeadBackwardPush {  // mlp_nerf_head_backward.comp
-  uint32_t count, strideDOut4, strideOut4, strideC4, strideF4, strideDF4, strideDC4, gather, limitBase;
-};
-struct SigmoidBackwardPush {  // mlp_sigmoid_backward.comp
-  uint32_t count, strideDY4, strideY4, strideDZ4;
-};
 
 constexpr uint32_t kHeadLocal = 64;
 constexpr uint32_t kInferenceRows = 16384;  // rows of the internal scratch used without a workspace
@@ -125,7 +122,11 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
                                gpu::Binding::Storage, gpu::Binding::Storage},
                               sizeof(HeadPush),
-                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), V, uint32_t(config_.density)}});
+                              {{HeadSpec::LOCAL_SIZE_X, kHeadLocal},
+                               {HeadSpec::K4, h.ka4()},
+                               {HeadSpec::WOFF4, uint32_t(h.offset / 4)},
+                               {HeadSpec::SIGMA_COL, V},
+                               {HeadSpec::DENSITY, uint32_t(config_.density)}}});
   }
   // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
   limited_.begin(rec, rowLimit, count, chunk, {layers_[0].rowsPerGroup(), kHeadLocal});
@@ -158,8 +159,13 @@ void NerfMlp::recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                                gpu::Binding::Storage},
                               sizeof(DensityPush),
-                              {tuning_.local, tuning_.rows, feature.ka4(), feature.n4(), V, uint32_t(feature.offset / 4),
-                               uint32_t(config_.density)}});
+                              {{DensitySpec::LOCAL_SIZE_X, tuning_.local},
+                               {DensitySpec::R, tuning_.rows},
+                               {DensitySpec::K4, feature.ka4()},
+                               {DensitySpec::N4, feature.n4()},
+                               {DensitySpec::V, V},
+                               {DensitySpec::WOFF4, uint32_t(feature.offset / 4)},
+                               {DensitySpec::DENSITY, uint32_t(config_.density)}}});
   }
   const uint32_t chunk = std::min(chunkRows_, ws.capacity_);
   const uint32_t rowsPerGroup = layers_[0].rowsPerGroup();  // the density kernel's too (same tuning)
@@ -197,10 +203,22 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::
     b.insert(b.end(), 6, gpu::Binding::Storage);
     kernel = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_fused, b, sizeof(FusedPush),
-                              {tuning_.local, tuning_.fusedRows, posStride(), dirStride(), W, D, V, uint32_t(config_.density),
-                               keep ? 1u : 0u, tuning_.fusedBlock, off4(shape_.trunk(0)), off4(shape_.trunk(D > 1 ? 1 : 0)),
-                               off4(shape_.feature()), off4(shape_.colour()), off4(shape_.head()),
-                               variantBit(tuning_.fusedUnroll, keep)}});
+                              {{FusedSpec::LOCAL_SIZE_X, tuning_.local},
+                               {FusedSpec::R, tuning_.fusedRows},
+                               {FusedSpec::KP4, posStride()},
+                               {FusedSpec::KD4, dirStride()},
+                               {FusedSpec::W, W},
+                               {FusedSpec::DEPTH, D},
+                               {FusedSpec::V, V},
+                               {FusedSpec::DENSITY, uint32_t(config_.density)},
+                               {FusedSpec::KEEP, keep ? 1u : 0u},
+                               {FusedSpec::NB, tuning_.fusedBlock},
+                               {FusedSpec::T0OFF4, off4(shape_.trunk(0))},
+                               {FusedSpec::T1OFF4, off4(shape_.trunk(D > 1 ? 1 : 0))},
+                               {FusedSpec::FOFF4, off4(shape_.feature())},
+                               {FusedSpec::COFF4, off4(shape_.colour())},
+                               {FusedSpec::HOFF4, off4(shape_.head())},
+                               {FusedSpec::UNROLL, variantBit(tuning_.fusedUnroll, keep)}}});
   }
   // The rows of one chunk bind within the device's limits; nothing lives between layers, so a batch
   // without a workspace needs no scratch rows either.
@@ -237,7 +255,11 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     b.insert(b.end(), 5, gpu::Binding::Storage);
     headBackward_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head_backward, b, sizeof(HeadBackwardPush),
-                              {kHeadLocal, h.ka4(), uint32_t(h.offset / 4), V, uint32_t(config_.density)}});
+                              {{HeadBackwardSpec::LOCAL_SIZE_X, kHeadLocal},
+                               {HeadBackwardSpec::K4, h.ka4()},
+                               {HeadBackwardSpec::WOFF4, uint32_t(h.offset / 4)},
+                               {HeadBackwardSpec::SIGMA_COL, V},
+                               {HeadBackwardSpec::DENSITY, uint32_t(config_.density)}}});
   }
   const uint32_t chunk = std::min(chunkRows_, ws.scratchRows_);
   if (rowGather && count > chunk)
@@ -351,7 +373,7 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buf
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_sigmoid_backward,
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage},
                               sizeof(SigmoidBackwardPush),
-                              {outputStride(), config_.outputs}});
+                              {{SigmoidBackwardSpec::N4, outputStride()}, {SigmoidBackwardSpec::NTRUE, config_.outputs}}});
   const uint32_t W = config_.width, L = uint32_t(layers_.size());
   gpu::forRowChunks(count, std::min(chunkRows_, ws.scratchRows_), [&](uint32_t first, uint32_t n, uint32_t) {
     auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };

@@ -6,31 +6,22 @@
 
 #include "reference/occupancy/view_bounds.h"
 #include "vknerf/error.h"
+#include "occupancy/occupancy_points_shared.h"
+#include "occupancy/occupancy_splat_shared.h"
+#include "occupancy/occupancy_ema_shared.h"
+#include "occupancy/occupancy_mean_shared.h"
+#include "occupancy/occupancy_count_shared.h"
+#include "occupancy/occupancy_mark_unseen_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct PointsPush {
-  uint32_t resolution, count, seed, randomCells, cascades;
-};
-struct SplatPush {
-  uint32_t count, stride, component;
-};
-struct EmaPush {
-  uint32_t numCells;
-  float decay, threshold;
-  uint32_t capAtMean;
-};
-struct MeanPush {
-  uint32_t numCells;
-};
-struct CountPush {
-  uint32_t numCells;
-};
-struct UnseenPush {
-  uint32_t resolution, cascades, numCells, numViews;
-  float centre[3], half[3];
-};
+using PointsPush = glsl::OccupancyPointsPush;
+using SplatPush = glsl::OccupancySplatPush;
+using EmaPush = glsl::OccupancyEmaPush;
+using MeanPush = glsl::OccupancyMeanPush;
+using CountPush = glsl::OccupancyCountPush;
+using UnseenPush = glsl::OccupancyUnseenPush;
 
 constexpr uint32_t kPointsLocal = 256, kSplatLocal = 256, kEmaLocal = 64, kCountLocal = 64, kCountWords = 16,
                    kUnseenLocal = 64;
@@ -83,7 +74,7 @@ void OccupancyGrid::markUnseenEmpty(std::span<const Camera> cameras, const Aabb&
   UnseenPush p{resolution_, cascades_, numCells_, uint32_t(cameras.size()), {}, {}};
   for (int k = 0; k < 3; ++k) {
     p.centre[k] = 0.5f * (box.min[k] + box.max[k]);
-    p.half[k] = 0.5f * (box.max[k] - box.min[k]);
+    p.halfExtent[k] = 0.5f * (box.max[k] - box.min[k]);
   }
   gpu::Recorder rec(ctx_);
   rec.begin();

@@ -5,13 +5,11 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "optim/adam_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct Push {
-  float lr, beta1, beta2, epsilon, correction1, correction2;
-  uint32_t count, skipZero, tailIndex;
-};
+using Push = glsl::AdamPush;
 constexpr uint32_t kLocal = 64;
 
 const AdamConfig& checked(const AdamConfig& c) {

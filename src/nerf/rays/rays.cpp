@@ -3,14 +3,11 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "rays/rays_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct Push {
-  float aabbMin[4];
-  float aabbMax[4];
-  uint32_t mode, camera, first, count;
-};
+using Push = glsl::RaysPush;
 constexpr uint32_t kLocal = 64;
 }  // namespace
 

@@ -28,6 +28,7 @@
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
+#include "render/composite_shared.h"
 
 namespace vknerf::nerf {
 
@@ -70,14 +71,7 @@ class Compositor {
                       const DistortionLoss* distortion = nullptr);
 
  private:
-  struct Push {
-    float background[4];
-    uint32_t numRays, samplesPerRay, useBackgroundBuffer;
-    float maxOpticalDepth;
-    uint32_t writeKept;
-    float distortion;  // backward only: DistortionLoss's weight and spacing
-    float coneAngle, dtMin, dtMax;
-  };
+  using Push = glsl::CompositePush;
   // Both passes bind the same inputs and four outputs (forward: colour, depth, weights, kept
   // counts; backward: dColor, dDepth, dField, nothing), then the rays (backward's distortion loss).
   void dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays, uint32_t samplesPerRay,

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "render/write_render_target_shared.h"
 
 namespace vknerf::nerf {
 namespace {
@@ -12,10 +13,7 @@ namespace {
 constexpr uint32_t kLocal = 64;  // shaders/render/write_render_target.comp
 constexpr VkDeviceSize kTexelBytes = 16;
 
-struct Push {  // shaders/render/write_render_target.comp
-  uint32_t first, count, width, channel;
-  float depthScale;
-};
+using Push = glsl::RenderTargetPush;
 
 std::string sizeText(uint32_t w, uint32_t h) { return std::to_string(w) + "x" + std::to_string(h); }
 

@@ -3,14 +3,12 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "render/accumulate_segment_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;  // accumulate_segment.comp
-struct Push {
-  uint32_t numRays, cap, first, last;
-  float minTransmittance;
-};
+using Push = glsl::SegmentPush;
 }  // namespace
 
 SegmentAccumulator::SegmentAccumulator(Context& ctx, uint32_t maxRays)

@@ -4,13 +4,12 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "sampling/kept_rows_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
-struct Push {
-  uint32_t numRays;
-};
+using Push = glsl::KeptRowsPush;
 }  // namespace
 
 KeptRows::KeptRows(Context& ctx, uint32_t maxRays, uint32_t sampleCapacity)

@@ -3,15 +3,13 @@
 #include <algorithm>
 
 #include "vknerf/error.h"
+#include "sampling/march_totals_shared.h"
+#include "sampling/march_cut_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct TotalsPush {
-  uint32_t numRays, localSize, maxGroupsX;
-};
-struct CutPush {  // march_cut.comp
-  uint32_t numRays, localSize, maxGroupsX, capacity, rayAlign;
-};
+using TotalsPush = glsl::MarchTotalsPush;
+using CutPush = glsl::MarchCutPush;
 }  // namespace
 
 PackedLayout::PackedLayout(Context& ctx, uint32_t maxRays)

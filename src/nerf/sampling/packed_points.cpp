@@ -5,14 +5,12 @@
 #include "nerf/sampling/packed_layout.h"
 #include "nerf/sampling/sample_layout.h"
 #include "vknerf/error.h"
+#include "sampling/march_points_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct PointsPush {
-  float boxMin[4], boxMax[4];
-  uint32_t chunkRows, limitBase;
-};
+using PointsPush = glsl::MarchPointsPush;
 
 constexpr uint32_t kPointsLocal = 64;  // march_points.comp
 

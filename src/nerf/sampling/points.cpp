@@ -3,14 +3,11 @@
 #include <string>
 
 #include "vknerf/error.h"
+#include "sampling/sample_points_shared.h"
 
 namespace vknerf::nerf {
 namespace {
-struct Push {
-  float boxMin[4];
-  float boxMax[4];
-  uint32_t count, samplesPerRay;
-};
+using Push = glsl::SamplePointsPush;
 constexpr uint32_t kLocal = 64;
 }  // namespace
 

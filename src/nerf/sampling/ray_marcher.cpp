@@ -7,16 +7,12 @@
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/sample_layout.h"
 #include "vknerf/error.h"
+#include "sampling/march_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct MarchPush {
-  float boxMin[4];     // w = dt
-  float gridScale[4];
-  uint32_t numRays, resolution, maxSamples, seed, jitter, capacity, cascades;
-  float coneAngle, dtMax;
-};
+using glsl::MarchPush;
 
 constexpr uint32_t kMarchLocal = 32;  // march_count.comp, march_write.comp
 

@@ -5,17 +5,15 @@
 
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
+#include "sampling/sample_stratified_shared.h"
+#include "sampling/sample_pdf_shared.h"
+#include "sampling/sampling_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
-struct StratifiedPush {
-  uint32_t numRays, samplesPerRay, seed, jitter;
-};
-struct PdfPush {
-  uint32_t numRays, nCoarse, nFine, seed, jitter;
-  float padding;
-};
+using glsl::StratifiedPush;
+using glsl::PdfPush;
 
 // One invocation per ray in both kernels: small groups so that a few thousand rays still make
 // enough workgroups (one lavapipe task each) to spread over the worker threads.
@@ -33,7 +31,8 @@ void requireIndexable(const char* stage, uint64_t count) {
 
 StratifiedSampler::StratifiedSampler(Context& ctx)
     : kernel_(ctx, {gpu::shaders::sample_stratified, {gpu::Binding::Storage, gpu::Binding::Storage},
-                    sizeof(StratifiedPush), {kStratifiedLocal}}) {}
+                    sizeof(StratifiedPush),
+                    {{glsl::SamplingSpec::LOCAL_SIZE_X, kStratifiedLocal}}}) {}
 
 void StratifiedSampler::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays,
                                uint32_t samplesPerRay, uint32_t seed, bool jitter, const gpu::BufferRange& samples) {
@@ -49,7 +48,7 @@ PdfSampler::PdfSampler(Context& ctx)
     : kernel_(ctx, {gpu::shaders::sample_pdf,
                     {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                     sizeof(PdfPush),
-                    {kPdfLocal}}) {}
+                    {{glsl::SamplingSpec::LOCAL_SIZE_X, kPdfLocal}}}) {}
 
 void PdfSampler::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays,
                         const gpu::BufferRange& coarseSamples, const gpu::BufferRange& coarseWeights, uint32_t nCoarse,

@@ -1,4 +1,4 @@
-// Image files (src/nerf/image_io.*): PNG/JPEG in, PNG out, premultiplied box-filter downscale.
+// Image files (src/io/image/image_io.*): PNG/JPEG in, PNG out, premultiplied box-filter downscale.
 #include <stb/stb_image_write.h>
 
 #include <algorithm>

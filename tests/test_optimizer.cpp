@@ -1,4 +1,4 @@
-// adam.comp against the CPU reference (src/reference/optimizer.h).
+// adam.comp against the CPU reference (src/reference/optim/adam.h).
 #include <cmath>
 #include <random>
 #include <vector>

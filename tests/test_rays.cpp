@@ -1,4 +1,4 @@
-// rays.comp against the CPU reference (src/reference/rays.h).
+// rays.comp against the CPU reference (src/reference/rays/rays.h).
 #include <cmath>
 #include <vector>
 

@@ -1,4 +1,4 @@
-// Row limits (shaders/row_limit.glsl, gpu/limited_dispatch.h): the per-sample forward kernels
+// Row limits (shaders/gpu/row_limit.glsl, gpu/limited_dispatch.h): the per-sample forward kernels
 // recorded for a capacity but cut to a row count that only the device knows (the marcher's sample
 // total, in a render recorded into a caller's command buffer), their workgroup counts written on
 // the device (indirect dispatch). Below the limit a limited dispatch must write exactly what the unlimited

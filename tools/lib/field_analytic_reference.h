@@ -1,5 +1,5 @@
 #pragma once
-// CPU twin of shaders/field_analytic.glsl.
+// CPU twin of shaders/selfcheck/field_analytic.glsl.
 #include <algorithm>
 #include <array>
 #include <cmath>

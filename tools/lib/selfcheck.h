@@ -1,6 +1,6 @@
 #pragma once
 // End-to-end check of the rendering kernels without a trained network: an analytic field
-// (shaders/field_analytic.comp) is rendered through rays -> stratified samples -> points -> field
+// (shaders/selfcheck/field_analytic.comp) is rendered through rays -> stratified samples -> points -> field
 // -> compositing -> inverse-CDF samples -> field -> compositing, on the device and in the double
 // CPU reference, and the images are compared.
 #include <string>

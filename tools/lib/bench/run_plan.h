@@ -8,7 +8,7 @@
 namespace vknerf::bench {
 
 // The scene's folder name: "tabletop" for assets/tabletop, assets/tabletop/ and
-// assets/tabletop/transforms.json (a file names its folder), "fruit" for fruit/sparse/0 (a COLMAP
+// assets/tabletop/transforms_train.json (a file names its folder), "fruit" for fruit/sparse/0 (a COLMAP
 // model folder names the scene above it).
 std::string sceneName(const std::string& path);
 

@@ -469,7 +469,7 @@ PoseErrors poseErrors(const Dataset& colmap, const std::vector<test::TrueView>& 
 // conversion error (axes, c2w against w2c, the camera's convention) fails every run, so a run whose
 // poses are off is repeated once, with the same bounds, and the test fails when both are off.
 TEST_F(ProcessScene, RealColmapRecoversRenderedPoses) {
-  if (!colmapInstalled()) GTEST_SKIP() << "colmap is not installed (Debian package: colmap); tools/install-deps.sh installs it";
+  if (!colmapInstalled()) GTEST_SKIP() << "colmap is not installed (Debian package: colmap); tools/dev/install-deps.sh installs it";
   const test::TexturedViewsSpec spec;
   const auto truth = test::renderTexturedViews(dir() / "photos", spec);
   PoseErrors worst;

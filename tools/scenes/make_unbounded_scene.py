@@ -2,7 +2,7 @@
 # (no numpy), PNGs through zlib. A textured ground plane out to the scene box's edge, a few textured
 # objects near the centre, a striped wall ring far out, and a sky gradient at infinity; opaque photos
 # (no alpha) from a hand-held-like path around the centre, some views looking in, some out.
-#   python3 tools/make_unbounded_scene.py --out /tmp/unbounded [--width 160 --height 120 --train 40 --test 8]
+#   python3 -m tools.scenes.make_unbounded_scene --out /tmp/unbounded [--width 160 --height 120 --train 40 --test 8]
 # Writes transforms_train.json and transforms_test.json with aabb_scale 8 (instant-ngp's convention:
 # with the default scale 0.33 and offset 0.5 the box is +-12.1 units, the inner cube +-1.5).
 # Takes about a minute on one core at the default size.

@@ -1,6 +1,5 @@
-#!/usr/bin/python3
 # Checks a rendered nerf_synthetic-layout scene and writes a contact sheet of some of its views.
-# Usage: /usr/bin/python3 tools/check_scene.py assets/tabletop [--sheet docs/sample_scene.png]
+# Usage: /usr/bin/python3 -m tools.scenes.check_scene assets/tabletop [--sheet docs/sample_scene.png]
 # Needs Debian's python3-numpy and python3-pil. Exits 1 with one line per problem found.
 import argparse
 import colorsys
@@ -108,7 +107,7 @@ def main():
     p.add_argument("--size", type=int, default=100)
     p.add_argument("--sheet", help="write a contact sheet PNG here")
     p.add_argument("--probe", type=float, nargs=3, default=[0.43, 0.34, 0.02],
-                   help="centre of the gold sphere (tools/make_scene.py: sphere location)")
+                   help="centre of the gold sphere (tools/scenes/make_scene.py: sphere location)")
     args = p.parse_args()
     problems = []
     train, ptrain = check_split(args.scene, "train", args.radius, args.size, args.probe, problems)

@@ -1,6 +1,6 @@
 # Builds vknerf's sample scene "tabletop" and renders it in nerf_synthetic layout.
-# Run by Blender, not by python3:  blender -b --factory-startup -P tools/make_scene.py -- --out assets/tabletop
-# (tools/make_scene.sh installs Debian's blender if needed and does exactly that).
+# Run by Blender, not by python3, as a module of this package: tools/scenes/make_scene.sh installs Debian's
+# blender if needed and runs `blender_module make_scene --out assets/tabletop` (need_blender.sh).
 #
 # Everything is made here from primitives and procedural textures, so the scene is our own work and
 # the renders are reproducible: fixed Cycles seed, fixed thread count, seeded camera positions (a re-render
@@ -15,9 +15,8 @@ import sys
 import bpy
 from mathutils import Matrix, Vector
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from scenegen import blender_parts as parts  # noqa: E402  (needs the path above)
-from scenegen.transforms_json import write_transforms  # noqa: E402
+from . import blender_parts as parts
+from .transforms_json import write_transforms
 
 # The plate's top is at parts.FLOOR = -0.4, so content spans z in [-0.5, 0.7]. With the plate radius of
 # 1.05 this keeps every view inside the frame (>= 7 px margin) at radius 4 and camera_angle_x 0.691 for

@@ -1,5 +1,5 @@
 # Resampling renders. warp() turns a wide pinhole render into the photo a distorted camera takes from the same
-# pose: for each output (sub)pixel, its distorted normalised coordinates are undistorted (scenegen.lens, Newton
+# pose: for each output (sub)pixel, its distorted normalised coordinates are undistorted (lens.py, Newton
 # iteration), mapped to the wide render's pixel and sampled bilinearly. The camera model is thus exact, and only
 # the render's own resolution limits the detail: render it oversampled (make_capture.py does, 1.5x by default).
 # downscale() makes the smaller copies of a photo (LLFF's images_N/).

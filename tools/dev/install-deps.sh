@@ -4,7 +4,7 @@
 #                  line and run it on lavapipe.
 #   --all          that, and what the rest needs (the README's second command, .ci/run): the test
 #                  suite (GoogleTest, the validation layer, vulkaninfo), the benchmarks (Google
-#                  Benchmark; OpenBLAS for `bench mlp`), tools/sanitize.sh (clang, libclang-rt-dev:
+#                  Benchmark; OpenBLAS for `bench mlp`), tools/dev/sanitize.sh (clang, libclang-rt-dev:
 #                  the sanitizer runtimes and libFuzzer), the viewer and its test (GLFW, Xvfb), the
 #                  plotting scripts (matplotlib, numpy), and the programs `vknerf process` runs
 #                  (colmap; ffmpeg for a video) and `render --video` runs (ffmpeg), which their tests

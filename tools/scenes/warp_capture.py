@@ -1,5 +1,4 @@
-#!/usr/bin/python3
-# Second half of tools/make_capture.sh: turns make_capture.py's wide pinhole renders (<capture>/wide) into the
+# Second half of tools/scenes/make_capture.sh: turns make_capture.py's wide pinhole renders (<capture>/wide) into the
 # dataset a phone and COLMAP would give, in two layouts over the same images/:
 #   transforms.json (instant-ngp keys: fl_x fl_y cx cy w h, k1 k2 p1 p2 or is_fisheye + k1..k4, aabb_scale;
 #     frames with file_path and an OpenGL camera-to-world transform_matrix), and transforms_train.json /
@@ -9,20 +8,18 @@
 #   sparse/0/cameras.bin (OPENCV or OPENCV_FISHEYE), images.bin, points3D.bin: COLMAP's binary model.
 # With --pinhole OUT it also writes the same views without distortion (PINHOLE, no k/p keys) to OUT, which
 # today's loaders read; there the COLMAP model is also written as text (sparse/0/*.txt).
-# Usage: /usr/bin/python3 tools/warp_capture.py /work/data/capture [--pinhole /work/data/capture-pinhole]
+# Usage: /usr/bin/python3 -m tools.scenes.warp_capture CAPTURE [--pinhole CAPTURE-pinhole]   (from the repository root)
 import argparse
 import json
 import math
 import os
-import sys
 
 import numpy as np
 from PIL import Image
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from scenegen import colmap_model as colmap  # noqa: E402  (needs the path above)
-from scenegen import warp as warping  # noqa: E402
-from scenegen.transforms_json import write_transforms  # noqa: E402
+from . import colmap_model as colmap
+from . import warp as warping
+from .transforms_json import write_transforms
 
 HOLDOUT_FRACTION = 0.1  # vknerf's DatasetOptions.holdoutFraction default
 
@@ -123,7 +120,7 @@ def write_dataset(out, meta, lens, images, points_uv, text_model):
 
 def main():
     p = argparse.ArgumentParser()
-    p.add_argument("capture", help="folder with wide/render.json from tools/make_capture.py; the dataset goes here")
+    p.add_argument("capture", help="folder with wide/render.json from tools/scenes/make_capture.py; the dataset goes here")
     p.add_argument("--pinhole", help="also write the undistorted twin of the dataset here")
     p.add_argument("--supersample", type=int, default=2, help="samples per output pixel along each axis")
     args = p.parse_args()

@@ -4,13 +4,13 @@
 #     ring of buildings and a cloudy sky, from a hand-held walk round the objects (jittered positions and aim,
 #     a few views looking outwards); 45 views, world units as built.
 #   wall: an object hanging on a tiled wall that fills every frame, photographed from 0.5-0.9 m
-#     (tools/scenegen/wall_scene.py); 50 views, 7 held out, and the world normalised as instant-ngp's
+#     (tools/scenes/wall_scene.py); 50 views, 7 held out, and the world normalised as instant-ngp's
 #     colmap2nerf.py does with a real capture (origin where the cameras look, mean camera distance 4).
-# Run by Blender, not by python3 (tools/make_capture.sh runs this, then tools/warp_capture.py, then the check):
-#   blender -b --factory-startup -P tools/make_capture.py -- --out /work/data/capture [--scene wall]
+# Run by Blender, not by python3 (tools/scenes/make_capture.sh runs this, then tools/scenes/warp_capture.py, then
+# the check), as a module of this package: need_blender.sh's blender_module make_capture --out CAPTURE [--scene wall]
 #
 # Each view is rendered as a WIDE pinhole image (square pixels, principal point at its centre, oversampled),
-# large enough to cover what the distorted camera sees; tools/warp_capture.py then warps it through the lens
+# large enough to cover what the distorted camera sees; tools/scenes/warp_capture.py then warps it through the lens
 # model, so the distortion in the photos is exact. This script writes <out>/wide/: view_NNNN.png, and
 # render.json with the output camera, the lens, every view's pose and its wide intrinsics, the number of views
 # to hold out, and 3-D points on the scene's surfaces with the views that see them (for the COLMAP model's
@@ -27,10 +27,9 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from scenegen import blender_parts as parts  # noqa: E402  (needs the path above)
-from scenegen import lens as lenses  # noqa: E402
-from scenegen import wall_scene  # noqa: E402
+from . import blender_parts as parts
+from . import lens as lenses
+from . import wall_scene
 
 GROUND = parts.FLOOR - 0.1  # the plate (0.1 thick, top at FLOOR) lies on the ground
 
@@ -140,7 +139,7 @@ def rotation_about(axis, degrees):
 def hand_held_poses(rng, count):
     # One walk around the objects at chest height, aiming roughly at them; the step, distance, height, aim and
     # roll all wander. Every ninth view (starting at the eighth) turns away from the objects, as phones do
-    # between shots; the held-out views (evenly spaced, see tools/warp_capture.py) are never those.
+    # between shots; the held-out views (evenly spaced, see tools/scenes/warp_capture.py) are never those.
     poses = []
     phi0 = rng.uniform(0, 2 * math.pi)
     for i in range(count):

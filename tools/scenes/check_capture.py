@@ -1,10 +1,9 @@
-#!/usr/bin/python3
-# Checks a capture written by tools/make_capture.sh: the images exist at the stated size, the poses are rigid,
+# Checks a capture written by tools/scenes/make_capture.sh: the images exist at the stated size, the poses are rigid,
 # transforms.json and the COLMAP binary model agree (intrinsics, lens, poses), the split files partition the
 # frames, and the 3-D points land where the photos show them: a point projected through the full lens model
 # into two photos that see it finds the same colour in both (and worse agreement when the distortion is
 # ignored, which shows that the photos really are distorted as stated).
-# Usage: /usr/bin/python3 tools/check_capture.py /work/data/capture
+# Usage: /usr/bin/python3 -m tools.scenes.check_capture CAPTURE   (from the repository root)
 # Needs Debian's python3-numpy and python3-pil. Exits 1 with one line per problem found.
 import argparse
 import json
@@ -14,10 +13,9 @@ import sys
 import numpy as np
 from PIL import Image
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from scenegen import colmap_model as colmap  # noqa: E402  (needs the path above)
-from scenegen import lens as lenses  # noqa: E402
-from scenegen.warp import bilinear  # noqa: E402
+from . import colmap_model as colmap
+from . import lens as lenses
+from .warp import bilinear
 
 
 def lens_of(meta):

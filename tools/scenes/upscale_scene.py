@@ -1,10 +1,9 @@
-#!/usr/bin/env python3
 """Writes a large copy of a nerf_synthetic-style scene for testing the memory path of big datasets:
 every image enlarged by an integer factor (pixel replication), the transforms files copied (their
 camera_angle_x holds for any resolution), train frames repeated until there are --frames of them.
 Python's standard library only (8-bit RGBA or RGB PNGs, not interlaced).
 
-  python3 tools/upscale_scene.py assets/tabletop /tmp/tabletop800 --factor 8 --frames 100
+  python3 -m tools.scenes.upscale_scene assets/tabletop /tmp/tabletop800 --factor 8 --frames 100
 """
 import argparse
 import json

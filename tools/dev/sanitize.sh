@@ -3,11 +3,16 @@
 # build folder (build-asan/, clang), then each libFuzzer target of fuzz/ for FUZZ_SECONDS seconds
 # (default 20) from a seed corpus made from the sample scene. Any sanitizer report or fuzzer crash
 # fails the run. docs/robustness.md says how to fuzz for longer.
-# --suite-only: the sanitized suite without fuzzing.
+# --suite-only: the sanitized suite without fuzzing; --help: this text.
 set -euo pipefail
 SUITE_ONLY=0
-if [ "${1:-}" = "--suite-only" ]; then SUITE_ONLY=1; fi
-cd "$(dirname "$0")/.."
+case "${1:-}" in
+  "") ;;
+  --suite-only) SUITE_ONLY=1 ;;
+  -h | --help) sed -n '2,7s/^# \{0,1\}//p' "$0"; exit 0 ;;
+  *) echo "usage: $0 [--suite-only | --help]" >&2; exit 2 ;;
+esac
+cd "$(dirname "$0")/../.."
 ROOT=$PWD
 BUILD=${BUILD:-build-asan}
 FUZZ_SECONDS=${FUZZ_SECONDS:-20}
@@ -20,12 +25,12 @@ cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ \
 cmake --build "$BUILD" -j2
 
 # halt_on_error: the first report fails the test. Libraries stay loaded until exit
-# (tools/keep_libraries_loaded.c says why), so a leak report always names its allocation stack; the
-# leak suppressions cover third-party code only (tools/lsan.supp says why for each entry).
-cc -shared -fPIC -O2 tools/keep_libraries_loaded.c -o "$BUILD/keep_libraries_loaded.so"
+# (tools/dev/keep_libraries_loaded.c says why), so a leak report always names its allocation stack; the
+# leak suppressions cover third-party code only (tools/dev/lsan.supp says why for each entry).
+cc -shared -fPIC -O2 tools/dev/keep_libraries_loaded.c -o "$BUILD/keep_libraries_loaded.so"
 export ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:strict_string_checks=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
-export LSAN_OPTIONS=suppressions=$ROOT/tools/lsan.supp:print_suppressions=0
+export LSAN_OPTIONS=suppressions=$ROOT/tools/dev/lsan.supp:print_suppressions=0
 export LD_PRELOAD=$ROOT/$BUILD/keep_libraries_loaded.so
 # The install.consumer test configures a project of its own against the sanitized libvknerf.a:
 # CMake takes its initial flags from these.

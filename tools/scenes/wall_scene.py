@@ -1,4 +1,4 @@
-# The "wall" capture of tools/make_capture.py (--scene wall): what a hand-held phone capture of an object
+# The "wall" capture of make_capture.py (--scene wall): what a hand-held phone capture of an object
 # hanging on a patterned wall looks like, the kind of real capture on which vknerf's fast model once lost
 # 8 dB held-out to its distortion loss. Built in metres: a tiled, boldly patterned wall (y = WALL_Y, facing
 # -y) that fills every frame, a framed relief, a deep shelf with small objects on it and a hanging plant (up to

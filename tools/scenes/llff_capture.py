@@ -1,5 +1,4 @@
-#!/usr/bin/python3
-# Second half of tools/make_ffwd_capture.sh: turns make_ffwd_capture.py's renders (<capture>/render) into the
+# Second half of tools/scenes/make_ffwd_capture.sh: turns make_ffwd_capture.py's renders (<capture>/render) into the
 # forward-facing capture as LLFF ships its scenes (NeRF's nerf_llff_data), and the same cameras as a
 # transforms.json without a box, so that the two loaders can be compared:
 #   <capture>/poses_bounds.npy: N x 17 float64, per image (in file-name order) the 3 x 5 matrix [R | t | hwf]
@@ -16,7 +15,7 @@
 #     hold out every 8th image from the first (LLFF's llffhold 8); <json>/images/ holds images_2's files.
 # Then it checks what it wrote: poses_bounds.npy read back through load_llff's convention gives transforms.json's
 # matrices, hwf scales to its intrinsics, the images are the stated sizes and the JSON images are images_2's.
-# Usage: /usr/bin/python3 tools/llff_capture.py /work/data/ffwd --json /work/data/ffwd-json
+# Usage: /usr/bin/python3 -m tools.scenes.llff_capture CAPTURE --json CAPTURE-json   (from the repository root)
 import argparse
 import json
 import os
@@ -26,9 +25,8 @@ import sys
 import numpy as np
 from PIL import Image
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from scenegen.transforms_json import write_transforms  # noqa: E402  (needs the path above)
-from scenegen.warp import downscale  # noqa: E402
+from .transforms_json import write_transforms
+from .warp import downscale
 
 LLFF_HOLD = 8  # the NeRF papers' test views: every 8th image
 
@@ -50,7 +48,7 @@ def load_llff_c2w(poses_bounds):
 
 def main():
     p = argparse.ArgumentParser()
-    p.add_argument("capture", help="folder with render/render.json from tools/make_ffwd_capture.py; LLFF goes here")
+    p.add_argument("capture", help="folder with render/render.json from tools/scenes/make_ffwd_capture.py; LLFF goes here")
     p.add_argument("--json", required=True, help="folder for the transforms.json twin (1/2-resolution images)")
     args = p.parse_args()
     with open(os.path.join(args.capture, "render", "render.json")) as f:

@@ -1,5 +1,5 @@
-# Blender building blocks shared by tools/make_scene.py, tools/make_capture.py (and its wall_scene.py) and
-# tools/make_ffwd_capture.py: materials, the tabletop objects, lights, Cycles settings and PNG clean-up.
+# Blender building blocks shared by make_scene.py, make_capture.py (and its wall_scene.py) and
+# make_ffwd_capture.py: materials, the tabletop objects, lights, Cycles settings and PNG clean-up.
 # Imported inside Blender (needs bpy), never by python3.
 import math
 import struct

@@ -2,9 +2,9 @@
 # of the camera, in a room whose back wall stands 5 m away (floor, a table, a cabinet and a picture between),
 # photographed without alpha by 20 hand-held views on a small, roughly planar patch (a 5 x 4 grid, 6 cm apart,
 # jittered by ~10% of that, each aimed at the plant with a little yaw, pitch and roll), in LLFF's capture order.
-# Run by Blender, not by python3 (tools/make_ffwd_capture.sh runs this, then tools/llff_capture.py, which
-# writes the LLFF layout and the transforms.json twin):
-#   blender -b --factory-startup -P tools/make_ffwd_capture.py -- --out /work/data/ffwd
+# Run by Blender, not by python3 (tools/scenes/make_ffwd_capture.sh runs this, then tools/scenes/llff_capture.py,
+# which writes the LLFF layout and the transforms.json twin), as a module of this package:
+#   need_blender.sh's blender_module make_ffwd_capture --out CAPTURE
 # Writes <out>/render/: view_NNNN.png (pinhole, principal point at the centre, square pixels: all that LLFF's
 # hwf can say) and render.json with the camera, every view's OpenGL camera-to-world pose (metres, +Z up) and
 # its near/far bounds: z-depth percentiles of what the view sees, from rays cast through a grid of its pixels
@@ -21,8 +21,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from scenegen import blender_parts as parts  # noqa: E402  (needs the path above)
+from . import blender_parts as parts
 
 FLOOR = -1.5
 BACK_WALL_Y = 5.0

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "support/gpu_test.h"
+#include "support/sample_scene.h"
 #include "support/temp_dir.h"
 #include "support/tiny_config.h"
 #include "io/checkpoint/checkpoint.h"
@@ -22,14 +23,7 @@ TrainConfig tinyConfig() {
   return c;
 }
 
-const Dataset& scene() {
-  static Dataset d = [] {
-    DatasetOptions o;
-    o.downscale = 4;
-    return Dataset::load(std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop", o);
-  }();
-  return d;
-}
+const Dataset& scene() { return test::quarterSizeSampleScene(); }
 
 using test::sharedContext;
 

@@ -10,6 +10,7 @@
 #include "support/dataset_files.h"
 #include "support/error_message.h"
 #include "support/gpu_test.h"
+#include "support/sample_scene.h"
 #include "support/temp_dir.h"
 #include "support/tiny_config.h"
 #include "vknerf/error.h"
@@ -22,14 +23,7 @@ namespace {
 
 TrainConfig tinyConfig() { return test::tinyVanillaConfig(); }
 
-const Dataset& tabletop() {
-  static Dataset d = [] {
-    DatasetOptions o;
-    o.downscale = 4;
-    return Dataset::load(std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop", o);
-  }();
-  return d;
-}
+const Dataset& tabletop() { return test::quarterSizeSampleScene(); }
 
 // Lowers the device's limits for one test, restoring them after.
 struct LimitsFor {

@@ -2,7 +2,7 @@
 // hash-grid backward recorded for a capacity but cut to a row count the device holds (a training
 // step's marched sample total) must equal the same backward recorded for exactly that many rows.
 // Per-row outputs (dL/dgamma(x)) bit for bit, and nothing written at or past the limit; the
-// reductions over rows (dW, the table gradient) within the float-atomic tolerance of tests/test_mlp.cpp
+// reductions over rows (dW, the table gradient) within the float-atomic tolerance of tests/unit/network/test_mlp.cpp
 // (atomics add in any order), and bit for bit for the deterministic SortReduce table gradient.
 #include <algorithm>
 #include <cmath>
@@ -25,7 +25,7 @@ namespace {
 
 constexpr float kSentinel = -777.0f;
 constexpr uint32_t kRows = 1000;
-// tests/test_mlp.cpp's gradient tolerance (float atomics in any order).
+// tests/unit/network/test_mlp.cpp's gradient tolerance (float atomics in any order).
 constexpr double kGradRel = 1e-3, kGradAbsScale = 1e-4;
 
 using RowLimitBackward = vknerf::test::GpuTest;

@@ -23,7 +23,7 @@ namespace {
 constexpr double kFwdRel = 1e-4, kFwdAbs = 1e-5;
 // Gradients: an entry sums up to `kRays` per-ray products in float atomics (any order), each after the
 // backward chain of the forward: ~(kRays + 64) u sum|terms|; with cancellation between rays the
-// absolute part scales with the largest gradient of the buffer (as tests/test_mlp.cpp).
+// absolute part scales with the largest gradient of the buffer (as tests/unit/network/test_mlp.cpp).
 constexpr double kGradRel = 1e-3, kGradAbsScale = 1e-4;
 constexpr uint32_t kRays = 333;  // not a multiple of any workgroup size
 

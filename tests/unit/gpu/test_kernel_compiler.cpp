@@ -22,6 +22,7 @@
 #include "gpu/mesa_disk_cache.h"
 #include "gpu/recorder.h"
 #include "support/gpu_test.h"
+#include "support/sample_scene.h"
 #include "support/tiny_config.h"
 #include "vknerf/trainer.h"
 
@@ -46,14 +47,7 @@ bool sameStats(const CompileStats& a, const CompileStats& b) {
   return a.pipelines == b.pipelines && a.compiledAhead == b.compiledAhead;
 }
 
-const Dataset& scene() {
-  static Dataset d = [] {
-    DatasetOptions o;
-    o.downscale = 4;
-    return Dataset::load(std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop", o);
-  }();
-  return d;
-}
+const Dataset& scene() { return test::quarterSizeSampleScene(); }
 
 // Sets (or, with nullptr, unsets) an environment variable for a scope.
 class ScopedEnv {

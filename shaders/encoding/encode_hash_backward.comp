@@ -7,7 +7,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 // Multiresolution hash encoding, backward to the table: one invocation per sample scatters
 // weight * dL/dfeature into the 8 corner entries of each level with float atomics; grads are
-// accumulated (the caller zeroes them once per step). Layouts: src/reference/hash_encoding.h.
+// accumulated (the caller zeroes them once per step). Layouts: src/reference/encoding/hash_encoding.h.
 // MERGE = 1: when all active lanes of a subgroup hit the same entry (consecutive samples of a ray
 // in a coarse level), they add with subgroupAdd and one lane issues a single atomic.
 #include "encoding/hash_grid.glsl"

@@ -1,5 +1,5 @@
 // Shared by composite_forward.comp and composite_backward.comp: which samples a ray owns, and the
-// per-sample opacity. The CPU twin is src/reference/composite.h.
+// per-sample opacity. The CPU twin is src/reference/render/composite.h.
 //
 // Layouts: samples are vec2(t, delta); the field is vec4(r, g, b, sigma) with sigma activated.
 // A ray owns samples [r*N, (r+1)*N) when samplesPerRay = N > 0, else [off[r], off[r+1]).

@@ -1,5 +1,5 @@
 #pragma once
-// CPU twin of shaders/rng.glsl: same integer hash, bit for bit.
+// CPU twin of shaders/common/rng.glsl: same integer hash, bit for bit.
 #include <cstdint>
 
 namespace vknerf::ref {

@@ -1,7 +1,7 @@
 #pragma once
 // COLMAP models for the tests and the fuzzers' seeds: poses in COLMAP's terms, and one model
 // written as text (cameras.txt, images.txt, points3D.txt) or as binary (cameras.bin, images.bin,
-// points3D.bin) the way COLMAP writes them. Free of gtest: fuzz/make_seeds uses it too.
+// points3D.bin) the way COLMAP writes them. Free of gtest: fuzz/make_seeds.cpp uses it too.
 #include <array>
 #include <cstdint>
 #include <filesystem>

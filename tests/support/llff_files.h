@@ -1,6 +1,6 @@
 #pragma once
 // LLFF scenes for the tests and the fuzzers' seeds: .npy files as numpy's np.save writes them, and
-// poses_bounds.npy rows from OpenGL camera-to-world poses. Free of gtest: fuzz/make_seeds uses it too.
+// poses_bounds.npy rows from OpenGL camera-to-world poses. Free of gtest: fuzz/make_seeds.cpp uses it too.
 #include <array>
 #include <cstdint>
 #include <cstring>

@@ -1,7 +1,7 @@
 // `vknerf bench train SCENE`: speed against error. Trains each configuration for the same wall-clock
 // budget, measuring held-out PSNR/SSIM at regular points of training time (evaluation is not
 // counted), then times rendering against PSNR for a few sample budgets. Writes train.csv,
-// render.csv and bench.md into --out; tools/plot_bench.py draws them.
+// render.csv and bench.md into --out; tools/dev/plot_bench.py draws them.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -199,7 +199,7 @@ int run(const Options& o, const Globals& g) {
     md << line;
   }
   writeFileAtomically((dir / "bench.md").string(), md.str());
-  std::printf("\n%s\nwrote %s/{train.csv,render.csv,bench.md}; plot with: python3 tools/plot_bench.py %s\n",
+  std::printf("\n%s\nwrote %s/{train.csv,render.csv,bench.md}; plot with: python3 tools/dev/plot_bench.py %s\n",
               md.str().c_str(), o.out.c_str(), o.out.c_str());
   return 0;
 }

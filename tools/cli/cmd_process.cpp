@@ -1,5 +1,5 @@
 // `vknerf process PHOTOS|VIDEO -o SCENE`: camera poses for your own photos or video through COLMAP
-// (tools/lib/process/), written as a scene `vknerf train SCENE` reads.
+// (tools/cli/lib/process/), written as a scene `vknerf train SCENE` reads.
 #include <unistd.h>
 
 #include <chrono>

@@ -23,7 +23,7 @@ Registration selfcheck("selfcheck", "Render an analytic scene on the device and 
                            for (auto& [name, ms] : r.kernelMilliseconds) std::printf("  %-18s %8.3f ms\n", name.c_str(), ms);
                            std::printf("max |error| vs CPU reference: colour %.2e, opacity %.2e, depth %.2e\n",
                                        r.maxColorError, r.maxOpacityError, r.maxDepthError);
-                           bool ok = r.maxColorError < 2e-4 && r.maxOpacityError < 2e-4 && r.maxDepthError < 2e-3;  // bounds of tests/test_selfcheck.cpp
+                           bool ok = r.maxColorError < 2e-4 && r.maxOpacityError < 2e-4 && r.maxDepthError < 2e-3;  // bounds of tests/cli/test_selfcheck.cpp
                            std::printf("selfcheck: %s\n", ok ? "ok" : "FAILED");
                            return ok ? 0 : 1;
                          };

@@ -1,5 +1,5 @@
 #pragma once
-// Frequency (positional) encoding gamma(p) of vec4 inputs (shaders/encode_frequency.comp).
+// Frequency (positional) encoding gamma(p) of vec4 inputs (shaders/encoding/encode_frequency.comp).
 // Column order, per row (the released NeRF code's and the seed's §6.3 order):
 //   [p_0 .. p_{D-1}]                                  if includeInput
 //   for k in 0..L-1: [sin(2^k pi p_0) .. sin(2^k pi p_{D-1}), cos(2^k pi p_0) .. cos(2^k pi p_{D-1})]

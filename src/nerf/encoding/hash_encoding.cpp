@@ -215,7 +215,7 @@ void HashEncoding::ensureSortScratch(uint64_t slots, uint64_t entries) {
 
 // Passes over row ranges of the chunk and, within each, over ranges of levels, so that one pass
 // sorts at most slotBudget_ contributions: count, prefix sum, scatter, then the three reduce
-// stages (shaders/encode_hash_backward_*.comp). Rows outer, levels inner: each pass's entries are
+// stages (shaders/encoding/encode_hash_backward_*.comp). Rows outer, levels inner: each pass's entries are
 // whole levels, so a pass's counts cover (levels << T) entries.
 void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& positions,
                                     const gpu::BufferRange& dFeatures, const Push& p, const gpu::BufferRange& grads,

@@ -1,7 +1,7 @@
 #pragma once
-// Multiresolution hash encoding (instant-ngp's grid; shaders/encode_hash.comp and
-// shaders/encode_hash_backward.comp). Layouts (table, levels, hashing) are documented in
-// src/reference/hash_encoding.h. Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp);
+// Multiresolution hash encoding (instant-ngp's grid; shaders/encoding/encode_hash.comp and
+// shaders/encoding/encode_hash_backward.comp). Layouts (table, levels, hashing) are documented in
+// src/reference/encoding/hash_encoding.h. Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp);
 // the L * F features of a sample go into a row-major feature matrix (row stride a multiple of 4
 // floats) at a column offset that is a multiple of 4, as paddedDims() = L * F rounded up to 4
 // columns, padding written as 0 and columns outside the block untouched (as FrequencyEncoding).
@@ -39,7 +39,7 @@ enum class HashBackwardMode : uint32_t {
   // fixed point: deterministic, no float atomics (so also on devices without them). A non-finite
   // term makes its entry's gradient non-finite (NaN). Needs 2^T at most the prefix sum's capacity
   // (maxComputeWorkGroupCount[0] * 256: T <= 23 on lavapipe).
-  // shaders/encode_hash_backward_{count,scatter,reduce}.comp.
+  // shaders/encoding/encode_hash_backward_{count,scatter,reduce}.comp.
   SortReduce = 2,
 };
 
@@ -68,7 +68,7 @@ class HashEncoding {
   // multiples of minTexelBufferOffsetAlignment);
   // features: `count` rows of `stride` floats, block at columnOffset (both multiples of 4).
   // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are encoded,
-  // the rest of the `count` rows are left untouched (shaders/row_limit.glsl).
+  // the rest of the `count` rows are left untouched (shaders/gpu/row_limit.glsl).
   void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
                      const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
                      uint32_t columnOffset, const gpu::BufferRange* rowLimit = nullptr);

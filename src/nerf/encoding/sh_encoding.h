@@ -1,7 +1,7 @@
 #pragma once
-// Spherical-harmonics direction encoding (shaders/encode_sh.comp): degree^2 real SH coefficients
+// Spherical-harmonics direction encoding (shaders/encoding/encode_sh.comp): degree^2 real SH coefficients
 // (16 for instant-ngp's degree 4) of each unit direction, basis and constants documented in
-// src/reference/sh_encoding.h. Written into a row-major feature matrix (row stride a multiple of 4
+// src/reference/encoding/sh_encoding.h. Written into a row-major feature matrix (row stride a multiple of 4
 // floats) at a column offset that is a multiple of 4, as paddedDims() columns, padding 0 and
 // columns outside the block untouched. No backward: directions are not optimised.
 #include <cstdint>
@@ -21,7 +21,7 @@ class ShEncoding {
 
   // directions: `count` vec4 (xyz unit, w ignored; texel-buffer aligned offset); features: `count`
   // rows of `stride` floats. rowLimit (optional): a uint on the device; only rows below it are
-  // encoded, the rest left untouched (shaders/row_limit.glsl).
+  // encoded, the rest left untouched (shaders/gpu/row_limit.glsl).
   void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& directions,
                      const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
                      const gpu::BufferRange* rowLimit = nullptr);

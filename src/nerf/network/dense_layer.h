@@ -1,7 +1,7 @@
 #pragma once
 // One dense layer y = act(concat(a, b) W + bias) on the device: forward (mlp_dense.comp), backward to
 // the inputs (mlp_dense_dx.comp) and to the weights (mlp_dense_dw.comp). The networks in
-// nerf/mlp.h are sequences of these. Kernels are built on first use, so a forward-only user never
+// nerf/network/mlp.h are sequences of these. Kernels are built on first use, so a forward-only user never
 // pays the JIT time of the backward pipelines.
 #include <map>
 #include <memory>

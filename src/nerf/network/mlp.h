@@ -6,7 +6,7 @@
 //   dirFeatures gamma(d): dirStride() = pad4(dirDims)
 //   out:  vec4 (r, g, b, sigma) per row, rgb after sigmoid, sigma after the density activation
 //   dOut: vec4 dL/d(r, g, b, sigma) per row
-//   params: ONE flat float buffer, parameterCount() floats, layout in src/reference/mlp.h (each layer
+//   params: ONE flat float buffer, parameterCount() floats, layout in src/reference/network/mlp.h (each layer
 //           W row-major [ka4 + kb4][n4] then bias [n4]; padding entries zero and never updated)
 //   grads:  same size as params. recordBackward ACCUMULATES into it (float atomics): zero it first
 //           (e.g. Recorder::fill) once per step.
@@ -64,7 +64,7 @@ class NerfMlp {
   // out = f(pos, dir). With a workspace (capacity >= count) the activations are kept for
   // recordBackward; without one an internal scratch is used and nothing is kept.
   // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are
-  // computed, the rest of `out` is left untouched (shaders/row_limit.glsl).
+  // computed, the rest of `out` is left untouched (shaders/gpu/row_limit.glsl).
   void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
                      const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keepForBackward,
                      const gpu::BufferRange* rowLimit = nullptr);

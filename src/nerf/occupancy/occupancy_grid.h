@@ -1,5 +1,5 @@
 #pragma once
-// Occupancy grid for empty-space skipping (shaders/occupancy_*.comp, shaders/occupancy.glsl).
+// Occupancy grid for empty-space skipping (shaders/occupancy/occupancy_*.comp, shaders/occupancy/occupancy.glsl).
 // C nested cascades of R^3 cells: cascade C - 1 covers the scene box, each one inside it half the
 // side around the same centre (instant-ngp's cascades; C = 1 is one grid over the box). Layouts:
 //   density  float[C R^3]: running maximum of the field density sigma per cell (instant-ngp's EMA)

@@ -1,5 +1,5 @@
 #pragma once
-// Adam over a flat float parameter buffer (shaders/adam.comp). params, grads, m and v hold `count`
+// Adam over a flat float parameter buffer (shaders/optim/adam.comp). params, grads, m and v hold `count`
 // floats each, bound at offsets that are multiples of 16 bytes and of the device's storage and
 // texel-buffer offset alignments (whole buffers always qualify); m and v start at zero; the
 // gradient buffer is zeroed by every step so the next backward pass accumulates into it.

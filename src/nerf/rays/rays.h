@@ -1,5 +1,5 @@
 #pragma once
-// Stage 1 of the data flow: camera rays clipped to the scene box (shaders/rays.comp).
+// Stage 1 of the data flow: camera rays clipped to the scene box (shaders/rays/rays.comp).
 // Layouts: rays are 2 x vec4 per ray, (o, t_near) and (d, t_far), with (-1, -1) for a miss;
 // pixel ids are (camera, pixel index within that camera's image) per ray.
 #include <span>

@@ -1,5 +1,5 @@
 #pragma once
-// Volume-rendering compositing (shaders/composite_forward.comp, composite_backward.comp).
+// Volume-rendering compositing (shaders/render/composite_forward.comp, composite_backward.comp).
 // Layouts, all tightly packed:
 //   samples     vec2 (t, delta) per sample
 //   field       vec4 (r, g, b, sigma) per sample, sigma activated (>= 0, may be +inf); bound as an

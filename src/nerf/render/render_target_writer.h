@@ -1,7 +1,7 @@
 #pragma once
 // The last stage of Model::recordRender: a rendered block of pixels (the pipeline's colour and depth
 // per ray) into the embedding application's RenderTarget, a VkBuffer of RGBA32F texels or a storage
-// image (shaders/write_render_target*.comp).
+// image (shaders/render/write_render_target*.comp).
 #include <memory>
 
 #include "gpu/buffer.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Field inputs of a fixed-layout sample batch (shaders/sample_points.comp): ray r owns samples
+// Field inputs of a fixed-layout sample batch (shaders/sampling/sample_points.comp): ray r owns samples
 // [r*N, (r+1)*N); each sample (t, delta) becomes a position o + t d mapped from the scene box onto
 // [-1, 1]^3 and the ray's unit direction, both written as vec4 with w = 0.
 #include "nerf/sampling/sample_layout.h"

@@ -1,6 +1,6 @@
 #pragma once
-// Stage 2 of the data flow: samples along the rays (shaders/sample_stratified.comp for the coarse
-// pass, shaders/sample_pdf.comp for the fine pass of hierarchical sampling).
+// Stage 2 of the data flow: samples along the rays (shaders/sampling/sample_stratified.comp for the coarse
+// pass, shaders/sampling/sample_pdf.comp for the fine pass of hierarchical sampling).
 // Layout: a sample is vec2(t, delta). Within a ray samples are sorted by t, delta_i = t_{i+1} - t_i
 // and the last delta closes at the ray's t_far (bounded sampling, no 1e10 sentinel). Fixed count
 // per ray: ray r owns samples [r*N, (r+1)*N). A ray that misses (t_near < 0) or has no length gets

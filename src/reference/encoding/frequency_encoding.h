@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/sample_points.comp and shaders/encode_frequency.comp, in float or double.
+// CPU reference for shaders/sampling/sample_points.comp and shaders/encoding/encode_frequency.comp, in float or double.
 #include <array>
 #include <cmath>
 #include <cstdint>

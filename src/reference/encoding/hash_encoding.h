@@ -1,6 +1,6 @@
 #pragma once
-// CPU reference for the multiresolution hash encoding (Müller et al. 2022): shaders/encode_hash.comp
-// (forward) and shaders/encode_hash_backward.comp (dL/dtable), in float or double.
+// CPU reference for the multiresolution hash encoding (Müller et al. 2022): shaders/encoding/encode_hash.comp
+// (forward) and shaders/encoding/encode_hash_backward.comp (dL/dtable), in float or double.
 //
 // Level l has resolution res_l = floor(N_min * b^l) cells per axis, i.e. res_l + 1 grid vertices.
 // A position p in [-1, 1]^3 maps to u = (p + 1) / 2 in [0, 1]^3 (clamped), then x = u * res_l; the

@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/encode_sh.comp: real spherical harmonics of a unit direction (x, y, z)
+// CPU reference for shaders/encoding/encode_sh.comp: real spherical harmonics of a unit direction (x, y, z)
 // up to degree 4 in the basis and sign convention of instant-ngp / tiny-cuda-nn's SH encoding
 // (Condon-Shortley phase), orthonormal on the unit sphere: integral of Y_i Y_j dOmega = delta_ij.
 // Coefficient order: band n = 0..degree-1, m = -n..n, n^2 + n + m in all. The constants are

@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/random_background.comp and shaders/loss_photometric.comp, in float or double.
+// CPU reference for shaders/loss/random_background.comp and shaders/loss/loss_photometric.comp, in float or double.
 #include <algorithm>
 #include <array>
 #include <cmath>

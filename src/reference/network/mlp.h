@@ -1,7 +1,7 @@
 #pragma once
 // CPU reference for the MLP shaders (mlp_*.comp), in float or double (T: arithmetic, P: parameter
 // storage, double for finite differences), and the one definition of the
-// flat parameter layout that the GPU side (src/nerf/mlp.*) uses too.
+// flat parameter layout that the GPU side (src/nerf/network/mlp.*) uses too.
 //
 // Every network is a list of dense layers y = act(concat(a, b) W + bias). In the flat buffer a layer
 // is W, row-major [ka4 + kb4][n4], then bias [n4]; ka4, kb4, n4 are the input/output widths rounded

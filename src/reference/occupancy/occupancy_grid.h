@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/occupancy.glsl and the occupancy_*, march_* and scan_* kernels, in
+// CPU reference for shaders/occupancy/occupancy.glsl and the occupancy_*, march_* and scan_* kernels, in
 // float or double. In float it evaluates the same formulas in the same order as the shaders (which
 // mark them `precise`), so the march reproduces the shaders' sample sets exactly; the march here
 // is the plain one-lattice-point-at-a-time loop that the shaders' empty-space skipping must equal.

@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/adam.comp, in float or double.
+// CPU reference for shaders/optim/adam.comp, in float or double.
 #include <cmath>
 #include <cstdint>
 #include <span>

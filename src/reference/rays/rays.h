@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/rays.comp and camera.glsl, in float or double; the lens in lens.h.
+// CPU reference for shaders/rays/rays.comp and camera.glsl, in float or double; the lens in lens.h.
 #include <algorithm>
 #include <array>
 #include <cmath>

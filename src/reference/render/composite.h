@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/composite_forward.comp and composite_backward.comp (one ray), in float
+// CPU reference for shaders/render/composite_forward.comp and composite_backward.comp (one ray), in float
 // or double. Inputs use the GPU layouts: samples are (t, delta) pairs, the field is
 // (r, g, b, sigma) per sample with sigma already activated.
 #include <algorithm>
@@ -12,7 +12,7 @@
 
 namespace vknerf::ref {
 
-// Caps sigma * delta so that sigma = inf never becomes inf arithmetic (see shaders/composite.glsl).
+// Caps sigma * delta so that sigma = inf never becomes inf arithmetic (see shaders/render/composite.glsl).
 inline constexpr double kMaxOpticalDepth = 1e30;
 
 template <class T> T opticalDepth(T sigma, T delta) {

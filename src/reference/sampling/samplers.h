@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for shaders/sample_stratified.comp and shaders/sample_pdf.comp, in float or double.
+// CPU reference for shaders/sampling/sample_stratified.comp and shaders/sampling/sample_pdf.comp, in float or double.
 // In float it evaluates the same formulas in the same order as the shaders (which mark them
 // `precise`, so no FMA contraction), so it reproduces their output to within rounding of division;
 // in double it is the oracle the float path is measured against.

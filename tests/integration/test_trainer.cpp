@@ -1,0 +1,207 @@
+// The vanilla trainer on the shipped sample scene: steps run, checkpoints resume exactly, a loaded
+// model renders what the trainer's model renders.
+#include <cmath>
+
+#include "support/gpu_test.h"
+#include "support/sample_scene.h"
+#include "support/temp_dir.h"
+#include "support/tiny_config.h"
+#include "io/checkpoint/checkpoint.h"
+#include "vknerf/error.h"
+#include "vknerf/trainer.h"
+
+using namespace vknerf;
+
+namespace {
+
+// A small configuration (same recipe, tiny sizes) so each step costs milliseconds.
+TrainConfig tinyConfig() {
+  TrainConfig c = test::tinyVanillaConfig();
+  c.learningRate = 5e-3f;
+  c.learningRateFinal = 5e-4f;
+  c.decaySteps = 1000;
+  return c;
+}
+
+const Dataset& scene() { return test::quarterSizeSampleScene(); }
+
+using test::sharedContext;
+
+class TrainerTest : public test::GpuTest {};
+
+}  // namespace
+
+TEST_F(TrainerTest, LossDecreasesOverSteps) {
+  Trainer t(sharedContext(), scene(), tinyConfig());
+  double first = 0, last = 0;
+  for (int i = 0; i < 60; ++i) {
+    auto st = t.step(i < 5 || i >= 55);
+    if (i < 5) first += st.loss / 5;
+    if (i >= 55) last += st.loss / 5;
+    if (st.hasLoss) ASSERT_TRUE(std::isfinite(st.loss));
+  }
+  EXPECT_EQ(t.steps(), 60u);
+  EXPECT_LT(last, 0.8 * first) << "first " << first << " last " << last;
+}
+
+TEST_F(TrainerTest, ResumeContinuesExactly) {
+  const test::TempDir tmp("trainer");
+  const auto path = tmp.file("resume.vknerf");
+  Trainer a(sharedContext(), scene(), tinyConfig());
+  for (int i = 0; i < 5; ++i) a.step();
+  a.save(path);
+  Trainer b(sharedContext(), scene(), Trainer::configOf(path));
+  b.resume(path);
+  EXPECT_EQ(b.steps(), 5u);
+  // Same step numbers give the same rays, jitter and learning rate. The MLP's weight gradients are
+  // summed with float atomics, whose order varies, so the two runs agree to rounding, not bits:
+  // losses of the same batch within 1e-4 relative.
+  for (int i = 0; i < 3; ++i) {
+    auto sa = a.step(true), sb = b.step(true);
+    EXPECT_NEAR(sa.loss, sb.loss, 1e-4 * sa.loss) << "step " << sa.step;
+  }
+}
+
+TEST_F(TrainerTest, LoadedModelRendersLikeTrainer) {
+  const test::TempDir tmp("trainer");
+  const auto path = tmp.file("render.vknerf");
+  Trainer t(sharedContext(), scene(), tinyConfig());
+  for (int i = 0; i < 10; ++i) t.step();
+  t.save(path);
+  Model m = Model::load(sharedContext(), path);
+  Camera cam = scene().cameras[3];
+  RenderedImage a = t.model().render(cam), b = m.render(cam);
+  ASSERT_EQ(a.rgb.size(), size_t(cam.width) * cam.height * 3);
+  // Rendering is deterministic (bin centres, fixed draws) and the parameters are the same bits.
+  // The two pipelines' sample capacities differ (a training step's against a render tile's), and a
+  // render's segments after the first are sized by it (FastPipeline::doRecordRender): the over
+  // operator's roundings (1e-6) and, for a ray that turns opaque inside a segment of one and at the
+  // end of the other's, the light behind T < 1e-4 (at most 1e-4 of a colour <= 1) may differ.
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_NEAR(a.rgb[i], b.rgb[i], 1e-4 + 1e-5) << i;
+  for (size_t i = 0; i < a.depth.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(a.depth[i]));
+    ASSERT_GE(a.opacity[i], 0.0f);
+    ASSERT_LE(a.opacity[i], 1.0f + 1e-6f);
+  }
+}
+
+TEST_F(TrainerTest, ResumeRejectsADifferentModel) {
+  const test::TempDir tmp("trainer");
+  const auto path = tmp.file("other.vknerf");
+  Trainer a(sharedContext(), scene(), tinyConfig());
+  a.save(path);
+  TrainConfig wider = tinyConfig();
+  wider.vanillaModel().width = 64;
+  Trainer b(sharedContext(), scene(), wider);
+  EXPECT_THROW(b.resume(path), Error);
+}
+
+TEST_F(TrainerTest, EmptyDatasetIsAnError) {
+  Dataset empty;
+  EXPECT_THROW(Trainer(sharedContext(), empty, tinyConfig()), Error);
+}
+
+TEST_F(TrainerTest, FastModelNestsCascadesForAabbScale) {
+  // aabb_scale 8: 1 + log2(8) = 4 cascades, resolved by the trainer and kept in the checkpoint;
+  // a scene without one keeps one grid.
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.raysPerBatch = 1024;
+  Dataset unbounded = scene();
+  unbounded.aabbScale = 8;
+  Trainer t(sharedContext(), unbounded, c);
+  t.step();
+  auto s = t.statistics();
+  ASSERT_EQ(s.occupiedFractionPerCascade.size(), 4u);
+  ASSERT_TRUE(s.meanSamplesPerRay.has_value());
+  EXPECT_GT(*s.meanSamplesPerRay, 0.0);
+  const test::TempDir tmp("trainer");
+  t.save(tmp.file("cascades.vknerf"));
+  EXPECT_EQ(Trainer::configOf(tmp.file("cascades.vknerf")).fastModel().cascades, 4u);
+  Trainer one(sharedContext(), scene(), c);
+  EXPECT_EQ(one.statistics().occupiedFractionPerCascade.size(), 1u);
+}
+
+TEST_F(TrainerTest, StepProfileAttributesTheWholeStep) {
+  Trainer t(sharedContext(), scene(), tinyConfig());
+  t.step();
+  t.step(true);
+  const StepProfile p = t.lastStepProfile();
+  ASSERT_FALSE(p.submissions.empty());
+  double sum = p.hostAfterMs, kernels = 0;
+  size_t named = 0;
+  for (const auto& s : p.submissions) {
+    sum += s.hostBeforeMs + s.waitMs;
+    for (const auto& [name, ms] : s.kernels) kernels += ms, named += ms >= 0 && !name.empty();
+    EXPECT_GE(s.hostBeforeMs, 0.0);
+    EXPECT_GE(s.waitMs, 0.0);
+  }
+  // Host time and waits tile the step: they add up to its wall time (timer reads between them aside).
+  EXPECT_GT(p.wallMs, 0.0);
+  EXPECT_NEAR(sum, p.wallMs, 0.05 * p.wallMs + 0.05);
+  EXPECT_EQ(named, t.lastStepTimings().size());
+  if (named) EXPECT_GT(kernels, 0.0);  // devices without compute timestamps time no kernel
+}
+
+namespace {
+// The sample scene as photos without alpha: composited over white, every pixel opaque.
+Dataset opaqueScene() {
+  Dataset d = scene();
+  for (auto& im : d.images)
+    for (size_t p = 0; p + 3 < im.rgba.size(); p += 4) {
+      const unsigned a = im.rgba[p + 3];
+      for (int k = 0; k < 3; ++k) im.rgba[p + k] = uint8_t((im.rgba[p + k] * a + 255u * (255u - a) + 127u) / 255u);
+      im.rgba[p + 3] = 255;
+    }
+  return d;
+}
+
+TrainConfig smallFastConfig() {
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.raysPerBatch = 1024;
+  return c;
+}
+}  // namespace
+
+// Photos without alpha get the learned far field, photos with alpha the constant (random in
+// training) background; the learned one is saved with the model and renders the same after loading.
+TEST_F(TrainerTest, FastModelLearnsTheFarFieldOfOpaquePhotos) {
+  const test::TempDir tmp("trainer");
+  const Dataset opaque = opaqueScene();
+  Trainer t(sharedContext(), opaque, smallFastConfig());
+  EXPECT_NE(t.capacityNote().find("far field: learned"), std::string::npos) << t.capacityNote();
+  for (int i = 0; i < 8; ++i) t.step();
+  t.save(tmp.file("learned.vknerf"));
+  EXPECT_EQ(Trainer::configOf(tmp.file("learned.vknerf")).fastModel().farField, FarField::Learned);
+  Model m = Model::load(sharedContext(), tmp.file("learned.vknerf"));
+  const Camera cam = opaque.cameras[2];
+  RenderedImage a = t.model().render(cam), b = m.render(cam);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  // The two pipelines' sample capacities differ (a training step's against a render tile's), and a
+  // render's segments after the first are sized by it (FastPipeline::doRecordRender): the over
+  // operator's roundings (1e-6) and, for a ray that turns opaque inside a segment of one and at the
+  // end of the other's, the light behind T < 1e-4 (at most 1e-4 of a colour <= 1) may differ.
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_NEAR(a.rgb[i], b.rgb[i], 1e-4 + 1e-5) << i;
+  // Eight steps have moved the far field off its start (white, clamped to 0.95) where the image is
+  // transparent: what the loaded model renders there is what was learnt, not the initial colour.
+  double moved = 0;
+  size_t transparent = 0;
+  for (size_t i = 0; i < a.opacity.size(); ++i)
+    if (a.opacity[i] < 1e-2f) ++transparent, moved = std::max(moved, std::fabs(double(a.rgb[3 * i]) - 0.95));
+  ASSERT_GT(transparent, 0u);
+  EXPECT_GT(moved, 1e-3);
+
+  Trainer withAlpha(sharedContext(), scene(), smallFastConfig());
+  EXPECT_NE(withAlpha.capacityNote().find("far field: constant"), std::string::npos) << withAlpha.capacityNote();
+  TrainConfig forced = smallFastConfig();
+  forced.fastModel().farField = FarField::Learned;
+  try {
+    Trainer bad(sharedContext(), scene(), forced);
+    ADD_FAILURE() << "a learned far field was accepted for photos with alpha";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("far_field"), std::string::npos) << e.what();
+  }
+}

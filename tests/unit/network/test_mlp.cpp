@@ -1,0 +1,414 @@
+// The MLP kernels (mlp_*.comp through nerf/network/mlp.h) against the CPU reference (src/reference/network/mlp.h).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/recorder.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
+#include "nerf/network/mlp.h"
+#include "reference/network/mlp.h"
+#include "reference/rng.h"
+
+using namespace vknerf;
+
+namespace {
+
+// Rows of `dims` values in [-scale, scale] at `stride` floats per row, padding columns zero.
+std::vector<float> features(uint32_t rows, uint32_t dims, uint32_t stride, uint32_t seed, float scale = 1.0f) {
+  std::vector<float> v(size_t(rows) * stride, 0.0f);
+  for (uint32_t r = 0; r < rows; ++r)
+    for (uint32_t k = 0; k < dims; ++k) v[size_t(r) * stride + k] = scale * (2.0f * ref::rng01(seed, r, k) - 1.0f);
+  return v;
+}
+
+// Forward tolerance. Each output is a chain of <= 6 layers of dot products of length K <= 128 in
+// float; Higham's bound for one is K*u*sum|x_k w_k| ~ 128 * 6e-8 ~ 8e-6 relative to the sum of
+// magnitudes, which for these O(1) inputs and PyTorch-scaled weights is a few times the result.
+// Over the chain: ~5e-5; the reference runs in double.
+constexpr double kFwdRel = 2e-4, kFwdAbs = 2e-5;
+// Gradient tolerance. An entry of dW sums B ~ 300 per-sample products (atomics: any order), each
+// after a backward chain like the forward one; the float error is ~(B + 6K) u sum|terms|. With
+// cancellation between samples the sum of magnitudes can exceed the entry, so the absolute part
+// scales with the largest gradient of the buffer: 1e-4 * max|g|, 1e-3 relative.
+constexpr double kGradRel = 1e-3, kGradAbsScale = 1e-4;
+
+struct NerfRun {
+  std::vector<float> out, grads, dPos;
+};
+
+struct NerfCase {
+  nerf::MlpConfig cfg;
+  uint32_t count = 0;
+  float inputScale = 1.0f, paramScale = 1.0f;
+  uint32_t chunkRows = 0;  // 0: device default
+  bool backward = true;
+};
+
+struct NerfData {
+  std::vector<float> params, pos, dir, dOut;
+};
+
+NerfData makeData(const nerf::NerfMlp& mlp, const NerfCase& c) {
+  NerfData d;
+  d.params = mlp.initialParameters();
+  for (auto& v : d.params) v *= c.paramScale;
+  d.pos = features(c.count, c.cfg.posDims, mlp.posStride(), 100, c.inputScale);
+  d.dir = features(c.count, c.cfg.dirDims, mlp.dirStride(), 200, c.inputScale);
+  d.dOut = features(c.count, 4, 4, 300);
+  return d;
+}
+
+NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfData& d) {
+  auto params = gpu::Buffer::of(ctx, d.params);
+  auto pos = gpu::Buffer::of(ctx, d.pos.empty() ? std::vector<float>(4) : d.pos);
+  auto dir = gpu::Buffer::of(ctx, d.dir.empty() ? std::vector<float>(4) : d.dir);
+  auto dOut = gpu::Buffer::of(ctx, d.dOut.empty() ? std::vector<float>(4) : d.dOut);
+  size_t outFloats = std::max<size_t>(size_t(c.count) * 4, 4);
+  gpu::Buffer out(ctx, outFloats * 4), grads(ctx, d.params.size() * 4), dPos(ctx, std::max<size_t>(d.pos.size(), 4) * 4);
+  std::vector<float> sentinel(outFloats, -7.0f);
+  out.upload(sentinel);
+  grads.zero();
+  nerf::NerfMlp::Workspace ws(ctx, mlp, c.count);
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    mlp.recordForward(rec, c.count, params, pos, dir, out, &ws);
+    gpu::BufferRange dPosRange(dPos);
+    if (c.backward) mlp.recordBackward(rec, c.count, params, pos, dir, out, dOut, grads, ws, &dPosRange);
+  });
+  return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size())};
+}
+
+// The forward alone, without a workspace (nothing kept for backward).
+std::vector<float> inferNerf(Context& ctx, nerf::NerfMlp& mlp, uint32_t count, const NerfData& d) {
+  auto params = gpu::Buffer::of(ctx, d.params);
+  auto pos = gpu::Buffer::of(ctx, d.pos), dir = gpu::Buffer::of(ctx, d.dir);
+  gpu::Buffer out(ctx, size_t(count) * 16);
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) { mlp.recordForward(rec, count, params, pos, dir, out, nullptr); });
+  return out.download<float>(size_t(count) * 4);
+}
+
+struct NerfRef {
+  std::vector<double> out, grads, dPos;
+};
+
+NerfRef referenceNerf(const nerf::NerfMlp& mlp, const NerfCase& c, const NerfData& d) {
+  const auto& s = mlp.shape();
+  NerfRef r{std::vector<double>(size_t(c.count) * 4), std::vector<double>(s.total, 0.0),
+            std::vector<double>(d.pos.size(), 0.0)};
+  std::vector<double> pos(s.posDims), dir(s.dirDims);
+  for (uint32_t i = 0; i < c.count; ++i) {
+    for (uint32_t k = 0; k < s.posDims; ++k) pos[k] = d.pos[size_t(i) * mlp.posStride() + k];
+    for (uint32_t k = 0; k < s.dirDims; ++k) dir[k] = d.dir[size_t(i) * mlp.dirStride() + k];
+    auto fw = ref::nerfForward<double>(s, d.params, pos.data(), dir.data());
+    for (int k = 0; k < 4; ++k) r.out[4 * i + k] = fw.out[k];
+    if (!c.backward) continue;
+    std::array<double, 4> g{d.dOut[4 * i], d.dOut[4 * i + 1], d.dOut[4 * i + 2], d.dOut[4 * i + 3]};
+    ref::nerfBackward(s, d.params, pos.data(), dir.data(), fw, g, r.grads, &r.dPos[size_t(i) * mlp.posStride()],
+                      (double*)nullptr);
+  }
+  return r;
+}
+
+void expectNear(const std::vector<float>& gpu, const std::vector<double>& ref, double rel, double abs, const char* what) {
+  ASSERT_EQ(gpu.size(), ref.size());
+  int failures = 0;
+  for (size_t i = 0; i < gpu.size() && failures < 10; ++i) {
+    auto ok = test::near(gpu[i], ref[i], rel, abs);
+    if (!ok) ++failures;
+    EXPECT_TRUE(ok) << what << " [" << i << "]";
+  }
+}
+
+double maxAbs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+void checkNerf(Context& ctx, const NerfCase& c) {
+  nerf::NerfMlp mlp(ctx, c.cfg);
+  if (c.chunkRows) mlp.setChunkRows(c.chunkRows);
+  auto data = makeData(mlp, c);
+  auto gpu = runNerf(ctx, mlp, c, data);
+  auto ref = referenceNerf(mlp, c, data);
+  expectNear(gpu.out, ref.out, kFwdRel, kFwdAbs, "out");
+  if (!c.backward) return;
+  double gScale = maxAbs(ref.grads);
+  ASSERT_GT(gScale, 0.0);
+  expectNear(gpu.grads, ref.grads, kGradRel, kGradAbsScale * gScale, "grads");
+  // dPos is per sample (no sum over the batch): the forward-style tolerance, scaled to its magnitude.
+  expectNear(gpu.dPos, ref.dPos, kGradRel, kGradAbsScale * maxAbs(ref.dPos), "dPos");
+}
+
+nerf::MlpConfig smallNerf(DensityActivation density = DensityActivation::Relu) {
+  nerf::MlpConfig c;
+  c.depth = 4;
+  c.width = 32;
+  c.skipLayer = 2;
+  c.density = density;
+  c.seed = 9;
+  return c;
+}
+
+class MlpNerf : public test::GpuTest {};
+class MlpDense : public test::GpuTest {};
+
+}  // namespace
+
+// 300 rows: not a multiple of any workgroup size, exercising the clamped tail rows.
+TEST_F(MlpNerf, ForwardAndBackwardMatchReference) { checkNerf(ctx(), {smallNerf(), 300}); }
+
+TEST_F(MlpNerf, TruncExpAndSoftplusDensities) {
+  checkNerf(ctx(), {smallNerf(DensityActivation::TruncExp), 70});
+  checkNerf(ctx(), {smallNerf(DensityActivation::Softplus), 70});
+}
+
+TEST_F(MlpNerf, NoSkipLayerAndSingleRow) {
+  auto cfg = smallNerf();
+  cfg.skipLayer = 0;
+  cfg.depth = 2;
+  checkNerf(ctx(), {cfg, 1});
+}
+
+// A feature narrower than the trunk: the fast model's (64 wide, 16 features + the density) and
+// one whose feature + density columns (13) fill an exact 16-column block.
+TEST_F(MlpNerf, NarrowFeatureMatchesReference) {
+  auto cfg = smallNerf(DensityActivation::TruncExp);
+  cfg.featureWidth = 12;
+  checkNerf(ctx(), {cfg, 131});
+  cfg.depth = 1, cfg.skipLayer = 0, cfg.width = 64, cfg.posDims = 16, cfg.dirDims = 16, cfg.featureWidth = 16;
+  checkNerf(ctx(), {cfg, 200});
+}
+
+TEST_F(MlpNerf, ChunkedBatchMatchesReference) {
+  // 64-row chunks: 4 chunks, the last one partial; bindings at row offsets, gradients accumulated.
+  checkNerf(ctx(), {smallNerf(), 229, 1.0f, 1.0f, 64});
+}
+
+TEST_F(MlpNerf, EmptyBatchDispatchesNothing) {
+  nerf::NerfMlp mlp(ctx(), smallNerf());
+  NerfCase c{smallNerf(), 0};
+  auto gpu = runNerf(ctx(), mlp, c, makeData(mlp, c));
+  for (float v : gpu.out) EXPECT_EQ(v, -7.0f);  // the sentinel is untouched
+  for (float g : gpu.grads) EXPECT_EQ(g, 0.0f);
+}
+
+TEST_F(MlpNerf, SigmaIgnoresDirection) {
+  nerf::MlpConfig cfg = smallNerf(DensityActivation::Softplus);
+  nerf::NerfMlp mlp(ctx(), cfg);
+  NerfCase c{cfg, 64};
+  auto a = makeData(mlp, c), b = a;
+  // The same positions with other directions: sigma must be bit-identical, rgb must move.
+  b.dir = features(c.count, cfg.dirDims, mlp.dirStride(), 999);
+  c.backward = false;
+  auto ga = runNerf(ctx(), mlp, c, a), gb = runNerf(ctx(), mlp, c, b);
+  int rgbMoved = 0;
+  for (uint32_t i = 0; i < c.count; ++i) {
+    EXPECT_EQ(ga.out[4 * i + 3], gb.out[4 * i + 3]);
+    rgbMoved += ga.out[4 * i] != gb.out[4 * i];
+  }
+  EXPECT_GT(rgbMoved, int(c.count) / 2);
+}
+
+TEST_F(MlpNerf, LargePreactivationsStayFinite) {
+  // Inputs x100 and weights x30: pre-activations reach ~1e6 and beyond; sigmoid and the density
+  // activations saturate, nothing may become Inf or NaN, and the reference still agrees.
+  for (auto density : {DensityActivation::Relu, DensityActivation::TruncExp, DensityActivation::Softplus}) {
+    NerfCase c{smallNerf(density), 96, 100.0f, 30.0f};
+    nerf::NerfMlp mlp(ctx(), c.cfg);
+    auto data = makeData(mlp, c);
+    auto gpu = runNerf(ctx(), mlp, c, data);
+    auto ref = referenceNerf(mlp, c, data);
+    for (float v : gpu.out) ASSERT_TRUE(std::isfinite(v));
+    for (float v : gpu.grads) ASSERT_TRUE(std::isfinite(v));
+    for (float v : gpu.dPos) ASSERT_TRUE(std::isfinite(v));
+    double preScale = 0;
+    for (size_t i = 0; i < ref.out.size(); i += 4) preScale = std::max(preScale, ref.out[i + 3]);
+    EXPECT_GT(preScale, 1e3);  // the case is really extreme
+    // Relative agreement survives (the absolute parts scale with the outputs/gradients).
+    for (size_t i = 0; i < ref.out.size(); ++i)
+      EXPECT_TRUE(test::near(gpu.out[i], ref.out[i], 1e-3, 1e-3 * (i % 4 == 3 ? preScale : 1.0))) << i;
+    double gScale = maxAbs(ref.grads);
+    int bad = 0;
+    for (size_t i = 0; i < ref.grads.size(); ++i) bad += !test::near(gpu.grads[i], ref.grads[i], 1e-2, 1e-3 * gScale);
+    EXPECT_EQ(bad, 0);
+  }
+}
+
+TEST_F(MlpNerf, BatchLargerThanOneBinding) {
+  // gamma(x) for 530,000 rows at 64 floats is 136 MB, over the 128 MiB maxStorageBufferRange: the
+  // MLP must split the batch. A narrow network keeps it quick; rows near the chunk boundary and a
+  // spread of others are checked against the reference, and the gradient sums all rows.
+  nerf::MlpConfig cfg;
+  cfg.depth = 1;
+  cfg.width = 8;
+  cfg.skipLayer = 0;
+  cfg.seed = 4;
+  nerf::NerfMlp mlp(ctx(), cfg);
+  const uint32_t count = 530000;
+  ASSERT_GT(uint64_t(count) * mlp.posStride() * 4, ctx().properties().limits.maxStorageBufferRange);
+  ASSERT_LT(mlp.chunkRows(), count);
+  NerfCase c{cfg, count};
+  auto data = makeData(mlp, c);
+  auto gpu = runNerf(ctx(), mlp, c, data);
+
+  const auto& s = mlp.shape();
+  std::vector<double> grads(s.total, 0.0), pos(s.posDims), dir(s.dirDims);
+  std::vector<uint32_t> checkRows;
+  for (uint32_t i = 0; i < count; ++i) {
+    for (uint32_t k = 0; k < s.posDims; ++k) pos[k] = data.pos[size_t(i) * mlp.posStride() + k];
+    for (uint32_t k = 0; k < s.dirDims; ++k) dir[k] = data.dir[size_t(i) * mlp.dirStride() + k];
+    auto fw = ref::nerfForward<double>(s, data.params, pos.data(), dir.data());
+    bool boundary = i % mlp.chunkRows() < 2 || i % mlp.chunkRows() >= mlp.chunkRows() - 2 || i + 1 == count;
+    if (boundary || i % 4099 == 0)
+      for (int k = 0; k < 4; ++k) ASSERT_TRUE(test::near(gpu.out[4 * size_t(i) + k], fw.out[k], kFwdRel, kFwdAbs)) << i;
+    std::array<double, 4> g{data.dOut[4 * size_t(i)], data.dOut[4 * size_t(i) + 1], data.dOut[4 * size_t(i) + 2],
+                            data.dOut[4 * size_t(i) + 3]};
+    ref::nerfBackward(s, data.params, pos.data(), dir.data(), fw, g, grads, (double*)nullptr, (double*)nullptr);
+  }
+  // 530k-term sums in float atomics: error ~ sqrt(B) u to B u relative to the sum of magnitudes.
+  double gScale = maxAbs(grads);
+  expectNear(gpu.grads, grads, 1e-2, 2e-3 * gScale, "grads");
+}
+
+TEST_F(MlpNerf, InferenceWithoutWorkspaceMatchesTraining) {
+  auto cfg = smallNerf();
+  nerf::NerfMlp mlp(ctx(), cfg);
+  mlp.setChunkRows(64);  // the internal scratch then serves 64 rows at a time
+  NerfCase c{cfg, 150};
+  auto data = makeData(mlp, c);
+  auto ref = referenceNerf(mlp, {cfg, c.count, 1.0f, 1.0f, 0, false}, data);
+  expectNear(inferNerf(ctx(), mlp, c.count, data), ref.out, kFwdRel, kFwdAbs, "out");
+}
+
+// The density alone (mlp_nerf_density.comp after the trunk): against the reference's sigma with the
+// forward tolerance, and against the full forward's sigma to the rounding of one operation (the same
+// sums in another kernel: the driver may contract a multiply-add in one and not the other, as in
+// FusedForwardMatchesTheLayeredOne). Shapes: a skip connection and softplus density over 64-row
+// chunks (3 chunks, the last partial); the fast model's narrow feature with truncated exp; two trunk
+// layers and a full-width feature, truncated exp. (ReLU would leave these initial fields at 0.)
+// The floats past the batch keep their sentinel.
+TEST_F(MlpNerf, DensityAloneMatchesTheForward) {
+  struct Case {
+    nerf::MlpConfig cfg;
+    uint32_t chunkRows;
+  };
+  nerf::MlpConfig fast;
+  fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
+  fast.density = DensityActivation::TruncExp, fast.seed = 5;
+  nerf::MlpConfig wide = smallNerf(DensityActivation::TruncExp);
+  wide.skipLayer = 0, wide.depth = 2;
+  const Case cases[] = {{smallNerf(DensityActivation::Softplus), 64}, {fast, 0}, {wide, 0}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(testing::Message() << "depth " << k.cfg.depth << ", width " << k.cfg.width << ", feature "
+                                    << k.cfg.featureWidth << ", skip " << k.cfg.skipLayer);
+    nerf::NerfMlp mlp(ctx(), k.cfg);
+    if (k.chunkRows) mlp.setChunkRows(k.chunkRows);
+    NerfCase c{k.cfg, 150, 1.0f, 1.0f, 0, false};
+    const auto data = makeData(mlp, c);
+    auto params = gpu::Buffer::of(ctx(), data.params);
+    auto pos = gpu::Buffer::of(ctx(), data.pos);
+    auto density = gpu::Buffer::of(ctx(), std::vector<float>(c.count + 5, -7.0f));
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { mlp.recordDensity(rec, c.count, params, pos, density); });
+    const auto got = density.download<float>(c.count + 5);
+    const auto ref = referenceNerf(mlp, c, data);
+    const auto full = inferNerf(ctx(), mlp, c.count, data);
+    std::vector<double> refSigma(c.count), fullSigma(c.count);
+    for (uint32_t i = 0; i < c.count; ++i) refSigma[i] = ref.out[4 * i + 3], fullSigma[i] = full[4 * i + 3];
+    const std::vector<float> gotSigma(got.begin(), got.begin() + c.count);
+    expectNear(gotSigma, refSigma, kFwdRel, kFwdAbs, "density against the reference");
+    constexpr double kRounding = 1e-6;
+    expectNear(gotSigma, fullSigma, kRounding, kRounding * maxAbs(fullSigma), "density against the full forward");
+    EXPECT_GT(maxAbs(refSigma), 0.0);  // not a field of zeros
+    for (uint32_t i = c.count; i < c.count + 5; ++i) EXPECT_EQ(got[i], -7.0f) << i;
+  }
+}
+
+// The fused forward (mlp_nerf_fused.comp) sums each layer in the layered kernels' order
+// (network/dense_block.glsl), so it agrees with the layered path to the rounding of a single
+// operation: the driver may contract a multiply and an add into one fused multiply-add in one
+// kernel and not in the other (seen: 1 ulp, with a fused backward). The outputs, and dPos,
+// which is per sample and reads every activation the forward kept (the ReLU masks, the feature,
+// the colour layer), are held to 1e-6 relative (8 ulps) plus 1e-6 of the largest value; the weight
+// gradients sum with float atomics in any order and get the reference tolerance. Cases, over
+// 128-row chunks: the fast model's shape with the CPU's tuning (8 rows an invocation) and a GPU's
+// (1); two trunk layers with padded inputs and 3 rows an invocation (not a divisor of the
+// workgroup's); a width of 8.
+TEST_F(MlpNerf, FusedForwardMatchesTheLayeredOne) {
+  struct Case {
+    uint32_t depth, width, posDims, dirDims, featureWidth;
+    DensityActivation density;
+    uint32_t rows, block;
+  };
+  const Case cases[] = {{1, 64, 16, 16, 16, DensityActivation::TruncExp, 8, 4},
+                        {1, 64, 16, 16, 16, DensityActivation::TruncExp, 1, 8},
+                        {2, 32, 21, 9, 8, DensityActivation::Softplus, 3, 4},
+                        {1, 8, 5, 3, 0, DensityActivation::Relu, 8, 4}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(testing::Message() << "depth " << k.depth << ", width " << k.width << ", " << k.rows << " rows an invocation");
+    nerf::MlpConfig cfg;
+    cfg.depth = k.depth, cfg.width = k.width, cfg.skipLayer = 0, cfg.posDims = k.posDims, cfg.dirDims = k.dirDims;
+    cfg.featureWidth = k.featureWidth, cfg.density = k.density, cfg.seed = 21;
+    auto tuning = nerf::MlpTuning::forDevice(ctx());
+    tuning.fused = 0;
+    nerf::NerfMlp layered(ctx(), cfg, tuning);
+    tuning.fused = 3, tuning.fusedRows = k.rows, tuning.fusedBlock = k.block;
+    // Unrolled output blocks only in the narrowest case: the fast model's shape unrolled takes
+    // ~45 s to compile on lavapipe, and the block loop and its unrolling are the same source.
+    tuning.fusedUnroll = k.width <= 8 ? 3 : 0;
+    nerf::NerfMlp fused(ctx(), cfg, tuning);
+    ASSERT_FALSE(layered.fusedForward(true) || layered.fusedForward(false));
+    ASSERT_TRUE(fused.fusedForward(true) && fused.fusedForward(false));
+    layered.setChunkRows(128);
+    fused.setChunkRows(128);
+    NerfCase c{cfg, 301};
+    const auto data = makeData(layered, c);
+    const auto want = runNerf(ctx(), layered, c, data), got = runNerf(ctx(), fused, c, data);
+    auto asDouble = [](const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); };
+    auto maxOf = [&](const std::vector<float>& v) { return maxAbs(asDouble(v)); };
+    constexpr double kRounding = 1e-6;
+    expectNear(got.out, asDouble(want.out), kRounding, kRounding * maxOf(want.out), "out");
+    expectNear(got.dPos, asDouble(want.dPos), kRounding, kRounding * maxOf(want.dPos), "dPos");
+    // Inference (no workspace): the fused forward's other variant.
+    expectNear(inferNerf(ctx(), fused, c.count, data), asDouble(want.out), kRounding, kRounding * maxOf(want.out),
+               "inference out");
+    const double gScale = maxAbs(referenceNerf(layered, c, data).grads);
+    expectNear(got.grads, asDouble(want.grads), kGradRel, kGradAbsScale * gScale, "grads");
+  }
+  // The paper's network (8 x 256, a skip connection) runs layer by layer.
+  EXPECT_FALSE(nerf::NerfMlp(ctx(), nerf::MlpConfig{}).fusedForward(false));
+}
+
+TEST_F(MlpDense, ForwardAndBackwardMatchReference) {
+  // The fit-image shape: gamma(u, v) with 10 levels (42 dims, stride 44) -> 2 x 32 -> rgb.
+  nerf::DenseMlpConfig cfg{42, 32, 2, 3, 17};
+  nerf::DenseMlp mlp(ctx(), cfg);
+  const uint32_t count = 333;
+  auto params = mlp.initialParameters();
+  auto in = features(count, cfg.inputs, mlp.inputStride(), 1);
+  auto dOut = features(count, cfg.outputs, mlp.outputStride(), 2);
+  auto pBuf = gpu::Buffer::of(ctx(), params), inBuf = gpu::Buffer::of(ctx(), in), dOutBuf = gpu::Buffer::of(ctx(), dOut);
+  gpu::Buffer out(ctx(), count * 16), grads(ctx(), params.size() * 4), dIn(ctx(), in.size() * 4);
+  grads.zero();
+  nerf::DenseMlp::Workspace ws(ctx(), mlp, count);
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    mlp.recordForward(rec, count, pBuf, inBuf, out, &ws);
+    gpu::BufferRange dInRange(dIn);
+    mlp.recordBackward(rec, count, pBuf, inBuf, out, dOutBuf, grads, ws, &dInRange);
+  });
+  auto gOut = out.download<float>(count * 4), gGrads = grads.download<float>(params.size()), gIn = dIn.download<float>(in.size());
+
+  const auto& s = mlp.shape();
+  std::vector<double> rOut(count * 4, 0.0), rGrads(s.total, 0.0), rIn(in.size(), 0.0), x(cfg.inputs);
+  for (uint32_t i = 0; i < count; ++i) {
+    for (uint32_t k = 0; k < cfg.inputs; ++k) x[k] = in[i * 44 + k];
+    auto acts = ref::denseMlpForward<double>(s, params, x.data());
+    for (int k = 0; k < 3; ++k) rOut[4 * i + k] = acts.back()[k];  // column 3 is padding: 0
+    std::vector<double> d{dOut[4 * i], dOut[4 * i + 1], dOut[4 * i + 2]};
+    ref::denseMlpBackward(s, params, x.data(), acts, d.data(), rGrads, &rIn[i * 44]);
+  }
+  expectNear(gOut, rOut, kFwdRel, kFwdAbs, "out");
+  expectNear(gGrads, rGrads, kGradRel, kGradAbsScale * maxAbs(rGrads), "grads");
+  expectNear(gIn, rIn, kGradRel, kGradAbsScale * maxAbs(rIn), "dIn");
+}

@@ -1,0 +1,269 @@
+// adam.comp against the CPU reference (src/reference/optim/adam.h).
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/recorder.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
+#include "nerf/optim/adam.h"
+#include "reference/optim/adam.h"
+#include "vknerf/error.h"
+
+using namespace vknerf;
+
+namespace {
+
+ref::AdamParams<double> refParams(const nerf::AdamConfig& c) {
+  return {double(c.beta1), double(c.beta2), double(c.epsilon), c.skipZeroGradients};
+}
+
+// Device state of one optimisation problem next to its double-precision twin.
+struct Problem {
+  std::vector<float> p, m, v;
+  std::vector<double> rp, rm, rv;
+  gpu::Buffer pb, gb, mb, vb;
+  Problem(Context& ctx, std::vector<float> p0, std::vector<float> m0, std::vector<float> v0)
+      : p(p0), m(m0), v(v0), rp(p0.begin(), p0.end()), rm(m0.begin(), m0.end()), rv(v0.begin(), v0.end()),
+        pb(gpu::Buffer::of(ctx, p0)), gb(ctx, 4 * p0.size()), mb(gpu::Buffer::of(ctx, m0)),
+        vb(gpu::Buffer::of(ctx, v0)) {}
+
+  // One step on both; returns the device gradient buffer after the step.
+  std::vector<float> step(Context& ctx, nerf::Adam& adam, const std::vector<float>& g, uint32_t t, float lr) {
+    gb.upload(g);
+    test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+      adam.record(rec, uint32_t(p.size()), pb, gb, mb, vb, t, lr);
+    });
+    std::vector<double> rg(g.begin(), g.end());
+    ref::adamStep<double>(rp, rg, rm, rv, t, double(lr), refParams(adam.config()));
+    p = pb.download<float>();
+    m = mb.download<float>();
+    v = vb.download<float>();
+    return gb.download<float>();
+  }
+};
+
+std::vector<float> randomVector(size_t n, uint32_t seed, float scale, float zeroFraction = 0) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<float> u(-1, 1), z(0, 1);
+  std::vector<float> out(n);
+  for (auto& x : out) x = z(gen) < zeroFraction ? 0.0f : scale * u(gen);
+  return out;
+}
+
+// Float error of one device step, relative to the double reference:
+// - the update ratio mhat / (sqrt(vhat) + eps) is bounded by (1 - b1) / sqrt(1 - b2) (about 3.2 for
+//   the defaults, 1 at t = 1) and is computed with ~10 roundings, and m may cancel (its absolute
+//   error is a few ulp of the gradients feeding it, and sqrt(v) is at least of that order), so
+//   the update is off by at most ~lr * 3.2 * 16 * 2^-24 < 4e-6 lr;
+// - p - update rounds once more: half an ulp of p.
+// Errors of successive steps add, hence the per-step bound times the number of steps.
+::testing::AssertionResult paramNear(float gpu, double ref, double lr, int steps) {
+  return test::near(gpu, ref, steps * 1.2e-7, steps * 4e-6 * lr);
+}
+
+class Adam : public test::GpuTest {};
+
+}  // namespace
+
+TEST(AdamReference, FirstStepIsLearningRateTimesSign) {
+  // Bias correction at t = 1: mhat = g and vhat = g^2, so the update is lr g / (|g| + eps).
+  std::vector<double> p = {1.0, -2.0, 0.5, 3.0}, g = {1e-3, -4.0, 1e-7, 0.0}, m(4, 0.0), v(4, 0.0);
+  ref::AdamParams<double> a{0.9, 0.999, 1e-15};
+  ref::adamStep<double>(p, g, m, v, 1, 0.01, a);
+  EXPECT_NEAR(p[0], 1.0 - 0.01, 1e-12);
+  EXPECT_NEAR(p[1], -2.0 + 0.01, 1e-12);
+  EXPECT_NEAR(p[2], 0.5 - 0.01, 1e-9);  // eps / |g| = 1e-8
+  EXPECT_EQ(p[3], 3.0);                 // zero gradient, zero moments: no move, no NaN
+  for (double x : g) EXPECT_EQ(x, 0.0);
+}
+
+TEST(AdamReference, MinimisesAQuadratic) {
+  // f(x) = sum (x_i - a_i)^2 from x = 0: Adam with lr 0.05 settles within a few lr of the minimum.
+  std::vector<double> a = {1.0, -0.5, 2.0}, x(3, 0.0), m(3, 0.0), v(3, 0.0), g(3);
+  for (uint32_t t = 1; t <= 2000; ++t) {
+    for (int i = 0; i < 3; ++i) g[i] = 2 * (x[i] - a[i]);
+    ref::adamStep<double>(x, g, m, v, t, 0.05, {});
+  }
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(x[i], a[i], 0.05);
+}
+
+TEST(AdamReference, LearningRateDecaySchedule) {
+  nerf::AdamConfig c;
+  c.initialLearningRate = 5e-4f;
+  c.decayRate = 0.1f;
+  c.decaySteps = 250000;
+  EXPECT_FLOAT_EQ(c.learningRate(0), 5e-4f);
+  EXPECT_FLOAT_EQ(c.learningRate(250000), 5e-5f);
+  EXPECT_FLOAT_EQ(c.learningRate(125000), float(5e-4 * std::sqrt(0.1)));
+  EXPECT_FLOAT_EQ(c.learningRate(500000), 5e-6f);
+  EXPECT_FLOAT_EQ(c.learningRate(1000), float(ref::decayedLearningRate<double>(5e-4, 0.1, 250000, 1000)));
+  EXPECT_LT(c.learningRate(1001), c.learningRate(1000));  // continuous, not staircase
+  c.decayRate = 1;
+  EXPECT_FLOAT_EQ(c.learningRate(123456), 5e-4f);
+}
+
+TEST_F(Adam, OneStepMatchesReference) {
+  const size_t n = 1003;  // 250 vec4 lanes + 3 leftovers; not a multiple of the workgroup either
+  nerf::AdamConfig cfg;
+  cfg.epsilon = 1e-15f;
+  nerf::Adam adam(ctx(), cfg);
+  Problem pr(ctx(), randomVector(n, 1, 1), std::vector<float>(n), std::vector<float>(n));
+  auto g = randomVector(n, 2, 0.1f, 0.1f);
+  const float lr = 0.01f;
+  auto gAfter = pr.step(ctx(), adam, g, 1, lr);
+  for (size_t i = 0; i < n; ++i) {
+    ASSERT_TRUE(paramNear(pr.p[i], pr.rp[i], lr, 1)) << i;
+    ASSERT_TRUE(test::near(pr.m[i], pr.rm[i], 2.4e-7, 0)) << i;  // one product and sum of two products
+    ASSERT_TRUE(test::near(pr.v[i], pr.rv[i], 3.6e-7, 0)) << i;
+    ASSERT_EQ(gAfter[i], 0.0f) << i;
+    // Bias correction at t = 1: the first update is lr * sign(g) (eps is negligible here).
+    float sign = g[i] > 0 ? 1.0f : g[i] < 0 ? -1.0f : 0.0f;
+    float start = randomVector(n, 1, 1)[i];
+    ASSERT_NEAR(start - pr.p[i], lr * sign, 1e-6) << i;
+  }
+}
+
+TEST_F(Adam, SeveralStepsMatchReference) {
+  const size_t n = 642;  // 160 vec4 lanes + 2 leftovers
+  nerf::AdamConfig cfg;
+  cfg.beta2 = 0.99f;
+  cfg.epsilon = 1e-15f;
+  cfg.initialLearningRate = 1e-2f;
+  cfg.decayRate = 0.1f;
+  cfg.decaySteps = 10;
+  nerf::Adam adam(ctx(), cfg);
+  Problem pr(ctx(), randomVector(n, 3, 1), std::vector<float>(n), std::vector<float>(n));
+  const int steps = 6;
+  for (int t = 1; t <= steps; ++t) {
+    // Gradients of changing sign and scale, some exactly zero: m cancels, v keeps the history.
+    auto g = randomVector(n, 10 + t, t % 2 ? 1.0f : 1e-3f, 0.2f);
+    auto gAfter = pr.step(ctx(), adam, g, t, cfg.learningRate(t));
+    for (size_t i = 0; i < n; ++i) ASSERT_EQ(gAfter[i], 0.0f);
+  }
+  double maxErr = 0;
+  for (size_t i = 0; i < n; ++i) {
+    ASSERT_TRUE(paramNear(pr.p[i], pr.rp[i], cfg.initialLearningRate, steps)) << i;
+    // m: a few roundings per step of sums that may cancel: relative to the largest gradient (1).
+    ASSERT_TRUE(test::near(pr.m[i], pr.rm[i], steps * 2.4e-7, steps * 1.2e-7)) << i;
+    ASSERT_TRUE(test::near(pr.v[i], pr.rv[i], steps * 3.6e-7, 0)) << i;  // sums of positive terms
+    maxErr = std::max(maxErr, std::fabs(pr.p[i] - pr.rp[i]));
+  }
+  std::printf("adam %d steps: max |p_gpu - p_ref| = %.3g (lr %.3g)\n", steps, maxErr, cfg.initialLearningRate);
+}
+
+TEST_F(Adam, SkipsParametersWithZeroGradient) {
+  const size_t n = 203;  // leftovers included
+  nerf::AdamConfig cfg;
+  cfg.skipZeroGradients = true;
+  nerf::Adam adam(ctx(), cfg);
+  auto p0 = randomVector(n, 4, 1);
+  auto m0 = randomVector(n, 5, 0.1f);
+  auto v0 = randomVector(n, 6, 0.01f);
+  for (auto& x : v0) x = std::fabs(x);
+  Problem pr(ctx(), p0, m0, v0);
+  // Whole zero vec4 rows (the sparse hash-grid case), single zeros, and a zero leftover.
+  auto g = randomVector(n, 7, 0.5f, 0.3f);
+  for (size_t i = 40; i < 48; ++i) g[i] = 0;
+  g[n - 2] = 0;
+  const float lr = 1e-3f;
+  auto gAfter = pr.step(ctx(), adam, g, 3, lr);
+  int skipped = 0;
+  for (size_t i = 0; i < n; ++i) {
+    ASSERT_EQ(gAfter[i], 0.0f);
+    if (g[i] == 0.0f) {
+      ++skipped;
+      ASSERT_EQ(pr.p[i], p0[i]) << i;  // bit for bit untouched
+      ASSERT_EQ(pr.m[i], m0[i]) << i;
+      ASSERT_EQ(pr.v[i], v0[i]) << i;
+    } else {
+      ASSERT_TRUE(paramNear(pr.p[i], pr.rp[i], lr, 1)) << i;
+      ASSERT_NE(pr.p[i], p0[i]) << i;
+    }
+  }
+  EXPECT_GT(skipped, 50);
+  // Without the flag the moments of a zero-gradient parameter decay and its parameter keeps moving.
+  cfg.skipZeroGradients = false;
+  nerf::Adam dense(ctx(), cfg);
+  Problem pd(ctx(), p0, m0, v0);
+  pd.step(ctx(), dense, g, 3, lr);
+  EXPECT_NE(pd.m[40], m0[40]);
+  EXPECT_NE(pd.p[40], p0[40]);
+  EXPECT_TRUE(paramNear(pd.p[40], pd.rp[40], lr, 1));
+}
+
+TEST_F(Adam, ExtremeGradientsStayFinite) {
+  // Zero gradient with zero moments and the tiniest epsilon: 0 / (0 + eps) = 0, never NaN. Huge and
+  // subnormal-squared gradients: v may overflow to inf or flush to 0, the update stays finite.
+  const size_t n = 9;
+  nerf::AdamConfig cfg;
+  cfg.epsilon = 1e-15f;
+  nerf::Adam adam(ctx(), cfg);
+  std::vector<float> p0(n, 0.25f);
+  Problem pr(ctx(), p0, std::vector<float>(n), std::vector<float>(n));
+  std::vector<float> g = {0.0f, -0.0f, 1e-30f, -1e-30f, 1e20f, -1e30f, 3.4e38f, 1e-45f, 0.0f};
+  for (uint32_t t = 1; t <= 3; ++t) pr.step(ctx(), adam, g, t, 1e-2f);
+  for (size_t i = 0; i < n; ++i) {
+    EXPECT_TRUE(std::isfinite(pr.p[i])) << i;
+    EXPECT_TRUE(std::isfinite(pr.m[i])) << i;
+    EXPECT_FALSE(std::isnan(pr.v[i])) << i;
+    EXPECT_LE(std::fabs(pr.p[i] - 0.25f), 3 * 1e-2f * 3.2f) << i;  // Adam's step bound
+  }
+  EXPECT_EQ(pr.p[0], 0.25f);
+  EXPECT_EQ(pr.p[8], 0.25f);
+  EXPECT_EQ(pr.m[0], 0.0f);
+  EXPECT_EQ(pr.v[0], 0.0f);
+}
+
+TEST_F(Adam, EmptyStepAndBadArguments) {
+  nerf::Adam adam(ctx(), {});
+  auto b = gpu::Buffer::of(ctx(), std::vector<float>(8, 1.0f));
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    adam.record(rec, 0, b, b, b, b, 1, 0.1f);                                                // count 0: records nothing
+    EXPECT_THROW(adam.record(rec, 8, b, b, b, b, 0, 0.1f), Error);                           // steps are 1-based
+    EXPECT_THROW(adam.record(rec, 4, gpu::BufferRange(b, 4, 16), b, b, b, 1, 0.1f), Error);  // misaligned
+    EXPECT_THROW(adam.record(rec, 9, b, b, b, b, 1, 0.1f), Error);  // more parameters than the buffers hold
+  });
+  for (float x : b.download<float>()) EXPECT_EQ(x, 1.0f);
+  nerf::AdamConfig bad;
+  bad.epsilon = 0;
+  EXPECT_THROW(nerf::Adam(ctx(), bad), Error);
+  bad = {};
+  bad.beta2 = 1.0f;
+  EXPECT_THROW(nerf::Adam(ctx(), bad), Error);
+}
+
+TEST_F(Adam, SubRangesAndTinyCounts) {
+  // Parameters at an offset inside larger buffers, surrounded by sentinels that must survive;
+  // counts below 4 (no vec4 part), exactly 4 (no leftovers) and 5.
+  nerf::AdamConfig cfg;
+  nerf::Adam adam(ctx(), cfg);
+  for (uint32_t count : {1u, 3u, 4u, 5u}) {
+    const uint32_t offset = 16, total = offset + count + 9;  // floats
+    auto p = randomVector(total, count, 1), g = randomVector(total, 100 + count, 1);
+    std::vector<float> mv(total, 0.5f);
+    auto pb = gpu::Buffer::of(ctx(), p), gb = gpu::Buffer::of(ctx(), g), mb = gpu::Buffer::of(ctx(), mv),
+         vb = gpu::Buffer::of(ctx(), mv);
+    auto sub = [&](const gpu::Buffer& b) { return gpu::BufferRange(b, 4 * offset, 4 * count); };
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      adam.record(rec, count, sub(pb), sub(gb), sub(mb), sub(vb), 2, 0.01f);
+    });
+    std::vector<double> rp(p.begin() + offset, p.begin() + offset + count), rg(g.begin() + offset, g.begin() + offset + count),
+        rm(count, 0.5), rv(count, 0.5);
+    ref::adamStep<double>(rp, rg, rm, rv, 2, 0.01, refParams(cfg));
+    auto po = pb.download<float>(), go = gb.download<float>(), mo = mb.download<float>();
+    for (uint32_t i = 0; i < total; ++i) {
+      bool inside = i >= offset && i < offset + count;
+      if (!inside) {
+        ASSERT_EQ(po[i], p[i]) << count << ": " << i;
+        ASSERT_EQ(go[i], g[i]) << count << ": " << i;
+        ASSERT_EQ(mo[i], 0.5f) << count << ": " << i;
+      } else {
+        ASSERT_TRUE(paramNear(po[i], rp[i - offset], 0.01, 1)) << count << ": " << i;
+        ASSERT_TRUE(test::near(mo[i], rm[i - offset], 2.4e-7, 0)) << count << ": " << i;
+        ASSERT_EQ(go[i], 0.0f);
+      }
+    }
+  }
+}

@@ -1,0 +1,173 @@
+// rays.comp against the CPU reference (src/reference/rays/rays.h).
+#include <cmath>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/recorder.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
+#include "nerf/rays/rays.h"
+#include "reference/rays/rays.h"
+#include "reference/rng.h"
+
+using namespace vknerf;
+
+namespace {
+
+// A camera at `eye` looking at the origin, +Z up, as nerf_synthetic poses are.
+Camera originCamera(std::array<float, 3> eye, uint32_t w, uint32_t h, float focal) {
+  return pinholeFromFocal(w, h, focal, lookAt(eye, {0, 0, 0}, {0, 0, 1}));
+}
+
+struct GpuRays {
+  std::vector<float> rays;         // 8 floats per ray
+  std::vector<uint32_t> pixelIds;  // 2 per ray
+};
+
+GpuRays runRays(Context& ctx, const std::vector<Camera>& cams, bool random, uint32_t cam, uint32_t first,
+                uint32_t count, const Aabb& box, float nearPlane, uint32_t seed = 0) {
+  auto packed = nerf::packCameras(cams);
+  auto camBuf = gpu::Buffer::of(ctx, packed);
+  gpu::Buffer rays(ctx, count * nerf::kRayBytes), ids(ctx, count * nerf::kPixelIdBytes);
+  nerf::RayGeneration gen(ctx);
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+    if (random)
+      gen.recordRandom(rec, count, camBuf, uint32_t(cams.size()), seed, box, nearPlane, rays, ids);
+    else
+      gen.recordImage(rec, count, camBuf, cam, first, box, nearPlane, rays, ids);
+  });
+  return {rays.download<float>(count * 8), ids.download<uint32_t>(count * 2)};
+}
+
+// Directions are normalised products of O(1) values: float rounding of a few ops gives ~1e-6
+// relative error; t values are ratios of box distances and direction components, conditioned
+// like 1/|d_k|, hence the looser absolute bound on t.
+constexpr double kDirTol = 2e-6, kTRel = 1e-5, kTAbs = 1e-5;
+
+void expectRayMatches(const float* g, const ref::Ray<double>& r) {
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_TRUE(test::near(g[k], r.o[k], kDirTol, kDirTol));
+    EXPECT_TRUE(test::near(g[4 + k], r.d[k], kDirTol, kDirTol));
+  }
+  EXPECT_EQ(g[3] >= 0, r.hit());
+  if (r.hit()) {
+    EXPECT_TRUE(test::near(g[3], r.tNear, kTRel, kTAbs));
+    EXPECT_TRUE(test::near(g[7], r.tFar, kTRel, kTAbs));
+  } else {
+    EXPECT_EQ(g[3], -1.0f);
+    EXPECT_EQ(g[7], -1.0f);
+  }
+}
+
+class Rays : public test::GpuTest {};
+
+}  // namespace
+
+TEST_F(Rays, WholeImageMatchesReference) {
+  Aabb box{{-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f}};
+  std::vector<Camera> cams = {originCamera({4, 0.5f, 1}, 37, 23, 40), originCamera({-1, 3, 2.5f}, 16, 16, 20)};
+  for (uint32_t ci = 0; ci < cams.size(); ++ci) {
+    const Camera& c = cams[ci];
+    uint32_t n = c.width * c.height;
+    auto out = runRays(ctx(), cams, false, ci, 0, n, box, 0.05f);
+    for (uint32_t p = 0; p < n; ++p) {
+      auto r = ref::cameraRay<double>(c, p % c.width, p / c.width);
+      ref::intersectAabb(r, box, 0.05);
+      expectRayMatches(&out.rays[8 * p], r);
+      EXPECT_EQ(out.pixelIds[2 * p], ci);
+      EXPECT_EQ(out.pixelIds[2 * p + 1], p);
+    }
+  }
+}
+
+TEST_F(Rays, PixelCentresAndOpenGlConvention) {
+  // Identity pose, principal point at the centre: the centre pixel of an odd-sized image looks
+  // straight down -Z; the top-left pixel's ray points to -X (left) and +Y (up).
+  Camera c;
+  c.fx = c.fy = 10;
+  c.width = c.height = 5;
+  c.cx = c.cy = 2.5f;
+  c.c2w[11] = 5;  // camera at z = 5
+  auto centre = ref::cameraRay<double>(c, 2, 2);
+  EXPECT_NEAR(centre.d[0], 0, 1e-12);
+  EXPECT_NEAR(centre.d[1], 0, 1e-12);
+  EXPECT_NEAR(centre.d[2], -1, 1e-12);
+  auto corner = ref::cameraRay<double>(c, 0, 0);
+  EXPECT_LT(corner.d[0], 0);
+  EXPECT_GT(corner.d[1], 0);
+  auto out = runRays(ctx(), {c}, false, 0, 12, 1, Aabb{}, 0);
+  EXPECT_TRUE(test::near(out.rays[4 + 2], -1.0, 1e-6, 1e-6));
+  EXPECT_TRUE(test::near(out.rays[3], 4.0, 1e-6, 1e-6));  // enters the unit box at z = 1
+  EXPECT_TRUE(test::near(out.rays[7], 6.0, 1e-6, 1e-6));  // leaves at z = -1
+}
+
+TEST_F(Rays, DirectionComponentExactlyZero) {
+  // Identity rotation: the centre pixel's direction is exactly (0, 0, -1), parallel to four faces.
+  Camera c;
+  c.fx = c.fy = 10;
+  c.width = c.height = 1;
+  c.cx = c.cy = 0.5f;
+  c.c2w[11] = 3;
+  auto inside = runRays(ctx(), {c}, false, 0, 0, 1, Aabb{}, 0);
+  EXPECT_EQ(inside.rays[4], 0.0f);
+  EXPECT_EQ(inside.rays[5], 0.0f);
+  EXPECT_TRUE(test::near(inside.rays[3], 2.0, 1e-6, 1e-6));
+  EXPECT_TRUE(test::near(inside.rays[7], 4.0, 1e-6, 1e-6));
+  // The same ray shifted outside the x-slab misses, with no NaN from 0 * inf.
+  c.c2w[3] = 1.5f;
+  auto outside = runRays(ctx(), {c}, false, 0, 0, 1, Aabb{}, 0);
+  EXPECT_EQ(outside.rays[3], -1.0f);
+  EXPECT_EQ(outside.rays[7], -1.0f);
+  // Exactly on the face x = 1: inside the closed slab, a hit.
+  c.c2w[3] = 1.0f;
+  auto onFace = runRays(ctx(), {c}, false, 0, 0, 1, Aabb{}, 0);
+  EXPECT_TRUE(test::near(onFace.rays[3], 2.0, 1e-6, 1e-6));
+}
+
+TEST_F(Rays, OriginInsideBoxStartsAtNearPlane) {
+  Camera c = originCamera({0.2f, 0.1f, 0.3f}, 8, 8, 6);
+  Aabb box;
+  auto out = runRays(ctx(), {c}, false, 0, 0, 64, box, 0.01f);
+  for (uint32_t p = 0; p < 64; ++p) {
+    EXPECT_FLOAT_EQ(out.rays[8 * p + 3], 0.01f);
+    EXPECT_GT(out.rays[8 * p + 7], 0.01f);
+    auto r = ref::cameraRay<double>(c, p % 8, p / 8);
+    ref::intersectAabb(r, box, 0.01);
+    expectRayMatches(&out.rays[8 * p], r);
+  }
+}
+
+TEST_F(Rays, CameraLookingAwayMissesBox) {
+  Camera c = originCamera({5, 0, 0}, 4, 4, 4);
+  for (int k = 0; k < 3; ++k) c.c2w[4 * k + 2] = -c.c2w[4 * k + 2];  // flip the viewing axis
+  for (int k = 0; k < 3; ++k) c.c2w[4 * k] = -c.c2w[4 * k];          // keep the frame right-handed
+  auto out = runRays(ctx(), {c}, false, 0, 0, 16, Aabb{}, 0);
+  for (uint32_t p = 0; p < 16; ++p) {
+    EXPECT_EQ(out.rays[8 * p + 3], -1.0f);
+    EXPECT_EQ(out.rays[8 * p + 7], -1.0f);
+  }
+}
+
+TEST_F(Rays, RandomPixelsMatchCounterRng) {
+  std::vector<Camera> cams = {originCamera({4, 0, 1}, 10, 7, 9), originCamera({0, 4, 1}, 5, 12, 9),
+                              originCamera({-3, -3, 2}, 9, 9, 9)};
+  const uint32_t n = 1000, seed = 1234;
+  auto out = runRays(ctx(), cams, true, 0, seed, n, Aabb{}, 0, seed);
+  std::vector<int> perCamera(cams.size());
+  for (uint32_t i = 0; i < n; ++i) {
+    uint32_t cam = ref::rngUint(seed, i, 0) % cams.size();
+    uint32_t pixel = ref::rngUint(seed, i, 1) % (cams[cam].width * cams[cam].height);
+    ASSERT_EQ(out.pixelIds[2 * i], cam);
+    ASSERT_EQ(out.pixelIds[2 * i + 1], pixel);
+    auto r = ref::cameraRay<double>(cams[cam], pixel % cams[cam].width, pixel / cams[cam].width);
+    ref::intersectAabb(r, Aabb{}, 0.0);
+    expectRayMatches(&out.rays[8 * i], r);
+    perCamera[cam]++;
+  }
+  for (int c : perCamera) EXPECT_GT(c, 250);  // roughly uniform over cameras (expected 333)
+}
+
+TEST_F(Rays, EmptyBatchDispatchesNothing) {
+  auto out = runRays(ctx(), {originCamera({3, 0, 0}, 4, 4, 4)}, false, 0, 0, 0, Aabb{}, 0);
+  EXPECT_TRUE(out.rays.empty());
+}

@@ -1,6 +1,6 @@
 // Images through stb_image (PNG, JPEG and the rest): decodeImage from the input's bytes, then what a
 // dataset does with a decoded image (downscale, composite over a background).
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "vknerf/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

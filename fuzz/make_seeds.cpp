@@ -12,7 +12,7 @@
 
 #include "io/checkpoint/checkpoint.h"
 #include "io/checkpoint/config_json.h"
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "scratch_folder.h"
 #include "support/colmap_model_files.h"
 #include "support/llff_files.h"
@@ -150,13 +150,13 @@ void appendBytes(void* context, void* data, int size) {
 void imageSeeds(const fs::path& scene, const fs::path& out) {
   const std::string png = readText(scene / "train" / "r_0.png");
   writeText(out / "scene.png", png);
-  const vknerf::ImageRGBA8 full = vknerf::nerf::decodeImage(reinterpret_cast<const uint8_t*>(png.data()), png.size(), "r_0.png");
-  const vknerf::ImageRGBA8 small = vknerf::nerf::downscaleImage(full, 12);
+  const vknerf::ImageRGBA8 full = vknerf::decodeImage(reinterpret_cast<const uint8_t*>(png.data()), png.size(), "r_0.png");
+  const vknerf::ImageRGBA8 small = vknerf::downscaleImage(full, 12);
   for (int channels = 1; channels <= 4; ++channels) {
     std::vector<uint8_t> pixels;
     for (size_t p = 0; p < size_t(small.width) * small.height; ++p)
       for (int c = 0; c < channels; ++c) pixels.push_back(small.rgba[p * 4 + (channels == 2 && c == 1 ? 3 : c)]);
-    auto bytes = vknerf::nerf::encodePng(small.width, small.height, channels, pixels.data());
+    auto bytes = vknerf::encodePng(small.width, small.height, channels, pixels.data());
     writeBytes(out / ("small_" + std::to_string(channels) + ".png"), bytes.data(), bytes.size());
   }
   std::vector<uint8_t> jpeg;

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <vector>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 
 namespace vknerf::fuzz {
 
@@ -46,7 +46,7 @@ void writeTinyPng(const fs::path& path, uint32_t width, uint32_t height) {
       p[0] = uint8_t(x * 40), p[1] = uint8_t(y * 40), p[2] = uint8_t((x + y) * 20);
       p[3] = x < width / 3 ? 0 : 255;
     }
-  const auto png = nerf::encodePng(width, height, 4, rgba.data());
+  const auto png = vknerf::encodePng(width, height, 4, rgba.data());
   writeBytes(path, png.data(), png.size());
 }
 

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "io/dataset/dataset_loaders.h"
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "io/dataset/memory_fit.h"
 #include "vknerf/error.h"
 
@@ -190,11 +190,11 @@ std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, uint32_
       try {
         const FrameSpec& f = frames[i];
         if (f.image.empty()) throw Error(f.where + ": image not found: " + f.imageTried);
-        ImageRGBA8 img = nerf::loadImage(f.image.string());
+        ImageRGBA8 img = vknerf::loadImage(f.image.string());
         if (img.width < downscale || img.height < downscale)
           throw Error("image '" + f.image.string() + "' (" + std::to_string(img.width) + "x" +
                       std::to_string(img.height) + ") is smaller than the downscale factor " + std::to_string(downscale));
-        images[i] = downscale > 1 ? nerf::downscaleImage(img, downscale) : std::move(img);
+        images[i] = downscale > 1 ? vknerf::downscaleImage(img, downscale) : std::move(img);
       } catch (...) {
         errors[i] = std::current_exception();
       }
@@ -238,8 +238,8 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
   for (uint32_t i = 0; i < n; ++i) {
     const FrameSpec& f = scene.frames[i];
     if (f.image.empty()) throw Error(f.where + ": image not found: " + f.imageTried);
-    if (!nerf::readImageSize(f.image.string(), sizes[i].first, sizes[i].second))
-      nerf::loadImage(f.image.string());  // throws with stb's reason
+    if (!vknerf::readImageSize(f.image.string(), sizes[i].first, sizes[i].second))
+      vknerf::loadImage(f.image.string());  // throws with stb's reason
   }
   // The decoded set must fit in host memory, with one full-resolution image per decoding thread.
   {
@@ -285,7 +285,7 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
     std::vector<Camera> all = fullRes;
     for (const FrameSpec& f : scene.others) {
       uint32_t w = f.intrinsics.width, h = f.intrinsics.height;
-      if ((!w || !h) && (f.image.empty() || !nerf::readImageSize(f.image.string(), w, h))) continue;
+      if ((!w || !h) && (f.image.empty() || !vknerf::readImageSize(f.image.string(), w, h))) continue;
       try {
         all.push_back(completeCamera(f, w, h));
       } catch (const Error&) {

@@ -20,7 +20,7 @@
 
 #include "support/cli_run.h"
 #include "io/checkpoint/checkpoint.h"
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;

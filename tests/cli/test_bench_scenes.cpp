@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/bench/run_plan.h"
 #include "lib/bench/run_reports.h"
 #include "lib/bench/scene_table.h"
@@ -225,9 +225,9 @@ std::string tinyScene(const test::TempDir& tmp, const std::string& name) {
     for (size_t i = 0; i < (std::string(split) == "train" ? 6u : 2u); ++i) {
       json f = j["frames"][i];
       const std::string file = f["file_path"].get<std::string>() + ".png";
-      const ImageRGBA8 img = nerf::downscaleImage(nerf::loadImage(test::scene() + "/" + file), 5);
+      const ImageRGBA8 img = vknerf::downscaleImage(vknerf::loadImage(test::scene() + "/" + file), 5);
       fs::create_directories((dir / file).parent_path());
-      nerf::savePng((dir / file).string(), img);
+      vknerf::savePng((dir / file).string(), img);
       frames.push_back(f);
     }
     j["frames"] = frames;
@@ -287,10 +287,10 @@ TEST(BenchScenesCli, OneRowPerSceneASheetEachAndABrokenSceneFails) {
   // The sheet: a title line, then per test view a label line and its 20x20 tiles; the first tile
   // is the view's ground truth (opaque pixels: as the file has them).
   using Sheet = nerf::ContactSheet;
-  const ImageRGBA8 sheet = nerf::loadImage((out / "tiny.png").string());
+  const ImageRGBA8 sheet = vknerf::loadImage((out / "tiny.png").string());
   EXPECT_EQ(sheet.height, Sheet::kGap + Sheet::kTextHeight + 2 * (Sheet::kTextHeight + 20 + Sheet::kGap));
   EXPECT_GE(sheet.width, Sheet::kGap + 4 * (20 + Sheet::kGap));
-  const ImageRGBA8 truth = nerf::loadImage(good + "/test/r_0.png");
+  const ImageRGBA8 truth = vknerf::loadImage(good + "/test/r_0.png");
   const uint32_t top = Sheet::kGap + 2 * Sheet::kTextHeight;
   int compared = 0;
   for (uint32_t y = 0; y < 20; ++y)
@@ -309,7 +309,7 @@ TEST(BenchScenesCli, OneRowPerSceneASheetEachAndABrokenSceneFails) {
   auto e = runCli("eval " + (out / "runs" / "tiny.vknerf").string() + " " + good + " --sheet " + one +
                   " --sheet-views 1 --sheet-size 16");
   ASSERT_EQ(e.code, 0) << e.output;
-  const ImageRGBA8 small = nerf::loadImage(one);
+  const ImageRGBA8 small = vknerf::loadImage(one);
   EXPECT_EQ(small.height, Sheet::kGap + Sheet::kTextHeight + Sheet::kTextHeight + 16 + Sheet::kGap);
 }
 
@@ -340,7 +340,7 @@ TEST(BenchScenesCli, ComparesAnOlderBuildInOneSitting) {
     EXPECT_EQ(rows[i][9], "tiny-" + rows[i][1] + ".png");
     // One view of the two, as --sheet-views asked, on the older build's sheet too (this build drew it).
     using Sheet = nerf::ContactSheet;
-    EXPECT_EQ(nerf::loadImage((out / rows[i][9]).string()).height, Sheet::kGap + 2 * Sheet::kTextHeight + 20 + Sheet::kGap);
+    EXPECT_EQ(vknerf::loadImage((out / rows[i][9]).string()).height, Sheet::kGap + 2 * Sheet::kTextHeight + 20 + Sheet::kGap);
   }
   EXPECT_FALSE(fs::exists(out / "runs" / "tiny-old.train.json"));  // no --summary: read from its output
   EXPECT_TRUE(fs::exists(out / "runs" / "tiny-now.train.json"));

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/process/colmap_log.h"
 #include "lib/process/process.h"
 #include "lib/process/report.h"
@@ -115,7 +115,7 @@ TEST(ProcessVideo, KeepsTheSharpestFrameOfEachWindow) {
         }
     char name[32];
     std::snprintf(name, sizeof name, "f_%02zu.png", f);
-    nerf::savePng(dir.file(name), greyImage(w, h, grey));
+    vknerf::savePng(dir.file(name), greyImage(w, h, grey));
   }
   // ffv1: lossless, so the blur the test made is the blur the video holds.
   const std::string encode = "ffmpeg -nostdin -loglevel error -framerate 8 -i " + dir.file("f_%02d.png") +
@@ -240,7 +240,7 @@ void writeImages(const fs::path& folder, const test::ColmapModelRecords& m) {
   for (const auto& img : m.images) {
     ImageRGBA8 im{uint32_t(m.cameras[0].width), uint32_t(m.cameras[0].height), {}};
     for (uint32_t i = 0; i < im.width * im.height; ++i) im.rgba.insert(im.rgba.end(), {uint8_t(i * 7), uint8_t(i * 3), 90, 255});
-    nerf::savePng((folder / img.name).string(), im);
+    vknerf::savePng((folder / img.name).string(), im);
   }
 }
 
@@ -315,7 +315,7 @@ namespace {
 fs::path photos(const fs::path& dir, int n) {
   const fs::path p = dir / "photos";
   fs::create_directories(p);
-  for (int i = 0; i < n; ++i) nerf::savePng((p / ("p" + std::to_string(i) + ".png")).string(), {8, 8, std::vector<uint8_t>(256, 128)});
+  for (int i = 0; i < n; ++i) vknerf::savePng((p / ("p" + std::to_string(i) + ".png")).string(), {8, 8, std::vector<uint8_t>(256, 128)});
   return p;
 }
 

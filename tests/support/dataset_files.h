@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "support/temp_dir.h"
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"
@@ -43,7 +43,7 @@ inline ImageRGBA8 patternImage(uint32_t w, uint32_t h, uint32_t seed, bool trans
 
 inline void writePng(const fs::path& p, const ImageRGBA8& img) {
   fs::create_directories(p.parent_path());
-  nerf::savePng(p.string(), img);
+  vknerf::savePng(p.string(), img);
 }
 
 // Camera-to-world (vknerf::lookAt) of a camera at `eye` looking at `target`, +Z up, or +Y when it

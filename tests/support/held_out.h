@@ -3,7 +3,7 @@
 // views (their mean), which is what a model that learned nothing about geometry approaches.
 #include <vector>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/metrics.h"
 #include "vknerf/trainer.h"
 
@@ -18,14 +18,14 @@ inline HeldOutScore scoreHeldOut(const Model& model, const Dataset& views, size_
   std::vector<double> mean(3, 0.0);
   size_t pixels = 0;
   for (size_t i = 0; i < count; ++i) {
-    auto gt = nerf::compositeOver(views.images[i], bg);
+    auto gt = vknerf::compositeOver(views.images[i], bg);
     for (size_t p = 0; p < gt.size(); ++p) mean[p % 3] += gt[p];
     pixels += gt.size() / 3;
   }
   for (double& m : mean) m /= double(pixels);
   HeldOutScore s;
   for (size_t i = 0; i < count; ++i) {
-    auto gt = nerf::compositeOver(views.images[i], bg);
+    auto gt = vknerf::compositeOver(views.images[i], bg);
     RenderedImage img = model.render(views.cameras[i]);
     std::vector<float> constant(gt.size());
     for (size_t p = 0; p < gt.size(); ++p) constant[p] = float(mean[p % 3]);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 
 namespace vknerf::test {
 namespace {
@@ -121,7 +121,7 @@ std::vector<TrueView> renderTexturedViews(const std::filesystem::path& folder, c
         for (int k = 0; k < 3; ++k) p[k] = uint8_t(std::clamp(std::lround(255 * sum[k]), 0L, 255L));
         p[3] = 255;
       }
-    nerf::savePng((folder / tv.name).string(), img);
+    vknerf::savePng((folder / tv.name).string(), img);
     views.push_back(tv);
   }
   return views;

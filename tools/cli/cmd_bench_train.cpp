@@ -10,7 +10,7 @@
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/csv.h"
 #include "lib/metrics.h"
 #include "vknerf/dataset.h"
@@ -42,7 +42,7 @@ Score evaluate(RenderFn&& render, const Dataset& test, size_t views, const std::
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = render(test.cameras[i]);
     s.secondsPerImage += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    auto gt = nerf::compositeOver(test.images[i], background);
+    auto gt = vknerf::compositeOver(test.images[i], background);
     s.psnr += nerf::psnr(img.rgb, gt);
     s.ssim += nerf::ssim(img.rgb, gt, img.width, img.height);
   }

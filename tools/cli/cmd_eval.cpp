@@ -11,7 +11,7 @@
 #include "command_files.h"
 #include "command.h"
 #include "progress.h"
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/contact_sheet.h"
 #include "lib/csv.h"
 #include "lib/metrics.h"
@@ -91,7 +91,7 @@ int run(const Options& o, const Globals& g) {
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = model.render(data.cameras[i], progressPrinter("rendering " + data.names[i] + ": pixels", true));
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    auto gt = nerf::compositeOver(data.images[i], model.config().background);
+    auto gt = vknerf::compositeOver(data.images[i], model.config().background);
     double p = nerf::psnr(img.rgb, gt), q = nerf::ssim(img.rgb, gt, img.width, img.height);
     sumPsnr += p, sumSsim += q, sumSeconds += s;
     images.push_back({{"name", data.names[i]}, {"psnr", p}, {"ssim", q}, {"seconds", s}});

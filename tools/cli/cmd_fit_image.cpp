@@ -14,7 +14,7 @@
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/fit_image.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -63,7 +63,7 @@ Registration fitImageCmd("fit-image", "Fit an image as (u, v) -> rgb with an MLP
     if (!o->output.empty()) {
       std::vector<unsigned char> px(r.rgb.size());
       for (size_t i = 0; i < px.size(); ++i) px[i] = (unsigned char)(std::clamp(r.rgb[i], 0.0f, 1.0f) * 255.0f + 0.5f);
-      const auto png = nerf::encodePng(uint32_t(w), uint32_t(h), 3, px.data());
+      const auto png = vknerf::encodePng(uint32_t(w), uint32_t(h), 3, px.data());
       writeFileAtomically(o->output, png.data(), png.size());
       std::printf("wrote %s\n", o->output.c_str());
     }

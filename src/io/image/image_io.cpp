@@ -1,4 +1,4 @@
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -13,7 +13,11 @@
 #include <stb/stb_image.h>  // implemented in stb_implementation.cpp
 #include <stb/stb_image_write.h>
 
-namespace vknerf::nerf {
+namespace vknerf {
+
+using nerf::decodeJpeg;
+using nerf::jpegSize;
+using nerf::JpegSize;
 
 namespace {
 
@@ -199,4 +203,4 @@ std::vector<float> compositeOver(const ImageRGBA8& im, const std::array<float, 3
   return rgb;
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf

@@ -231,7 +231,7 @@ TEST_F(DatasetTransforms, DownscaleScalesImagesAndIntrinsics) {
       EXPECT_NEAR(c.fx, f.fx / n, kIntrinsicsRel * f.fx);
       EXPECT_NEAR(c.cx, f.cx / n, kIntrinsicsRel * f.cx);
       EXPECT_NEAR(c.cy, f.cy / n, kIntrinsicsRel * f.cy);
-      EXPECT_EQ(d.images[i].rgba, nerf::downscaleImage(full.images[i], n).rgba);
+      EXPECT_EQ(d.images[i].rgba, vknerf::downscaleImage(full.images[i], n).rgba);
       if (n == 3) {
         // The centre of downscaled pixel (x, y) is the centre of full-resolution pixel (3x+1, 3y+1):
         // both rays agree to float rounding of the intrinsics.

@@ -11,7 +11,7 @@
 
 #include "gpu/buffer.h"
 #include "io/dataset/dataset_loaders.h"
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/rays.h"
 #include "support/cli_run.h"
@@ -274,7 +274,7 @@ TEST(DatasetLlff, ImagesNAreReadAsTheyAreWithTheFocalLengthScaled) {
   const Dataset boxed = Dataset::load(p, split("all", 4));
   for (uint32_t i = 0; i < 3; ++i) {
     EXPECT_EQ(boxed.names[i], (p / "images" / ("p" + std::to_string(i) + ".png")).string());
-    EXPECT_EQ(boxed.images[i].rgba, nerf::downscaleImage(patternImage(8, 6, i), 4).rgba);
+    EXPECT_EQ(boxed.images[i].rgba, vknerf::downscaleImage(patternImage(8, 6, i), 4).rgba);
     EXPECT_EQ(boxed.cameras[i].fx, float(10.25) * 0.25f);
     EXPECT_EQ(boxed.cameras[i].width, 2u);
     EXPECT_EQ(boxed.cameras[i].height, 1u);

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/pixel_text.h"
 #include "lib/render_output.h"
 #include "vknerf/error.h"

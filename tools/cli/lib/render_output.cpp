@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "vknerf/error.h"
 
 namespace fs = std::filesystem;
@@ -29,7 +29,7 @@ void checkImagesDecode(const std::vector<fs::path>& images, const std::string& f
   size_t refused = 0;
   for (const fs::path& image : images) {
     try {
-      (void)nerf::loadImage(image.string());
+      (void)vknerf::loadImage(image.string());
     } catch (const Error& e) {
       // "cannot read image 'PATH': why": the file name is enough here, the folder is named once.
       std::string why = e.what();

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -68,7 +68,7 @@ SceneBox writeTransforms(const fs::path& scene, uint32_t downscale,
     fs::path file = fs::path(d.names[i]).filename();
     if (downscale > 1) {
       file.replace_extension(".png");  // lossless: the copy is what training compares with
-      nerf::savePng((scene / folder / file).string(), d.images[i]);
+      vknerf::savePng((scene / folder / file).string(), d.images[i]);
       if (progress) progress(d.cameras.size() + i + 1, 2 * d.cameras.size());
     }
     nlohmann::json m = nlohmann::json::array();

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "io/image/image_io.h"
+#include "vknerf/image_io.h"
 #include "lib/process/input_images.h"
 #include "lib/process/sharpness.h"
 #include "lib/process/subprocess.h"
@@ -37,7 +37,7 @@ std::vector<fs::path> extractSharpFrames(const fs::path& video, const fs::path& 
   if (candidates.empty()) throw Error("ffmpeg gave no frames from '" + video.string() + "'; log: " + options.logPath);
   std::vector<double> scores;
   for (const fs::path& c : candidates) {
-    scores.push_back(varianceOfLaplacian(nerf::loadImage(c.string())));
+    scores.push_back(varianceOfLaplacian(vknerf::loadImage(c.string())));
     if (options.progress) options.progress(scores.size(), candidates.size());
   }
   std::vector<fs::path> kept;

@@ -8,7 +8,7 @@
 
 #include "vknerf/dataset.h"
 
-namespace vknerf::nerf {
+namespace vknerf {
 
 // PNG, JPEG (and whatever else stb_image reads) as straight-alpha RGBA8; grey and RGB files get
 // alpha 255, 16-bit files are reduced to 8 bits. Throws vknerf::Error naming `path`.
@@ -37,4 +37,4 @@ ImageRGBA8 downscaleImage(const ImageRGBA8& image, uint32_t factor);
 // 3 floats per pixel in [0, 1].
 std::vector<float> compositeOver(const ImageRGBA8& image, const std::array<float, 3>& background);
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf

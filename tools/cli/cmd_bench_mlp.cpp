@@ -162,8 +162,8 @@ nlohmann::json benchNerf(Context& ctx, uint32_t batch, int reps) {
   gpu::Recorder step(ctx, true);
   step.begin();
   step.fill(grads, 0);
-  mlp.recordForward(step, batch, params, pos, dir, out, &ws);
-  mlp.recordBackward(step, batch, params, pos, dir, out, dOut, grads, ws);
+  mlp.recordForward(step, {batch, pos, dir, out}, params, &ws);
+  mlp.recordBackward(step, {batch, pos, dir, out}, params, {dOut, grads}, ws);
   step.end();
   step.submitAndWait();
   double flops = 0;  // multiply-adds of the padded layers actually computed
@@ -228,7 +228,7 @@ nlohmann::json benchFastNerf(Context& ctx, uint32_t batch, int reps) {
     p.infer = std::make_unique<gpu::Recorder>(ctx, true);
     for (auto* rec : {p.keep.get(), p.infer.get()}) {
       rec->begin();
-      p.mlp->recordForward(*rec, batch, params, pos, dir, out, rec == p.keep.get() ? p.ws.get() : nullptr);
+      p.mlp->recordForward(*rec, {batch, pos, dir, out}, params, rec == p.keep.get() ? p.ws.get() : nullptr);
       rec->end();
       rec->submitAndWait();  // the first submission compiles the pipelines
     }

@@ -84,7 +84,7 @@ SelfCheckResult selfCheck(Context& ctx, uint32_t size, uint32_t nc, uint32_t nf)
     const uint32_t n = R * spr;
     points.record(rec, R, rays, samples, spr, box, pos, dir);
     rec.dispatch(analytic, {pos, field}, n, gpu::groupsFor(n, 64), 1, 1, "field_analytic");
-    compositor.recordForward(rec, R, spr, noOffsets, samples, field, kBackground, nullptr, color, depth, weights);
+    compositor.recordForward(rec, {R, spr, noOffsets, samples, field, kBackground}, {color, depth, weights});
   };
   shade(coarse, nc);
   pdf.record(rec, R, rays, coarse, weights, nc, nf, 1, false, kPadding, fine);

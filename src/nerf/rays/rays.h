@@ -36,6 +36,12 @@ std::vector<CameraGpu> packCameras(std::span<const Camera> cameras, std::span<co
 constexpr VkDeviceSize kRayBytes = 32;
 constexpr VkDeviceSize kPixelIdBytes = 8;
 
+// `count` rays (kRayBytes each) in `range`: a batch's rays, or a block of them, as one value.
+struct RaySpan {
+  gpu::BufferRange range;
+  uint32_t count = 0;
+};
+
 class RayGeneration {
  public:
   explicit RayGeneration(Context& ctx);

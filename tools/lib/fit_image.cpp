@@ -66,7 +66,7 @@ FitImageResult fitImage(Context& ctx, const std::vector<uint32_t>& rgba8, uint32
   for (uint32_t step = 1; step <= config.steps; ++step) {
     rec.begin();
     mlp.recordForward(rec, n, params, features, out, &ws);
-    loss.record(rec, n, out, pixelIds, images, cameras, background, dOut, partials);
+    loss.record(rec, {n, out, pixelIds, background}, images, cameras, {dOut, partials});
     mlp.recordBackward(rec, n, params, features, out, dOut, grads, ws);
     adam.record(rec, uint32_t(mlp.parameterCount()), params, grads, m, v, step, adam.config().learningRate(step - 1));
     rec.end();

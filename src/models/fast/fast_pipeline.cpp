@@ -311,9 +311,8 @@ CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, const Tr
   if (kept_) composited.keptCounts = gpu::rowsOf(kept_->counts(), sizeof(uint32_t), 0, R);
   recordField(rec, batch, true);
   compositor_.recordForward(rec, composite, composited);
-  const gpu::BufferRange wholeRays = wholeRayCount();
-  loss_->record(rec, R, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
-                partials_, 1.0f, &wholeRays);
+  loss_->record(rec, {R, color_, rays_.pixelIds(), rays_.background(), wholeRayCount()},
+                {data.pixels, *data.cameras}, {dColor_, partials_});
   return composite;
 }
 

@@ -93,10 +93,11 @@ void VanillaPipeline::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32
   if (numRays > capacity_) throw Error("VanillaPipeline: batch of " + std::to_string(numRays) + " rays over capacity");
   Level& c = levels_[0];
   Level& f = levels_[1];
-  stratified_.record(rec, numRays, rays_.rays(), c.samplesPerRay, seed, jitter, c.samples);
+  const RaySpan rays{rays_.rays(), numRays};
+  stratified_.record(rec, rays, c.samplesPerRay, {seed, jitter}, c.samples);
   recordLevel(rec, c, coarse_, numRays, training_);
-  pdf_.record(rec, numRays, rays_.rays(), c.samples, c.weights, c.samplesPerRay, f.samplesPerRay - c.samplesPerRay,
-              seed ^ 0x9e3779b9u, jitter, 1e-5f, f.samples);
+  pdf_.record(rec, rays, {c.samples, c.weights, c.samplesPerRay},
+              {f.samplesPerRay - c.samplesPerRay, {seed ^ 0x9e3779b9u, jitter}, 1e-5f}, f.samples);
   recordLevel(rec, f, fine(), numRays, training_);
 }
 
@@ -105,8 +106,8 @@ void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const
     Level& l = levels_[li];
     Network& net = li == 0 ? coarse_ : fine();
     FieldBatch& f = l.field;
-    loss_->record(rec, numRays, l.color, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), l.dColor,
-                  l.partials);
+    loss_->record(rec, {numRays, l.color, rays_.pixelIds(), rays_.background()}, {data.pixels, *data.cameras},
+                  {l.dColor, l.partials});
     compositor_.recordBackward(rec, compositeInputs(l, numRays), {l.dColor, zeroDepthGrad_, f.dField});
     net.mlp.recordBackward(rec, f.mlpRows(numRays * l.samplesPerRay), net.parameters.params(),
                            {f.dField, net.parameters.grads()}, *f.workspace);

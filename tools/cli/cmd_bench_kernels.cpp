@@ -70,7 +70,7 @@ int run(const Options& o, Context& ctx) {
   gpu::Recorder rec(ctx, true);
   for (uint32_t rep = 0; rep <= o.repeats; ++rep) {
     rec.begin();
-    rayGen.recordRandom(rec, R, camBuf, uint32_t(cams.size()), rep, Aabb{}, 0.05f, rays, ids);
+    rayGen.recordRandom(rec, camBuf, {uint32_t(cams.size()), rep, R}, {Aabb{}, 0.05f}, {rays, ids});
     backgrounds.recordRandom(rec, bg, R, rep);
     stratified.record(rec, {rays, R}, o.coarse, {rep, true}, coarse);
     gpu::BufferRange bgr(bg);

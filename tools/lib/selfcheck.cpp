@@ -78,7 +78,7 @@ SelfCheckResult selfCheck(Context& ctx, uint32_t size, uint32_t nc, uint32_t nf)
 
   gpu::Recorder rec(ctx, true);
   rec.begin();
-  rayGen.recordImage(rec, R, camBuf, 0, 0, box, kNear, rays, ids);
+  rayGen.recordImage(rec, camBuf, {0, 0, R}, {box, kNear}, {rays, ids});
   stratified.record(rec, {rays, R}, nc, {0, false}, coarse);
   auto shade = [&](const gpu::Buffer& samples, uint32_t spr) {
     const uint32_t n = R * spr;

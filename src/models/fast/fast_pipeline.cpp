@@ -264,7 +264,7 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   // The density alone: the colour branch would cost more than the trunk and is not looked at.
   hash_.recordForward(rec, count, occPositions_, table_.params(), occFeatures_, mlp_.posStride(), 0);
   mlp_.recordDensity(rec, count, network_.params(), occFeatures_, occDensity_);
-  grid_.recordUpdate(rec, occCells_, occDensity_, count, kOccupancyDecay, threshold, 1, 0, true);
+  grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {kOccupancyDecay, threshold, true});
 }
 
 FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {

@@ -393,9 +393,8 @@ TEST_F(MlpDense, ForwardAndBackwardMatchReference) {
   grads.zero();
   nerf::DenseMlp::Workspace ws(ctx(), mlp, count);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    mlp.recordForward(rec, count, pBuf, inBuf, out, &ws);
-    gpu::BufferRange dInRange(dIn);
-    mlp.recordBackward(rec, count, pBuf, inBuf, out, dOutBuf, grads, ws, &dInRange);
+    mlp.recordForward(rec, {count, inBuf, out}, pBuf, &ws);
+    mlp.recordBackward(rec, {count, inBuf, out}, pBuf, {dOutBuf, grads, gpu::BufferRange(dIn)}, ws);
   });
   auto gOut = out.download<float>(count * 4), gGrads = grads.download<float>(params.size()), gIn = dIn.download<float>(in.size());
 

@@ -68,16 +68,16 @@ Result benchWidth(Context& ctx, uint32_t W, uint32_t batch, int reps) {
 
   gpu::Recorder fwd(ctx, true), step(ctx, true), infer(ctx, true);
   infer.begin();
-  mlp.recordForward(infer, batch, params, inBuf, out, nullptr);  // keeps nothing: 16k-row scratch
+  mlp.recordForward(infer, {batch, inBuf, out}, params, nullptr);  // keeps nothing: 16k-row scratch
   infer.end();
   infer.submitAndWait();
   fwd.begin();
-  mlp.recordForward(fwd, batch, params, inBuf, out, &ws);
+  mlp.recordForward(fwd, {batch, inBuf, out}, params, &ws);
   fwd.end();
   step.begin();
   step.fill(grads, 0);
-  mlp.recordForward(step, batch, params, inBuf, out, &ws);
-  mlp.recordBackward(step, batch, params, inBuf, out, dOutBuf, grads, ws);
+  mlp.recordForward(step, {batch, inBuf, out}, params, &ws);
+  mlp.recordBackward(step, {batch, inBuf, out}, params, {dOutBuf, grads}, ws);
   step.end();
   fwd.submitAndWait();  // first submissions compile the pipelines
   step.submitAndWait();

@@ -330,8 +330,10 @@ void DenseMlp::setChunkRows(uint32_t rows) {
   scratch_.reset();
 }
 
-void DenseMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                             const gpu::BufferRange& out, Workspace* keep) {
+void DenseMlp::recordForward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                             Workspace* keep) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange &in = rows.in, &out = rows.out;
   if (count == 0) return;
   if (keep && keep->capacity_ < count)
     throw Error("dense MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
@@ -350,9 +352,11 @@ void DenseMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
   });
 }
 
-void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                              const gpu::BufferRange& out, const gpu::BufferRange& dOut, const gpu::BufferRange& grads,
-                              Workspace& ws, const gpu::BufferRange* dIn) {
+void DenseMlp::recordBackward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                              const DenseGradients& gradients, Workspace& ws) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange &in = rows.in, &out = rows.out, &dOut = gradients.dOut, &grads = gradients.grads;
+  const gpu::BufferRange* dIn = gradients.dIn ? &*gradients.dIn : nullptr;
   if (count == 0) return;
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("dense MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");

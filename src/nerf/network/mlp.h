@@ -136,6 +136,20 @@ class NerfMlp {
   uint32_t chunkRows_ = 0;
 };
 
+// The rows a plain MLP runs over: `count` rows of in (inputStride() floats each) and out (outputStride()).
+struct DenseRows {
+  uint32_t count = 0;
+  gpu::BufferRange in, out;
+};
+
+// What a plain MLP's backward reads and writes besides the forward's rows: dOut (outputStride() per
+// row), the parameter gradients it accumulates into, and dIn (optional, inputStride() per row) =
+// dL/din, overwritten.
+struct DenseGradients {
+  gpu::BufferRange dOut, grads;
+  std::optional<gpu::BufferRange> dIn;
+};
+
 struct DenseMlpConfig {
   uint32_t inputs = 2, width = 128, hiddenLayers = 2, outputs = 3;
   uint32_t seed = 0;
@@ -168,12 +182,11 @@ class DenseMlp {
   uint32_t inputStride() const { return ref::pad4(config_.inputs); }
   uint32_t outputStride() const { return ref::pad4(config_.outputs); }
 
-  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                     const gpu::BufferRange& out, Workspace* keepForBackward);
-  // grads += dL/dparams; dIn (optional, inputStride() per row) = dL/din, overwritten.
-  void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                      const gpu::BufferRange& out, const gpu::BufferRange& dOut, const gpu::BufferRange& grads,
-                      Workspace& ws, const gpu::BufferRange* dIn = nullptr);
+  void recordForward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                     Workspace* keepForBackward);
+  // grads.grads += dL/dparams for the batch last run forward into `ws`; grads.dIn = dL/din.
+  void recordBackward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                      const DenseGradients& grads, Workspace& ws);
 
   uint32_t chunkRows() const { return chunkRows_; }
   void setChunkRows(uint32_t rows);

@@ -70,18 +70,18 @@ int run(const Options& o, Context& ctx) {
   gpu::Recorder rec(ctx, true);
   for (uint32_t rep = 0; rep <= o.repeats; ++rep) {
     rec.begin();
-    rayGen.recordRandom(rec, R, camBuf, uint32_t(cams.size()), rep, Aabb{}, 0.05f, rays, ids);
+    rayGen.recordRandom(rec, camBuf, {uint32_t(cams.size()), rep, R}, {Aabb{}, 0.05f}, {rays, ids});
     backgrounds.recordRandom(rec, bg, R, rep);
-    stratified.record(rec, R, rays, o.coarse, rep, true, coarse);
+    stratified.record(rec, {rays, R}, o.coarse, {rep, true}, coarse);
     gpu::BufferRange bgr(bg);
-    compositor.recordForward(rec, R, o.coarse, noOffsets, coarse, field, {1, 1, 1}, &bgr, color, depth, weights);
-    pdf.record(rec, R, rays, coarse, weights, o.coarse, o.fine, rep + 1, true, 1e-5f, fine);
+    compositor.recordForward(rec, {R, o.coarse, noOffsets, coarse, field, {1, 1, 1}, bgr}, {color, depth, weights});
+    pdf.record(rec, {rays, R}, {coarse, weights, o.coarse}, {o.fine, {rep + 1, true}, 1e-5f}, fine);
     points.record(rec, R, rays, fine, nAll, Aabb{}, pos, dir);
     posEnc.recordForward(rec, n, pos, posFeat, 64, 0);
     dirEnc.recordForward(rec, n, dir, dirFeat, 28, 0);
-    compositor.recordForward(rec, R, nAll, noOffsets, fine, field, {1, 1, 1}, &bgr, color, depth, weights);
-    loss.record(rec, R, color, ids, images, camBuf, bg, dColor, partials);
-    compositor.recordBackward(rec, R, nAll, noOffsets, fine, field, {1, 1, 1}, &bgr, dColor, dDepth, dField);
+    compositor.recordForward(rec, {R, nAll, noOffsets, fine, field, {1, 1, 1}, bgr}, {color, depth, weights});
+    loss.record(rec, {R, color, ids, bg}, images, camBuf, {dColor, partials});
+    compositor.recordBackward(rec, {R, nAll, noOffsets, fine, field, {1, 1, 1}, bgr}, {dColor, dDepth, dField});
     adam.record(rec, o.params, params, grads, m, v, rep + 1, 1e-3f);
     rec.end();
     rec.submitAndWait();

@@ -68,16 +68,16 @@ Result benchWidth(Context& ctx, uint32_t W, uint32_t batch, int reps) {
 
   gpu::Recorder fwd(ctx, true), step(ctx, true), infer(ctx, true);
   infer.begin();
-  mlp.recordForward(infer, batch, params, inBuf, out, nullptr);  // keeps nothing: 16k-row scratch
+  mlp.recordForward(infer, {batch, inBuf, out}, params, nullptr);  // keeps nothing: 16k-row scratch
   infer.end();
   infer.submitAndWait();
   fwd.begin();
-  mlp.recordForward(fwd, batch, params, inBuf, out, &ws);
+  mlp.recordForward(fwd, {batch, inBuf, out}, params, &ws);
   fwd.end();
   step.begin();
   step.fill(grads, 0);
-  mlp.recordForward(step, batch, params, inBuf, out, &ws);
-  mlp.recordBackward(step, batch, params, inBuf, out, dOutBuf, grads, ws);
+  mlp.recordForward(step, {batch, inBuf, out}, params, &ws);
+  mlp.recordBackward(step, {batch, inBuf, out}, params, {dOutBuf, grads}, ws);
   step.end();
   fwd.submitAndWait();  // first submissions compile the pipelines
   step.submitAndWait();
@@ -162,8 +162,8 @@ nlohmann::json benchNerf(Context& ctx, uint32_t batch, int reps) {
   gpu::Recorder step(ctx, true);
   step.begin();
   step.fill(grads, 0);
-  mlp.recordForward(step, batch, params, pos, dir, out, &ws);
-  mlp.recordBackward(step, batch, params, pos, dir, out, dOut, grads, ws);
+  mlp.recordForward(step, {batch, pos, dir, out}, params, &ws);
+  mlp.recordBackward(step, {batch, pos, dir, out}, params, {dOut, grads}, ws);
   step.end();
   step.submitAndWait();
   double flops = 0;  // multiply-adds of the padded layers actually computed
@@ -228,7 +228,7 @@ nlohmann::json benchFastNerf(Context& ctx, uint32_t batch, int reps) {
     p.infer = std::make_unique<gpu::Recorder>(ctx, true);
     for (auto* rec : {p.keep.get(), p.infer.get()}) {
       rec->begin();
-      p.mlp->recordForward(*rec, batch, params, pos, dir, out, rec == p.keep.get() ? p.ws.get() : nullptr);
+      p.mlp->recordForward(*rec, {batch, pos, dir, out}, params, rec == p.keep.get() ? p.ws.get() : nullptr);
       rec->end();
       rec->submitAndWait();  // the first submission compiles the pipelines
     }

@@ -77,7 +77,7 @@ void LearnedFarField::recordForward(gpu::Recorder& rec, uint32_t count, const gp
   rec.dispatch(directionsKernel_, {holding(rays, count, kRayBytes), gpu::BufferRange(directions_)}, CountPush{count},
                gpu::groupsFor(count, kLocal), 1, 1, "far_field_directions");
   hash_.recordForward(rec, count, directions_, table_.params(), features_, net_.inputStride(), 0);
-  net_.recordForward(rec, count, mlp_.params(), features_, holding(background, count, 16),
+  net_.recordForward(rec, {count, features_, holding(background, count, 16)}, mlp_.params(),
                      keep ? &*workspace_ : nullptr);
 }
 
@@ -87,9 +87,8 @@ void LearnedFarField::recordBackward(gpu::Recorder& rec, uint32_t count, const g
   if (count == 0) return;
   rec.dispatch(gradientKernel_, {holding(dColor, count, 16), holding(color, count, 16), gpu::BufferRange(dBackground_)},
                CountPush{count}, gpu::groupsFor(count, kLocal), 1, 1, "far_field_gradient");
-  gpu::BufferRange dFeatures(dFeatures_);
-  net_.recordBackward(rec, count, mlp_.params(), features_, holding(background, count, 16), dBackground_,
-                      mlp_.grads(), *workspace_, &dFeatures);
+  net_.recordBackward(rec, {count, features_, holding(background, count, 16)}, mlp_.params(),
+                      {dBackground_, mlp_.grads(), gpu::BufferRange(dFeatures_)}, *workspace_);
   hash_.recordBackward(rec, count, directions_, dFeatures_, net_.inputStride(), 0, table_.grads());
 }
 

@@ -15,6 +15,9 @@ struct FieldBatch {
   // Zeroed, so a render recorded over the whole capacity never reads garbage.
   FieldBatch(Context& ctx, const NerfMlp& mlp, uint32_t capacity, bool training);
 
+  // The first `count` rows as the MLP reads (the encodings) and writes them (the field).
+  NerfRows mlpRows(uint32_t count) const { return {count, posFeatures, dirFeatures, field}; }
+
   uint32_t capacity = 0;
   gpu::Buffer positions, directions, posFeatures, dirFeatures, field;
   gpu::Buffer dField;                             // training

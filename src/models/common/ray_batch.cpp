@@ -35,7 +35,7 @@ RayBatch::RayBatch(Context& ctx, uint32_t capacity, float nearPlane)
 
 void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count,
                               const Aabb& box, const TrainConfig& config) {
-  generation_.recordRandom(rec, count, *data.cameras, data.numCameras, seed, box, nearPlane_, rays_, pixelIds_);
+  generation_.recordRandom(rec, *data.cameras, {data.numCameras, seed, count}, {box, nearPlane_}, {rays_, pixelIds_});
   if (config.randomBackground)
     backgrounds_.recordRandom(rec, background_, count, seed);
   else
@@ -44,7 +44,7 @@ void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint
 
 void RayBatch::recordView(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
                           uint32_t count, const Aabb& box, const std::array<float, 3>& background) {
-  generation_.recordImage(rec, count, cameras, camera, first, box, nearPlane_, rays_, pixelIds_);
+  generation_.recordImage(rec, cameras, {camera, first, count}, {box, nearPlane_}, {rays_, pixelIds_});
   backgrounds_.recordConstant(rec, background_, count, background);
 }
 

@@ -10,6 +10,7 @@
 #include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/rays/rays.h"
+#include "nerf/render/composite.h"
 
 namespace vknerf::nerf {
 
@@ -35,8 +36,13 @@ class RayBatch {
   uint32_t capacity() const { return capacity_; }
   gpu::Buffer& rays() { return rays_; }          // 2 x vec4 per ray (nerf::kRayBytes)
   gpu::Buffer& pixelIds() { return pixelIds_; }  // uvec2 (camera, pixel) per ray
-  gpu::Buffer& background() { return background_; }  // vec4 per ray
+  gpu::Buffer& background() { return background_; }  // vec4 per ray (nerf::kColorBytes)
   const gpu::Buffer& background() const { return background_; }
+  // Rays [first, first + count) and their backgrounds, each binding exactly those rays.
+  RaySpan rays(uint32_t first, uint32_t count) { return {gpu::rowsOf(rays_, kRayBytes, first, count), count}; }
+  gpu::BufferRange backgrounds(uint32_t first, uint32_t count) {
+    return gpu::rowsOf(background_, kColorBytes, first, count);
+  }
 
  private:
   uint32_t capacity_;

@@ -140,23 +140,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
   if (model_.farField == FarField::Learned)
     farField_.emplace(ctx, rayCapacity_, config.seed, config.background, training ? std::optional(tableAdamOf(config)) : std::nullopt,
                       training ? std::optional(adamConfigOf(config)) : std::nullopt);
-  if (training) {
-    loss_.emplace(ctx);
-    dColor_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 16);
-    zeroDepthGrad_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4);
-    partials_ = gpu::Buffer::zeros(ctx, gpu::groupsFor(rayCapacity_, PhotometricLoss::kRaysPerPartial) * 4);
-    dPos_ = gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * mlp_.posStride() * 4, "the encoding gradients");
-    occPoints_ = std::min(grid_.numCells(), kMaxOccupancyPoints);
-    occPositions_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * kPointBytes, "the occupancy update's points");
-    occFeatures_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * mlp_.posStride() * 4,
-                                      "the occupancy update's position encodings");
-    occDensity_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4, "the occupancy update's densities");
-    occCells_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4);
-    if (model_.earlyTermination) {
-      kept_.emplace(ctx, rayCapacity_, sampleCapacity_);
-      gatherBackward_ = sampleCapacity_ <= mlp_.chunkRows();
-    }
-  }
+  if (training) allocateTraining(ctx);
   gpu::Recorder rec(ctx);
   rec.begin();
   grid_.recordMarkAllOccupied(rec);  // nothing is skipped until the field has been measured
@@ -164,36 +148,48 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
   rec.submitAndWait();
 }
 
-void FastPipeline::recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, uint32_t maxSamples,
-                               uint32_t seed, bool jitter) {
-  marcher_.record(
-      rec, numRays,
-      gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VkDeviceSize(numRays) * kRayBytes), grid_,
-      box_, dt_, maxSamples, seed, jitter, marched_.offsets, marched_.samples, marched_.sampleRay, marched_.totals,
-      cone_);
+// The loss, gradients, occupancy update and early termination buffers of a training pipeline.
+void FastPipeline::allocateTraining(Context& ctx) {
+  loss_.emplace(ctx);
+  dColor_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 16);
+  zeroDepthGrad_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4);
+  partials_ = gpu::Buffer::zeros(ctx, gpu::groupsFor(rayCapacity_, PhotometricLoss::kRaysPerPartial) * 4);
+  dPos_ = gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * mlp_.posStride() * 4, "the encoding gradients");
+  occPoints_ = std::min(grid_.numCells(), kMaxOccupancyPoints);
+  occPositions_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * kPointBytes, "the occupancy update's points");
+  occFeatures_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * mlp_.posStride() * 4,
+                                    "the occupancy update's position encodings");
+  occDensity_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4, "the occupancy update's densities");
+  occCells_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4);
+  if (model_.earlyTermination) {
+    kept_.emplace(ctx, rayCapacity_, sampleCapacity_);
+    gatherBackward_ = sampleCapacity_ <= mlp_.chunkRows();
+  }
 }
 
-void FastPipeline::recordField(gpu::Recorder& rec, uint32_t rayOffset, bool keep) {
+void FastPipeline::recordMarch(gpu::Recorder& rec, const RaySpan& rays, uint32_t maxSamples, uint32_t seed,
+                               bool jitter) {
+  marcher_.record(rec, rays, grid_, box_, {dt_, maxSamples, seed, jitter, cone_}, marched_.view());
+}
+
+void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool keep) {
   FieldBatch& f = field_;
   const uint32_t count = sampleCapacity_;
-  points_.record(rec, count, gpu::BufferRange(rays_.rays(), VkDeviceSize(rayOffset) * kRayBytes, VK_WHOLE_SIZE),
-                 marched_.samples, marched_.sampleRay, marched_.totals, box_, f.positions, f.directions);
-  // The sample total is the first uint of the totals (PackedLayout::kTotalsBytes).
-  const gpu::BufferRange total(marched_.totals, 0, 4);
+  const PackedSamples batch = marched_.view();
+  points_.record(rec, count, rays.range, batch, box_, {f.positions, f.directions});
+  const gpu::BufferRange total = batch.total();
   hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0, &total);
   sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, &total);
-  mlp_.recordForward(rec, count, network_.params(), f.posFeatures, f.dirFeatures, f.field,
-                     keep ? f.workspace.get() : nullptr, &total);
+  NerfRows rows = f.mlpRows(count);
+  rows.rowLimit = total;
+  mlp_.recordForward(rec, rows, network_.params(), keep ? f.workspace.get() : nullptr);
 }
 
-void FastPipeline::recordComposite(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays,
-                                   const std::array<float, 3>& bg, float maxOpticalDepth,
-                                   const gpu::BufferRange* keptCounts) {
-  gpu::BufferRange perRay(rays_.background(), VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16);
-  compositor_.recordForward(rec, numRays, 0, marched_.offsets, marched_.samples, field_.field, bg, &perRay,
-                            gpu::BufferRange(color_, VkDeviceSize(rayOffset) * 16, VkDeviceSize(numRays) * 16),
-                            gpu::BufferRange(depth_, VkDeviceSize(rayOffset) * 4, VkDeviceSize(numRays) * 4), weights_,
-                            maxOpticalDepth, keptCounts);
+CompositeInputs FastPipeline::compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background) {
+  CompositeInputs in = CompositeInputs::packed(count, marched_.view(), field_.field);
+  in.background = background;
+  in.perRayBackground = rays_.backgrounds(first, count);
+  return in;
 }
 
 void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
@@ -219,21 +215,19 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
       mayWait ? std::min(count, std::max(kRayAlign, sampleCapacity_ / kFirstSegment / kRayAlign * kRayAlign)) : count;
   for (uint32_t done = 0; done < count; done += block) {
     const uint32_t n = std::min(block, count - done);
-    const gpu::BufferRange rays(rays_.rays(), VkDeviceSize(done) * kRayBytes, VkDeviceSize(n) * kRayBytes),
-        backgrounds(rays_.background(), VkDeviceSize(done) * 16, VkDeviceSize(n) * 16),
-        color(color_, VkDeviceSize(done) * 16, VkDeviceSize(n) * 16),
-        depth(depth_, VkDeviceSize(done) * 4, VkDeviceSize(n) * 4);
+    const RaySpan rays = rays_.rays(done, n);
+    const SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, kColorBytes, done, n),
+                                                gpu::rowsOf(depth_, kDepthBytes, done, n)};
     for (uint32_t marched = 0, live = n; live > 0 && marched < most;) {
       const uint32_t cap = std::min({std::max(1u, sampleCapacity_ / live), marched == 0 || !mayWait ? kFirstSegment : most,
                                      most - marched});
       const bool first = marched == 0, last = marched + cap >= most;
       if (mayWait) segments_.recordResetCounts(rec);
-      recordMarch(rec, done, n, cap, 0, false);
-      recordField(rec, done, false);
-      compositor_.recordForward(rec, n, 0, marched_.offsets, marched_.samples, field_.field, {0, 0, 0}, nullptr,
-                                segments_.segmentColor(), segments_.segmentDepth(), weights_);
-      segments_.record(rec, n, {cap, first, last, renderMinTransmittance_}, rays, marched_.offsets, marched_.samples,
-                       backgrounds, color, depth);
+      recordMarch(rec, rays, cap, 0, false);
+      recordField(rec, rays, false);
+      compositor_.recordForward(rec, CompositeInputs::packed(n, marched_.view(), field_.field),
+                                {segments_.segmentColor(), segments_.segmentDepth(), weights_});
+      segments_.record(rec, {cap, first, last, renderMinTransmittance_}, rays, marched_.view(), gathered);
       marched += cap;
       if (!mayWait) continue;
       rec.end();
@@ -248,7 +242,7 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
 void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count) {
   hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0);
   sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0);
-  mlp_.recordForward(rec, count, network_.params(), f.posFeatures, f.dirFeatures, f.field, nullptr);
+  mlp_.recordForward(rec, f.mlpRows(count), network_.params(), nullptr);
 }
 
 void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
@@ -270,24 +264,39 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   // The density alone: the colour branch would cost more than the trunk and is not looked at.
   hash_.recordForward(rec, count, occPositions_, table_.params(), occFeatures_, mlp_.posStride(), 0);
   mlp_.recordDensity(rec, count, network_.params(), occFeatures_, occDensity_);
-  grid_.recordUpdate(rec, occCells_, occDensity_, count, kOccupancyDecay, threshold, 1, 0, true);
+  grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {kOccupancyDecay, threshold, true});
 }
 
 FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
   if (!training_) throw Error("fast model: pipeline was not built for training");
   const uint32_t seed = stepSeed(config_, step);
-  const uint32_t R = raysNext_;
   rec.begin();
   if (model_.gridUpdateInterval && step % model_.gridUpdateInterval == 0 && step > 0) recordOccupancyUpdate(rec, step);
+  const RaySpan batch = recordTrainingBatch(rec, data, seed, raysNext_);
+  const CompositeInputs composite = recordTrainingForward(rec, data, batch);
+  recordTrainingBackward(rec, batch, composite);
+  network_.recordOptimizerStep(rec, step);
+  table_.recordOptimizerStep(rec, step);
+  if (farField_) farField_->recordOptimizerStep(rec, step);
+  rec.end();
+  rec.submitAndWait();
+  return countTrainingStep();
+}
+
+RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R) {
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   if (farField_) farField_->recordForward(rec, R, rays_.rays(), rays_.background(), true);
-  recordMarch(rec, 0, R, model_.maxSamplesPerRay, seed, true);
+  const RaySpan batch = rays_.rays(0, R);
+  recordMarch(rec, batch, model_.maxSamplesPerRay, seed, true);
   // The batch's size stays on the device: the rays that fit the sample capacity whole, and their
   // sample total (the march's totals, rewritten); every later kernel is recorded for the capacity
   // and cut to those counts (shaders/gpu/row_limit.glsl), so the step is one submission.
-  const gpu::BufferRange wholeRays(wholeRays_, 0, 4), total(marched_.totals, 0, 4);
-  marcher_.recordCutToWholeRays(rec, R, sampleCapacity_, kRayAlign, marched_.offsets, marched_.totals, wholeRays);
+  marcher_.recordCutToWholeRays(rec, {R, sampleCapacity_, kRayAlign}, marched_.view(), wholeRayCount());
+  return batch;
+}
 
+CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, const TrainingData& data,
+                                                    const RaySpan& batch) {
   // One field forward with activations kept over every marched sample. The compositor stops each
   // ray where the transmittance falls below 1e-4 (instant-ngp's early termination) and gives the
   // samples behind that zero gradient, so the step needs no separate pass (the field without
@@ -295,41 +304,43 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   // the backward then runs over the kept samples alone, reading the forward's rows through their
   // packed index (KeptRows).
   // The rays past the whole ones have no samples: the loss neither counts them nor gives them a gradient.
-  const float maxDepth =
-      model_.earlyTermination ? Compositor::maxOpticalDepth(kMinTransmittance) : Compositor::kNoTermination;
-  std::optional<gpu::BufferRange> kept;
-  if (kept_) kept.emplace(kept_->counts(), 0, VkDeviceSize(R) * 4);
-  recordField(rec, 0, true);
-  recordComposite(rec, 0, R, config_.background, maxDepth, kept ? &*kept : nullptr);
-  loss_->record(rec, R, color_, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), dColor_,
-                partials_, 1.0f, &wholeRays);
-  gpu::BufferRange perRay(rays_.background(), 0, VkDeviceSize(R) * 16);
+  const uint32_t R = batch.count;
+  CompositeInputs composite = compositeInputs(0, R, config_.background);
+  if (model_.earlyTermination) composite.maxOpticalDepth = Compositor::maxOpticalDepth(kMinTransmittance);
+  CompositeOutputs composited{gpu::rowsOf(color_, kColorBytes, 0, R), gpu::rowsOf(depth_, kDepthBytes, 0, R), weights_};
+  if (kept_) composited.keptCounts = gpu::rowsOf(kept_->counts(), sizeof(uint32_t), 0, R);
+  recordField(rec, batch, true);
+  compositor_.recordForward(rec, composite, composited);
+  loss_->record(rec, {R, color_, rays_.pixelIds(), rays_.background(), wholeRayCount()},
+                {data.pixels, *data.cameras}, {dColor_, partials_});
+  return composite;
+}
+
+void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& batch, const CompositeInputs& composite) {
+  const uint32_t R = batch.count;
   // The distortion loss, a mean over the batch's rays like the photometric loss (over the R rays
   // recorded: the rays past the device's cut have no samples, so they add nothing), its distances
   // even in the march's steps.
   const DistortionLoss distortion{model_.distortionLoss / float(R), cone_.coneAngle, dt_, std::max(dt_, cone_.dtMax),
-                                  gpu::BufferRange(rays_.rays(), 0, VkDeviceSize(R) * kRayBytes)};
-  compositor_.recordBackward(rec, R, 0, marched_.offsets, marched_.samples, field_.field, config_.background,
-                             &perRay, dColor_, zeroDepthGrad_, field_.dField, maxDepth, &distortion);
-  if (farField_) farField_->recordBackward(rec, R, perRay, color_, dColor_);
+                                  batch.range};
+  compositor_.recordBackward(rec, composite, {dColor_, zeroDepthGrad_, field_.dField, distortion});
+  if (farField_) farField_->recordBackward(rec, R, *composite.perRayBackground, color_, dColor_);
   // With the kept samples packed, the backward runs over them alone: the MLP's reads the forward's
   // rows through their index, the hash grid's reads the kept positions beside the packed encoding
   // gradients. Else it runs over every marched sample.
-  gpu::BufferRange dPos(dPos_), positions(field_.positions), limit = total, rows;
+  gpu::BufferRange positions(field_.positions), limit = marched_.view().total();
+  NerfGradients gradients{field_.dField, network_.grads(), gpu::BufferRange(dPos_)};
   if (gatherBackward_) {
     kept_->record(rec, R, marched_.offsets, field_.positions);
-    positions = kept_->positions(), limit = kept_->total(), rows = kept_->rows();
+    positions = kept_->positions(), limit = kept_->total(), gradients.rowGather = kept_->rows();
   }
-  mlp_.recordBackward(rec, sampleCapacity_, network_.params(), field_.posFeatures, field_.dirFeatures, field_.field,
-                      field_.dField, network_.grads(), *field_.workspace, &dPos, &limit,
-                      gatherBackward_ ? &rows : nullptr);
+  NerfRows rows = field_.mlpRows(sampleCapacity_);
+  rows.rowLimit = limit;
+  mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
   hash_.recordBackward(rec, sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, table_.grads(), &limit);
-  network_.recordOptimizerStep(rec, step);
-  table_.recordOptimizerStep(rec, step);
-  if (farField_) farField_->recordOptimizerStep(rec, step);
-  rec.end();
-  rec.submitAndWait();
+}
 
+FieldPipeline::StepSize FastPipeline::countTrainingStep() {
   // The step's counts, read after its own wait (mapped memory: no further stall).
   const uint32_t rays = wholeRays_.download<uint32_t>(1)[0];
   uint32_t samples = marched_.totals.download<uint32_t>(1)[0];

@@ -63,26 +63,36 @@ class FastPipeline final : public FieldPipeline {
  private:
   void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
                       uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
+  void allocateTraining(Context& ctx);
+  // A training step, one submission: the occupancy update when due, then the named steps below.
   StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  // R random training rays marched, the batch cut on the device to the rays that fit the sample capacity whole.
+  RaySpan recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R);
+  // Field, compositing and photometric loss over the batch; returns what the backward composites again.
+  CompositeInputs recordTrainingForward(gpu::Recorder& rec, const TrainingData& data, const RaySpan& batch);
+  // Compositor, far field, MLP and hash-grid backward.
+  void recordTrainingBackward(gpu::Recorder& rec, const RaySpan& batch, const CompositeInputs& composite);
+  // After the step's wait: the rays and samples it trained on; sets the next step's ray count.
+  StepSize countTrainingStep();
+  // The uint the device writes: how many of the batch's rays fit the sample capacity whole.
+  gpu::BufferRange wholeRayCount() const { return gpu::BufferRange(wholeRays_, 0, sizeof(uint32_t)); }
   ModelStatistics modelStatistics() override;
 
-  // A packed batch of samples (RayMarcher's layout).
+  // The buffers of a packed batch of samples (RayMarcher's layout), handed to the stages as one value.
   struct Packed {
     Packed(Context& ctx, uint32_t rays, uint32_t samples);
+    PackedSamples view() const { return {offsets, samples, sampleRay, totals}; }
     gpu::Buffer offsets, samples, sampleRay, totals;
   };
-  // Marches rays [rayOffset, rayOffset + numRays) of rays_ into marched_.
-  void recordMarch(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, uint32_t maxSamples, uint32_t seed,
-                   bool jitter);
-  // Field at marched_'s samples of the rays at rayOffset: points, encodings, MLP, recorded for the
-  // sample capacity and cut on the device to the march's total (shaders/gpu/row_limit.glsl); `keep`
-  // keeps the activations for backward.
-  void recordField(gpu::Recorder& rec, uint32_t rayOffset, bool keep);
-  // Composites marched_'s rays [rayOffset, rayOffset + numRays). Early termination at maxOpticalDepth
-  // (Compositor), the samples each ray kept into keptCounts.
-  void recordComposite(gpu::Recorder& rec, uint32_t rayOffset, uint32_t numRays, const std::array<float, 3>& bg,
-                       float maxOpticalDepth = Compositor::kNoTermination,
-                       const gpu::BufferRange* keptCounts = nullptr);
+  // Marches `rays` (a block of rays_) into marched_.
+  void recordMarch(gpu::Recorder& rec, const RaySpan& rays, uint32_t maxSamples, uint32_t seed, bool jitter);
+  // Field at marched_'s samples of `rays` (the block last marched): points, encodings, MLP, recorded
+  // for the sample capacity and cut on the device to the march's total (shaders/gpu/row_limit.glsl);
+  // `keep` keeps the activations for backward.
+  void recordField(gpu::Recorder& rec, const RaySpan& rays, bool keep);
+  // What the compositor reads of marched_'s rays [first, first + count): their samples, the field
+  // there and each ray's background from rays_ (`background` where a ray has none of its own).
+  CompositeInputs compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background);
   // The field at the first `count` positions and directions of `f`, nothing kept for backward.
   void recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count);
   void recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step);

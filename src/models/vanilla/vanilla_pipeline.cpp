@@ -57,16 +57,14 @@ VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const 
                                        : nullptr),
       levels_{{ctx, coarse_.mlp, rayCapacity, model_.coarseSamples, training},
               {ctx, fine().mlp, rayCapacity, model_.coarseSamples + model_.fineSamples, training}},
-      zeroDepthGrad_(gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity) * sizeof(float))),
-      noOffsets_(ctx, 16) {
+      zeroDepthGrad_(gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity) * sizeof(float))) {
   if (training) loss_.emplace(ctx);
 }
 
 void VanillaPipeline::recordNetwork(gpu::Recorder& rec, FieldBatch& f, Network& net, uint32_t n, bool keep) {
   posEncoding_.recordForward(rec, n, f.positions, f.posFeatures, net.mlp.posStride(), 0);
   dirEncoding_.recordForward(rec, n, f.directions, f.dirFeatures, net.mlp.dirStride(), 0);
-  net.mlp.recordForward(rec, n, net.parameters.params(), f.posFeatures, f.dirFeatures, f.field,
-                        keep ? f.workspace.get() : nullptr);
+  net.mlp.recordForward(rec, f.mlpRows(n), net.parameters.params(), keep ? f.workspace.get() : nullptr);
 }
 
 // The fine level's network, as the render's second pass queries it.
@@ -79,34 +77,40 @@ void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, ui
   FieldBatch& f = l.field;
   points_.record(rec, numRays, rays_.rays(), l.samples, l.samplesPerRay, box_, f.positions, f.directions);
   recordNetwork(rec, f, net, n, keep);
-  gpu::BufferRange bg(rays_.background());
-  compositor_.recordForward(rec, numRays, l.samplesPerRay, noOffsets_, l.samples, f.field, config_.background, &bg,
-                            l.color, l.depth, l.weights);
+  compositor_.recordForward(rec, compositeInputs(l, numRays), {l.color, l.depth, l.weights});
+}
+
+CompositeInputs VanillaPipeline::compositeInputs(const Level& l, uint32_t numRays) {
+  return {.numRays = numRays,
+          .samplesPerRay = l.samplesPerRay,
+          .samples = l.samples,
+          .field = l.field.field,
+          .background = config_.background,
+          .perRayBackground = gpu::BufferRange(rays_.background())};
 }
 
 void VanillaPipeline::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t seed, bool jitter) {
   if (numRays > capacity_) throw Error("VanillaPipeline: batch of " + std::to_string(numRays) + " rays over capacity");
   Level& c = levels_[0];
   Level& f = levels_[1];
-  stratified_.record(rec, numRays, rays_.rays(), c.samplesPerRay, seed, jitter, c.samples);
+  const RaySpan rays{rays_.rays(), numRays};
+  stratified_.record(rec, rays, c.samplesPerRay, {seed, jitter}, c.samples);
   recordLevel(rec, c, coarse_, numRays, training_);
-  pdf_.record(rec, numRays, rays_.rays(), c.samples, c.weights, c.samplesPerRay, f.samplesPerRay - c.samplesPerRay,
-              seed ^ 0x9e3779b9u, jitter, 1e-5f, f.samples);
+  pdf_.record(rec, rays, {c.samples, c.weights, c.samplesPerRay},
+              {f.samplesPerRay - c.samplesPerRay, {seed ^ 0x9e3779b9u, jitter}, 1e-5f}, f.samples);
   recordLevel(rec, f, fine(), numRays, training_);
 }
 
 void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, uint32_t step) {
-  gpu::BufferRange bg(rays_.background());
   for (int li = 0; li < 2; ++li) {
     Level& l = levels_[li];
     Network& net = li == 0 ? coarse_ : fine();
     FieldBatch& f = l.field;
-    loss_->record(rec, numRays, l.color, rays_.pixelIds(), data.pixels, *data.cameras, rays_.background(), l.dColor,
-                  l.partials);
-    compositor_.recordBackward(rec, numRays, l.samplesPerRay, noOffsets_, l.samples, f.field, config_.background, &bg,
-                               l.dColor, zeroDepthGrad_, f.dField);
-    net.mlp.recordBackward(rec, numRays * l.samplesPerRay, net.parameters.params(), f.posFeatures, f.dirFeatures,
-                           f.field, f.dField, net.parameters.grads(), *f.workspace);
+    loss_->record(rec, {numRays, l.color, rays_.pixelIds(), rays_.background()}, {data.pixels, *data.cameras},
+                  {l.dColor, l.partials});
+    compositor_.recordBackward(rec, compositeInputs(l, numRays), {l.dColor, zeroDepthGrad_, f.dField});
+    net.mlp.recordBackward(rec, f.mlpRows(numRays * l.samplesPerRay), net.parameters.params(),
+                           {f.dField, net.parameters.grads()}, *f.workspace);
   }
   coarse_.parameters.recordOptimizerStep(rec, step);
   if (fine_) fine_->parameters.recordOptimizerStep(rec, step);

@@ -66,6 +66,8 @@ class VanillaPipeline final : public FieldPipeline {
   // Coarse and fine passes for `numRays` rays of rays_.
   void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t seed, bool jitter);
   void recordLevel(gpu::Recorder& rec, Level& level, Network& net, uint32_t numRays, bool keep);
+  // What the compositor reads of a level's first `numRays` rays, forward and backward.
+  CompositeInputs compositeInputs(const Level& level, uint32_t numRays);
   // Encodings and `net` at the first `count` positions and directions of `f`.
   void recordNetwork(gpu::Recorder& rec, FieldBatch& f, Network& net, uint32_t count, bool keep);
   // Loss against the training pixels and backward through both levels; then Adam.
@@ -87,7 +89,7 @@ class VanillaPipeline final : public FieldPipeline {
   Network coarse_;
   std::unique_ptr<Network> fine_;  // separateFineNetwork; null: the coarse network is queried twice
   Level levels_[2];
-  gpu::Buffer zeroDepthGrad_, noOffsets_;
+  gpu::Buffer zeroDepthGrad_;
 };
 
 }  // namespace vknerf::nerf

@@ -28,11 +28,15 @@ PhotometricLoss::PhotometricLoss(Context& ctx)
     : ctx_(ctx),
       kernel_(ctx, lossKernel(ctx)) {}
 
-void PhotometricLoss::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred,
-                             const gpu::BufferRange& pixelIds, std::span<const gpu::BufferRange> pixels,
-                             const gpu::BufferRange& cameras, const gpu::BufferRange& background,
-                             const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale,
-                             const gpu::BufferRange* rayLimit) {
+void PhotometricLoss::record(gpu::Recorder& rec, const LossRays& rays, const LossTargets& targets,
+                             const LossOutputs& out) {
+  const uint32_t numRays = rays.count;
+  const gpu::BufferRange &pred = rays.pred, &pixelIds = rays.pixelIds, &background = rays.background;
+  const gpu::BufferRange* rayLimit = rays.rayLimit ? &*rays.rayLimit : nullptr;
+  const std::span<const gpu::BufferRange> pixels = targets.pixels;
+  const gpu::BufferRange& cameras = targets.cameras;
+  const gpu::BufferRange &dPred = out.dPred, &partials = out.partials;
+  const float gradScale = out.gradScale;
   if (numRays == 0) return;
   if (rayLimit && gpu::boundBytes(*rayLimit) < 4) throw Error("PhotometricLoss: ray limit binding holds no uint");
   if (pixels.empty()) throw Error("PhotometricLoss: no training pixels bound");

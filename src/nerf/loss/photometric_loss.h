@@ -6,6 +6,7 @@
 // in binding cameras[c].size[3] from its pixel cameras[c].size[2] on (CameraGpu); dPred is one vec4 per ray (opacity component 0); partials is one float per
 // workgroup of kRaysPerPartial rays: that workgroup's sum of squared errors over rgb.
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include "gpu/kernel.h"
@@ -18,6 +19,27 @@ struct LossStats {
   double psnr = 0;  // -10 log10(mse), 100 dB for a perfect fit
 };
 
+// The rays the loss compares with their pixels: `count` rays' predictions, pixel ids and
+// backgrounds. rayLimit (optional): a uint on the device; only the rays below it count (the loss is
+// their mean, the rest get no dPred and add nothing to the partials).
+struct LossRays {
+  uint32_t count = 0;
+  gpu::BufferRange pred, pixelIds, background;
+  std::optional<gpu::BufferRange> rayLimit;
+};
+
+// The training images: the pixels' bindings and the cameras that place each image in them.
+struct LossTargets {
+  std::span<const gpu::BufferRange> pixels;
+  gpu::BufferRange cameras;
+};
+
+// What the loss writes: dPred = gradScale * dL/dpred, and the partial sums.
+struct LossOutputs {
+  gpu::BufferRange dPred, partials;
+  float gradScale = 1.0f;
+};
+
 class PhotometricLoss {
  public:
   static constexpr uint32_t kRaysPerPartial = 128;  // the shader's workgroup size
@@ -25,20 +47,13 @@ class PhotometricLoss {
 
   explicit PhotometricLoss(Context& ctx);
   uint32_t partialCount(uint32_t numRays) const { return gpu::groupsFor(numRays, kRaysPerPartial); }
-  // dPred = gradScale * dL/dpred with L = sum (pred - target)^2 / (3 numRays). One dispatch per
-  // kPixelBindings bindings of `pixels`. rayLimit (optional): a uint on the device; only the rays
-  // below it count (L is their mean, the rest get no dPred and add nothing to the partials).
-  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred, const gpu::BufferRange& pixelIds,
-              std::span<const gpu::BufferRange> pixels, const gpu::BufferRange& cameras,
-              const gpu::BufferRange& background, const gpu::BufferRange& dPred, const gpu::BufferRange& partials,
-              float gradScale = 1.0f, const gpu::BufferRange* rayLimit = nullptr);
+  // out.dPred = out.gradScale * dL/dpred with L = sum (pred - target)^2 / (3 rays.count). One
+  // dispatch per kPixelBindings bindings of targets.pixels.
+  void record(gpu::Recorder& rec, const LossRays& rays, const LossTargets& targets, const LossOutputs& out);
   // The same with every image in one binding.
-  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& pred, const gpu::BufferRange& pixelIds,
-              const gpu::BufferRange& images, const gpu::BufferRange& cameras, const gpu::BufferRange& background,
-              const gpu::BufferRange& dPred, const gpu::BufferRange& partials, float gradScale = 1.0f,
-              const gpu::BufferRange* rayLimit = nullptr) {
-    record(rec, numRays, pred, pixelIds, std::span<const gpu::BufferRange>(&images, 1), cameras, background, dPred,
-           partials, gradScale, rayLimit);
+  void record(gpu::Recorder& rec, const LossRays& rays, const gpu::BufferRange& images,
+              const gpu::BufferRange& cameras, const LossOutputs& out) {
+    record(rec, rays, LossTargets{std::span<const gpu::BufferRange>(&images, 1), cameras}, out);
   }
 
   // Sums partials (in double) into the mean loss of numRays rays.

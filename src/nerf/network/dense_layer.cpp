@@ -80,8 +80,9 @@ DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuni
   if (shape.offset % 4) throw Error("MLP: layer weights must start on a multiple of 4 floats");
 }
 
-void DenseLayer::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a,
-                               const Mat& b, const Mat& y, const gpu::LimitedRows& limited, const char* label) {
+void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
+                               const Mat& b, const Mat& y) {
+  const uint32_t count = rows.count;
   if (count == 0) return;
   const auto& s = shape_;
   if (!forward_) {
@@ -103,14 +104,17 @@ void DenseLayer::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Bu
   }
   const Mat& bb = s.kb ? b : a;
   gpu::dispatchLimited(rec, *forward_, {a.range, bb.range, params, y.range},
-                       RowPush{count, a.stride / 4, bb.stride / 4, y.stride / 4, 0}, limited,
-                       gpu::groupsFor(count, rowsPerGroup()), label);
+                       RowPush{count, a.stride / 4, bb.stride / 4, y.stride / 4, 0}, rows.limited,
+                       gpu::groupsFor(count, rowsPerGroup()), rows.label);
 }
 
-void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz,
-                                     const Mat& a, GradMode modeA, const Mat& da, GradMode modeB, const Mat& db,
-                                     const gpu::LimitedRows& limited, const gpu::BufferRange* gather,
-                                     const char* label) {
+void DenseLayer::recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params,
+                                     const Mat& dz, const Mat& a, const InputGradients& grads) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange* gather = rows.gather ? &*rows.gather : nullptr;
+  const GradMode modeA = grads.modeA;
+  GradMode modeB = grads.modeB;
+  const Mat &da = grads.da, &db = grads.db;
   const auto& s = shape_;
   if (s.kb == 0) modeB = GradMode::Skip;
   if (count == 0 || (modeA == GradMode::Skip && modeB == GradMode::Skip)) return;
@@ -138,7 +142,7 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, uint32_t count, const g
   const Mat& dbb = modeB != GradMode::Skip ? db : da;
   DxPush p{count, dz.stride / 4, aa.stride / 4, daa.stride / 4, dbb.stride / 4, gather ? 1u : 0u, 0};
   gpu::dispatchLimited(rec, it->second, {dz.range, aa.range, params, daa.range, dbb.range, gather ? *gather : dz.range},
-                       p, limited, gpu::groupsFor(count, dxRowsPerGroup()), label);
+                       p, rows.limited, gpu::groupsFor(count, dxRowsPerGroup()), rows.label);
 }
 
 // The columns split into a main part (tiles of NT) and a 4-wide tail, each its own pipeline.
@@ -169,9 +173,11 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
   add(nMain, s.n4() - nMain, 4);
 }
 
-void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const Mat& a, const Mat& b, const Mat& dz,
-                                       const gpu::BufferRange& grads, const gpu::LimitedRows& limited,
-                                       const gpu::BufferRange* gather, const char* label) {
+void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, const LayerRows& rows, const Mat& a, const Mat& b,
+                                       const Mat& dz, const gpu::BufferRange& grads) {
+  const uint32_t count = rows.count;
+  const gpu::LimitedRows& limited = rows.limited;
+  const gpu::BufferRange* gather = rows.gather ? &*rows.gather : nullptr;
   if (count == 0) return;
   const auto& s = shape_;
   if (dwA_.empty()) {
@@ -187,7 +193,7 @@ void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const
     for (auto& part : parts) {
       DwPush p{count, x.stride / 4, dz.stride / 4, iters, gather ? 1u : 0u, limited.base};
       rec.dispatch(part->kernel, {x.range, dz.range, grads, gather ? *gather : dz.range, limited.limit}, p, groups,
-                   part->tiles, 1, label);
+                   part->tiles, 1, rows.label);
     }
   };
   run(dwA_, a);

@@ -5,6 +5,7 @@
 // pays the JIT time of the backward pipelines.
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "gpu/kernel.h"
@@ -51,33 +52,53 @@ struct Mat {
 
 enum class GradMode : uint32_t { Skip = 0, Store = 1, StoreReluMasked = 2, Add = 3 };
 
+// The rows one layer call runs over, as one value: `count` rows, uncut or cut on the device to a
+// limit (gpu/limited_dispatch.h) whose arguments were recorded for the call's rows per workgroup;
+// `gather` (backward only, uint per row): row i reads the forward's activations at row gather[i]
+// (a packed batch, shaders/gpu/row_gather.glsl); `label` names the dispatches.
+struct LayerRows {
+  uint32_t count = 0;
+  gpu::LimitedRows limited;
+  std::optional<gpu::BufferRange> gather;
+  const char* label = "mlp";
+  // The same rows under another label.
+  LayerRows as(const char* name) const {
+    LayerRows r = *this;
+    r.label = name;
+    return r;
+  }
+};
+
+// Where a layer's input gradients go (recordBackwardInput): da for input a (ka4 columns), db for
+// input b (kb4 columns), each per its GradMode; a skipped one needs no buffer.
+struct InputGradients {
+  GradMode modeA = GradMode::Skip;
+  Mat da;
+  GradMode modeB = GradMode::Skip;
+  Mat db;
+};
+
 class DenseLayer {
  public:
   DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning);
   const ref::DenseShape& shape() const { return shape_; }
 
   // y[rows][n4] = act(concat(a, b) W + bias); columns >= n are stored as 0. `b` is ignored when kb == 0.
-  // limited: these rows uncut, or cut on the device to a limit (gpu/limited_dispatch.h) whose
-  // arguments were recorded for rowsPerGroup() rows per workgroup.
-  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& a, const Mat& b,
-                     const Mat& y, const gpu::LimitedRows& limited, const char* label = "mlp forward");
+  // rows.limited: arguments recorded for rowsPerGroup() rows per workgroup; no gather.
+  void recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
+                     const Mat& b, const Mat& y);
   uint32_t rowsPerGroup() const { return t_.local * t_.rows; }
-  // From dz = dL/d(pre-activation): da (ka4 columns) and db (kb4 columns) per GradMode; StoreReluMasked
-  // multiplies by [a > 0]. Skipped parts need no buffer (pass any Mat). limited: as recordForward,
-  // arguments recorded for dxRowsPerGroup() rows per workgroup; rows past the limit are untouched.
-  // gather (optional, uint per row): row i reads a's row gather[i] (the forward's activations of a
-  // packed batch, shaders/gpu/row_gather.glsl); dz, da and db stay packed.
-  void recordBackwardInput(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const Mat& dz,
-                           const Mat& a, GradMode modeA, const Mat& da, GradMode modeB, const Mat& db,
-                           const gpu::LimitedRows& limited, const gpu::BufferRange* gather,
-                           const char* label = "mlp dX");
+  // From dz = dL/d(pre-activation): grads.da and grads.db per their GradModes; StoreReluMasked
+  // multiplies by [a > 0]. rows.limited: arguments recorded for dxRowsPerGroup() rows per workgroup;
+  // rows past the limit are untouched. With rows.gather, a is read through it; dz, da and db stay packed.
+  void recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& dz,
+                           const Mat& a, const InputGradients& grads);
   uint32_t dxRowsPerGroup() const { return t_.local * t_.dxRows; }
-  // grads[W, bias] += concat(a, b)^T dz, sum(dz) (float atomics: accumulates). limited: only its
-  // limit and base are used (the reduction is dispatched for `count` rows, the rows at and past the
-  // limit add nothing and the sweep stops there). gather: as recordBackwardInput, for a and b.
-  void recordBackwardWeights(gpu::Recorder& rec, uint32_t count, const Mat& a, const Mat& b, const Mat& dz,
-                             const gpu::BufferRange& grads, const gpu::LimitedRows& limited,
-                             const gpu::BufferRange* gather, const char* label = "mlp dW");
+  // grads[W, bias] += concat(a, b)^T dz, sum(dz) (float atomics: accumulates). rows.limited: only its
+  // limit and base are used (the reduction is dispatched for rows.count rows, the rows at and past the
+  // limit add nothing and the sweep stops there). With rows.gather, a and b are read through it.
+  void recordBackwardWeights(gpu::Recorder& rec, const LayerRows& rows, const Mat& a, const Mat& b, const Mat& dz,
+                             const gpu::BufferRange& grads);
 
  private:
   struct DwPart {

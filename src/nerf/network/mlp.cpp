@@ -104,14 +104,16 @@ bool NerfMlp::fusedForward(bool keep) const {
          config_.width <= kMaxFusedWidth && multiplyAdds * tuning_.fusedRows <= kMaxFusedMultiplyAdds;
 }
 
-void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
-                            const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
-                            Workspace* keep, const gpu::BufferRange* rowLimit) {
+void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu::BufferRange& params,
+                            Workspace* keep) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange &pos = rows.pos, &dir = rows.dir, &out = rows.out;
+  const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   if (count == 0) return;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (keep && keep->capacity_ < count)
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
-  if (fusedForward(keep != nullptr)) return recordFusedForward(rec, count, params, pos, dir, out, keep, rowLimit);
+  if (fusedForward(keep != nullptr)) return recordFusedForward(rec, rows, params, keep);
   Workspace& ws = keep ? *keep : inferenceScratch();
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
   const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, ws.capacity_);
@@ -136,9 +138,10 @@ void NerfMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     Mat o = Mat{out, 4}.rows(first, n);
     const gpu::LimitedRows L = limited_.rows(c, 0), head = limited_.rows(c, 1);
     Mat F = Mat{ws.f_, V + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
-    const Mat h = recordTrunk(rec, n, params, p, ws, row, L);
-    layers_[D].recordForward(rec, n, params, h, h, F, L, "nerf feature+sigma");
-    layers_[D + 1].recordForward(rec, n, params, F, d, C, L, "nerf colour");
+    const LayerRows layerRows{n, L};
+    const Mat h = recordTrunk(rec, layerRows, params, p, ws, row);
+    layers_[D].recordForward(rec, layerRows.as("nerf feature+sigma"), params, h, h, F);
+    layers_[D + 1].recordForward(rec, layerRows.as("nerf colour"), params, F, d, C);
     gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range}, HeadPush{n, C.stride / 4, F.stride / 4, 1, 0},
                          head, gpu::groupsFor(n, kHeadLocal), "nerf head");
   });
@@ -172,7 +175,7 @@ void NerfMlp::recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
   limited_.begin(rec, nullptr, count, chunk, {rowsPerGroup});
   gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
     const gpu::LimitedRows L = limited_.rows(c, 0);
-    const Mat h = recordTrunk(rec, n, params, Mat{pos, posStride()}.rows(first, n), ws, 0, L);
+    const Mat h = recordTrunk(rec, {n, L}, params, Mat{pos, posStride()}.rows(first, n), ws, 0);
     gpu::dispatchLimited(rec, *density_, {h.range, params, gpu::rowsOf(density, 4, first, n)},
                          DensityPush{n, W / 4, 0}, L, gpu::groupsFor(n, rowsPerGroup), "nerf density");
   });
@@ -183,18 +186,21 @@ NerfMlp::Workspace& NerfMlp::inferenceScratch() {
   return *scratch_;
 }
 
-Mat NerfMlp::recordTrunk(gpu::Recorder& rec, uint32_t n, const gpu::BufferRange& params, const Mat& pos, Workspace& ws,
-                         uint32_t row, const gpu::LimitedRows& limited) {
+Mat NerfMlp::recordTrunk(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& pos,
+                         Workspace& ws, uint32_t row) {
   // Kept activations: one buffer a layer; otherwise two, alternating.
+  const uint32_t n = rows.count;
   auto H = [&](uint32_t l) { return Mat{ws.h_[ws.keep_ ? l : l % 2], config_.width}.rows(row, n); };
   for (uint32_t l = 0; l < config_.depth; ++l)
-    layers_[l].recordForward(rec, n, params, l ? H(l - 1) : pos, pos, H(l), limited, "nerf trunk");
+    layers_[l].recordForward(rec, rows.as("nerf trunk"), params, l ? H(l - 1) : pos, pos, H(l));
   return H(config_.depth - 1);
 }
 
-void NerfMlp::recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
-                                 const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
-                                 Workspace* keep, const gpu::BufferRange* rowLimit) {
+void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const gpu::BufferRange& params,
+                                 Workspace* keep) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange &pos = rows.pos, &dir = rows.dir, &out = rows.out;
+  const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
   auto& kernel = fused_[keep ? 1 : 0];
   if (!kernel) {
@@ -239,11 +245,14 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::
   });
 }
 
-void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params,
-                             const gpu::BufferRange& pos, const gpu::BufferRange& dir, const gpu::BufferRange& out,
-                             const gpu::BufferRange& dOut, const gpu::BufferRange& grads, Workspace& ws,
-                             const gpu::BufferRange* dPos, const gpu::BufferRange* rowLimit,
-                             const gpu::BufferRange* rowGather) {
+void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu::BufferRange& params,
+                             const NerfGradients& gradients, Workspace& ws) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange &pos = rows.pos, &dir = rows.dir, &out = rows.out;
+  const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
+  const gpu::BufferRange &dOut = gradients.dOut, &grads = gradients.grads;
+  const gpu::BufferRange* dPos = gradients.dPos ? &*gradients.dPos : nullptr;
+  const gpu::BufferRange* rowGather = gradients.rowGather ? &*gradients.rowGather : nullptr;
   if (count == 0) return;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (!ws.keep_ || ws.capacity_ < count)
@@ -283,24 +292,25 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
                          {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range,
                           gather ? *gather : dzh.range},
                          hp, head, gpu::groupsFor(n, kHeadLocal), "nerf head backward");
-    layers_[D + 2].recordBackwardWeights(rec, n, C, C, dzh, grads, L, gather, "nerf head dW");
-    layers_[D + 1].recordBackwardWeights(rec, n, F, d, dC, grads, L, gather, "nerf colour dW");
-    layers_[D + 1].recordBackwardInput(rec, n, params, dC, F, GradMode::Store, dF, GradMode::Skip, dF, L, gather,
-                                       "nerf colour dX");
-    layers_[D].recordBackwardWeights(rec, n, H(D - 1), H(D - 1), dF, grads, L, gather, "nerf feature+sigma dW");
+    LayerRows layerRows{n, L};
+    if (gather) layerRows.gather = *gather;
+    layers_[D + 2].recordBackwardWeights(rec, layerRows.as("nerf head dW"), C, C, dzh, grads);
+    layers_[D + 1].recordBackwardWeights(rec, layerRows.as("nerf colour dW"), F, d, dC, grads);
+    layers_[D + 1].recordBackwardInput(rec, layerRows.as("nerf colour dX"), params, dC, F, {GradMode::Store, dF});
+    layers_[D].recordBackwardWeights(rec, layerRows.as("nerf feature+sigma dW"), H(D - 1), H(D - 1), dF, grads);
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
-    layers_[D].recordBackwardInput(rec, n, params, dF, H(D - 1), GradMode::StoreReluMasked, cur, GradMode::Skip, cur,
-                                   L, gather, "nerf feature+sigma dX");
+    layers_[D].recordBackwardInput(rec, layerRows.as("nerf feature+sigma dX"), params, dF, H(D - 1),
+                                   {GradMode::StoreReluMasked, cur});
     for (uint32_t l = D; l-- > 0;) {
       Mat a = l ? H(l - 1) : p;
-      layers_[l].recordBackwardWeights(rec, n, a, p, cur, grads, L, gather, "nerf trunk dW");
+      layers_[l].recordBackwardWeights(rec, layerRows.as("nerf trunk dW"), a, p, cur, grads);
       if (l > 0) {
-        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, other,
-                                       dPos ? GradMode::Store : GradMode::Skip, dP, L, gather, "nerf trunk dX");
+        layers_[l].recordBackwardInput(rec, layerRows.as("nerf trunk dX"), params, cur, a,
+                                       {GradMode::StoreReluMasked, other, dPos ? GradMode::Store : GradMode::Skip, dP});
         std::swap(cur, other);
       } else if (dPos) {
-        layers_[0].recordBackwardInput(rec, n, params, cur, a, config_.skipLayer ? GradMode::Add : GradMode::Store, dP,
-                                       GradMode::Skip, dP, L, gather, "nerf trunk dX");
+        layers_[0].recordBackwardInput(rec, layerRows.as("nerf trunk dX"), params, cur, a,
+                                       {config_.skipLayer ? GradMode::Add : GradMode::Store, dP});
       }
     }
   });
@@ -342,8 +352,10 @@ void DenseMlp::setChunkRows(uint32_t rows) {
   scratch_.reset();
 }
 
-void DenseMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                             const gpu::BufferRange& out, Workspace* keep) {
+void DenseMlp::recordForward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                             Workspace* keep) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange &in = rows.in, &out = rows.out;
   if (count == 0) return;
   if (keep && keep->capacity_ < count)
     throw Error("dense MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
@@ -357,14 +369,16 @@ void DenseMlp::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::Buff
     Mat x = Mat{in, inputStride()}.rows(first, n), y = Mat{out, outputStride()}.rows(first, n);
     for (uint32_t l = 0; l < L; ++l) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].recordForward(rec, n, params, a, a, l + 1 < L ? H(l) : y, uncut_.uncut(), "mlp forward");
+      layers_[l].recordForward(rec, {n, uncut_.uncut(), {}, "mlp forward"}, params, a, a, l + 1 < L ? H(l) : y);
     }
   });
 }
 
-void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                              const gpu::BufferRange& out, const gpu::BufferRange& dOut, const gpu::BufferRange& grads,
-                              Workspace& ws, const gpu::BufferRange* dIn) {
+void DenseMlp::recordBackward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                              const DenseGradients& gradients, Workspace& ws) {
+  const uint32_t count = rows.count;
+  const gpu::BufferRange &in = rows.in, &out = rows.out, &dOut = gradients.dOut, &grads = gradients.grads;
+  const gpu::BufferRange* dIn = gradients.dIn ? &*gradients.dIn : nullptr;
   if (count == 0) return;
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("dense MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
@@ -386,17 +400,16 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::Buf
     int next = 0;
     for (uint32_t l = L; l-- > 0;) {
       Mat a = l ? H(l - 1) : x;
-      layers_[l].recordBackwardWeights(rec, n, a, a, cur, grads, uncut_.uncut(), nullptr, "mlp dW");
+      const LayerRows rows{n, uncut_.uncut()};
+      layers_[l].recordBackwardWeights(rec, rows.as("mlp dW"), a, a, cur, grads);
       if (l > 0) {
         Mat da = Mat{ws.dz_[next], W}.rows(0, n);
-        layers_[l].recordBackwardInput(rec, n, params, cur, a, GradMode::StoreReluMasked, da, GradMode::Skip, da, uncut_.uncut(),
-                                       nullptr, "mlp dX");
+        layers_[l].recordBackwardInput(rec, rows.as("mlp dX"), params, cur, a, {GradMode::StoreReluMasked, da});
         cur = da;
         next ^= 1;
       } else if (dIn) {
         Mat d = Mat{*dIn, inputStride()}.rows(first, n);
-        layers_[0].recordBackwardInput(rec, n, params, cur, a, GradMode::Store, d, GradMode::Skip, d, uncut_.uncut(),
-                                       nullptr, "mlp dX");
+        layers_[0].recordBackwardInput(rec, rows.as("mlp dX"), params, cur, a, {GradMode::Store, d});
       }
     }
   });

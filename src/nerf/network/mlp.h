@@ -13,6 +13,7 @@
 // Batches of any size (0 included) are split into chunks whose bindings stay within the device's
 // maxStorageBufferRange / maxTexelBufferElements; buffers are bound at row offsets.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -31,6 +32,25 @@ struct MlpConfig {
   DensityActivation density = DensityActivation::Relu;
   uint32_t seed = 0;
   uint32_t featureWidth = 0;  // what the colour layer sees of the feature layer (0: width); ref::NerfShape
+};
+
+// The rows a NeRF MLP runs over, as one value: `count` rows of pos (posStride() floats each), dir
+// (dirStride()) and out (vec4). rowLimit (optional): a uint on the device (e.g. a sample total);
+// only rows below it are computed, the rest of `out` is left untouched (shaders/gpu/row_limit.glsl).
+struct NerfRows {
+  uint32_t count = 0;
+  gpu::BufferRange pos, dir, out;
+  std::optional<gpu::BufferRange> rowLimit;
+};
+
+// What a NeRF MLP's backward reads and writes besides the forward's rows: dOut (vec4 per row), the
+// parameter gradients it accumulates into, dPos (optional, posStride() per row) = dL/dgamma(x),
+// overwritten; rowGather (optional, uint per row): the batch is packed, its row i the forward's row
+// rowGather[i] (pos, dir, out, dOut and the activations are read there; the rows early termination
+// cut need not be computed), and dPos is written packed (row i).
+struct NerfGradients {
+  gpu::BufferRange dOut, grads;
+  std::optional<gpu::BufferRange> dPos, rowGather;
 };
 
 class NerfMlp {
@@ -61,30 +81,22 @@ class NerfMlp {
   uint32_t posStride() const { return ref::pad4(config_.posDims); }
   uint32_t dirStride() const { return ref::pad4(config_.dirDims); }
 
-  // out = f(pos, dir). With a workspace (capacity >= count) the activations are kept for
-  // recordBackward; without one an internal scratch is used and nothing is kept.
-  // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are
-  // computed, the rest of `out` is left untouched (shaders/gpu/row_limit.glsl).
-  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
-                     const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keepForBackward,
-                     const gpu::BufferRange* rowLimit = nullptr);
+  // out = f(pos, dir) over `rows`. With a workspace (capacity >= rows.count) the activations are kept
+  // for recordBackward; without one an internal scratch is used and nothing is kept. Rows at and
+  // past rows.rowLimit are not computed.
+  void recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu::BufferRange& params,
+                     Workspace* keepForBackward);
   // density[i] = the density of row i (after the density activation), one float a row: the trunk
   // and the feature layer's sigma column only (mlp_nerf_density.comp), for callers that need no
   // colour (the occupancy update). The same sums as recordForward's sigma; uses the internal
   // scratch, as recordForward without a workspace does.
   void recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
                      const gpu::BufferRange& density);
-  // grads += dL/dparams for the batch last run forward into `ws` (out: what that forward wrote).
-  // dPos (optional, posStride() per row) receives dL/dgamma(x), overwritten. rowLimit (optional): as
-  // recordForward; the rows at and past it add nothing to grads and leave dPos untouched.
-  // rowGather (optional, uint per row): the backward runs over a packed batch whose row i is the
-  // forward's row rowGather[i] (pos, dir, out, dOut and the activations are read there; the rows
-  // early termination cut need not be computed), and dPos is written packed (row i). A gathered
-  // batch must fit one chunk (count <= chunkRows()).
-  void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
-                      const gpu::BufferRange& dir, const gpu::BufferRange& out, const gpu::BufferRange& dOut,
-                      const gpu::BufferRange& grads, Workspace& ws, const gpu::BufferRange* dPos = nullptr,
-                      const gpu::BufferRange* rowLimit = nullptr, const gpu::BufferRange* rowGather = nullptr);
+  // grads.grads += dL/dparams for the batch last run forward into `ws` (rows.out: what that forward
+  // wrote). The rows at and past rows.rowLimit add nothing to grads and leave dPos untouched. A
+  // gathered batch (grads.rowGather) must fit one chunk (rows.count <= chunkRows()).
+  void recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu::BufferRange& params,
+                      const NerfGradients& grads, Workspace& ws);
 
   // Rows per chunk (derived from device limits). Tests lower it to exercise chunking cheaply;
   // set it before creating workspaces.
@@ -107,11 +119,9 @@ class NerfMlp {
   Workspace& inferenceScratch();  // the activations of a forward without a workspace
   // The trunk over rows [row, row + n) of ws's activations (pos: those rows' encodings); returns
   // the last trunk layer's output.
-  Mat recordTrunk(gpu::Recorder& rec, uint32_t n, const gpu::BufferRange& params, const Mat& pos, Workspace& ws,
-                  uint32_t row, const gpu::LimitedRows& limited);
-  void recordFusedForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& pos,
-                          const gpu::BufferRange& dir, const gpu::BufferRange& out, Workspace* keep,
-                          const gpu::BufferRange* rowLimit);
+  Mat recordTrunk(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& pos,
+                  Workspace& ws, uint32_t row);
+  void recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const gpu::BufferRange& params, Workspace* keep);
 
   Context& ctx_;
   MlpConfig config_;
@@ -124,6 +134,20 @@ class NerfMlp {
   gpu::LimitedDispatch limitedBackward_;  // the backward's
   std::unique_ptr<Workspace> scratch_;
   uint32_t chunkRows_ = 0;
+};
+
+// The rows a plain MLP runs over: `count` rows of in (inputStride() floats each) and out (outputStride()).
+struct DenseRows {
+  uint32_t count = 0;
+  gpu::BufferRange in, out;
+};
+
+// What a plain MLP's backward reads and writes besides the forward's rows: dOut (outputStride() per
+// row), the parameter gradients it accumulates into, and dIn (optional, inputStride() per row) =
+// dL/din, overwritten.
+struct DenseGradients {
+  gpu::BufferRange dOut, grads;
+  std::optional<gpu::BufferRange> dIn;
 };
 
 struct DenseMlpConfig {
@@ -158,12 +182,11 @@ class DenseMlp {
   uint32_t inputStride() const { return ref::pad4(config_.inputs); }
   uint32_t outputStride() const { return ref::pad4(config_.outputs); }
 
-  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                     const gpu::BufferRange& out, Workspace* keepForBackward);
-  // grads += dL/dparams; dIn (optional, inputStride() per row) = dL/din, overwritten.
-  void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& in,
-                      const gpu::BufferRange& out, const gpu::BufferRange& dOut, const gpu::BufferRange& grads,
-                      Workspace& ws, const gpu::BufferRange* dIn = nullptr);
+  void recordForward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                     Workspace* keepForBackward);
+  // grads.grads += dL/dparams for the batch last run forward into `ws`; grads.dIn = dL/din.
+  void recordBackward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
+                      const DenseGradients& grads, Workspace& ws);
 
   uint32_t chunkRows() const { return chunkRows_; }
   void setChunkRows(uint32_t rows);

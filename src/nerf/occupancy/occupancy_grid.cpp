@@ -104,9 +104,12 @@ void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, ui
   rec.dispatchFlat(points_, {positions, cells}, p, count, kPointsLocal, "occupancy_points");
 }
 
-void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density,
-                                 uint32_t count, float decay, float threshold, uint32_t densityStride,
-                                 uint32_t densityComponent, bool capAtMeanDensity) {
+void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const Measured& measured, const Update& update) {
+  const gpu::BufferRange &cells = measured.cells, &density = measured.density;
+  const uint32_t count = measured.count, densityStride = measured.densityStride,
+                 densityComponent = measured.densityComponent;
+  const float decay = update.decay, threshold = update.threshold;
+  const bool capAtMeanDensity = update.capAtMeanDensity;
   if (densityStride == 0 || densityComponent >= densityStride)
     throw Error("OccupancyGrid: density component " + std::to_string(densityComponent) + " of stride " +
                 std::to_string(densityStride));

@@ -69,14 +69,22 @@ class OccupancyGrid {
   // `count` points in cells drawn uniformly at random (with repetition), cell rngUint(seed, j, 3) % numCells().
   void recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, uint32_t count, const gpu::BufferRange& positions,
                               const gpu::BufferRange& cells);
-  // EMA and bits from the densities measured at `count` points of `cells`: point j's density is
+  // Densities measured at `count` points of `cells`: point j's density is
   // density[j * densityStride + densityComponent] (stride 4, component 3: sigma of a field vec4).
-  // NaN and negative densities count as 0, +inf as FLT_MAX. decay in [0, 1], threshold >= 0.
-  // capAtMeanDensity: the threshold is min(threshold, the grid's mean density before this update),
-  // computed on the device (recordMeanDensity), so the update needs no read-back.
-  void recordUpdate(gpu::Recorder& rec, const gpu::BufferRange& cells, const gpu::BufferRange& density, uint32_t count,
-                    float decay, float threshold, uint32_t densityStride = 1, uint32_t densityComponent = 0,
-                    bool capAtMeanDensity = false);
+  struct Measured {
+    gpu::BufferRange cells, density;
+    uint32_t count = 0;
+    uint32_t densityStride = 1, densityComponent = 0;
+  };
+  // How an update takes them in: decay in [0, 1], threshold >= 0; capAtMeanDensity: the threshold
+  // is min(threshold, the grid's mean density before this update), computed on the device
+  // (recordMeanDensity), so the update needs no read-back.
+  struct Update {
+    float decay = 0, threshold = 0;
+    bool capAtMeanDensity = false;
+  };
+  // EMA and bits from `measured`. NaN and negative densities count as 0, +inf as FLT_MAX.
+  void recordUpdate(gpu::Recorder& rec, const Measured& measured, const Update& update);
   // The mean over all cells of the density (non-finite values as 0), one float into meanDensity().
   void recordMeanDensity(gpu::Recorder& rec);
   const gpu::Buffer& meanDensity() const { return mean_; }

@@ -34,23 +34,23 @@ std::vector<CameraGpu> packCameras(std::span<const Camera> cameras, std::span<co
 RayGeneration::RayGeneration(Context& ctx)
     : kernel_(ctx, {gpu::shaders::rays, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push), {}}) {}
 
-void RayGeneration::record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t mode,
-                           uint32_t camera, uint32_t first, const Aabb& box, float nearPlane,
-                           const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
+void RayGeneration::record(gpu::Recorder& rec, const gpu::BufferRange& cameras, const Pixels& pixels,
+                           const RayClip& clip, const RayOutputs& out) {
+  const Aabb& box = clip.box;
+  const float nearPlane = clip.nearPlane;
+  const uint32_t mode = pixels.mode, camera = pixels.a, first = pixels.b, count = pixels.count;
   Push p{{box.min[0], box.min[1], box.min[2], nearPlane}, {box.max[0], box.max[1], box.max[2], 0}, mode, camera, first, count};
-  rec.dispatch(kernel_, {cameras, rays, pixelIds}, p, gpu::groupsFor(count, kLocal), 1, 1, "rays");
+  rec.dispatch(kernel_, {cameras, out.rays, out.pixelIds}, p, gpu::groupsFor(count, kLocal), 1, 1, "rays");
 }
 
-void RayGeneration::recordImage(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t camera,
-                                uint32_t firstPixel, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
-                                const gpu::BufferRange& pixelIds) {
-  record(rec, count, cameras, 0, camera, firstPixel, box, nearPlane, rays, pixelIds);
+void RayGeneration::recordImage(gpu::Recorder& rec, const gpu::BufferRange& cameras, const ImagePixels& pixels,
+                                const RayClip& clip, const RayOutputs& out) {
+  record(rec, cameras, {0, pixels.camera, pixels.firstPixel, pixels.count}, clip, out);
 }
 
-void RayGeneration::recordRandom(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras,
-                                 uint32_t numCameras, uint32_t seed, const Aabb& box, float nearPlane,
-                                 const gpu::BufferRange& rays, const gpu::BufferRange& pixelIds) {
-  record(rec, count, cameras, 1, numCameras, seed, box, nearPlane, rays, pixelIds);
+void RayGeneration::recordRandom(gpu::Recorder& rec, const gpu::BufferRange& cameras, const RandomPixels& pixels,
+                                 const RayClip& clip, const RayOutputs& out) {
+  record(rec, cameras, {1, pixels.numCameras, pixels.seed, pixels.count}, clip, out);
 }
 
 }  // namespace vknerf::nerf

@@ -36,22 +36,48 @@ std::vector<CameraGpu> packCameras(std::span<const Camera> cameras, std::span<co
 constexpr VkDeviceSize kRayBytes = 32;
 constexpr VkDeviceSize kPixelIdBytes = 8;
 
+// `count` rays (kRayBytes each) in `range`: a batch's rays, or a block of them, as one value.
+struct RaySpan {
+  gpu::BufferRange range;
+  uint32_t count = 0;
+};
+
+// Where generated rays lie: clipped to `box`, starting nearPlane in front of their camera.
+struct RayClip {
+  Aabb box;
+  float nearPlane = 0;
+};
+
+// What a generation writes: the rays (kRayBytes each) and their pixel ids (kPixelIdBytes each).
+struct RayOutputs {
+  gpu::BufferRange rays, pixelIds;
+};
+
 class RayGeneration {
  public:
   explicit RayGeneration(Context& ctx);
-  // Rays through pixels [firstPixel, firstPixel + count) of one camera, row-major.
-  void recordImage(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t camera,
-                   uint32_t firstPixel, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
-                   const gpu::BufferRange& pixelIds);
-  // `count` rays through random pixels of random cameras (uniform over cameras, then pixels).
-  void recordRandom(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t numCameras,
-                    uint32_t seed, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
-                    const gpu::BufferRange& pixelIds);
+  // Pixels [firstPixel, firstPixel + count) of camera `camera`, row-major.
+  struct ImagePixels {
+    uint32_t camera = 0, firstPixel = 0, count = 0;
+  };
+  // `count` random pixels of random cameras among the first numCameras (uniform over cameras, then pixels).
+  struct RandomPixels {
+    uint32_t numCameras = 0, seed = 0, count = 0;
+  };
+  // A ray through each of `pixels`.
+  void recordImage(gpu::Recorder& rec, const gpu::BufferRange& cameras, const ImagePixels& pixels,
+                   const RayClip& clip, const RayOutputs& out);
+  void recordRandom(gpu::Recorder& rec, const gpu::BufferRange& cameras, const RandomPixels& pixels,
+                    const RayClip& clip, const RayOutputs& out);
 
  private:
-  void record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras, uint32_t mode, uint32_t camera,
-              uint32_t first, const Aabb& box, float nearPlane, const gpu::BufferRange& rays,
-              const gpu::BufferRange& pixelIds);
+  // The kernel's pixel choice: mode 0 (an image: a = camera, b = first pixel) or 1 (random: a =
+  // numCameras, b = seed), `count` rays.
+  struct Pixels {
+    uint32_t mode, a, b, count;
+  };
+  void record(gpu::Recorder& rec, const gpu::BufferRange& cameras, const Pixels& pixels, const RayClip& clip,
+              const RayOutputs& out);
   gpu::Kernel kernel_;
 };
 

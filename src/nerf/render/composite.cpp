@@ -32,12 +32,14 @@ float Compositor::maxOpticalDepth(float minTransmittance) {
   return float(-std::log(double(minTransmittance)));
 }
 
-void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays,
-                          uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
-                          const gpu::BufferRange& field, const std::array<float, 3>& background,
-                          const gpu::BufferRange* perRayBackground, const gpu::BufferRange& out0,
-                          const gpu::BufferRange& out1, const gpu::BufferRange& out2, float maxOpticalDepth,
-                          const gpu::BufferRange* out3, const DistortionLoss* distortion) {
+void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, const CompositeInputs& in,
+                          const Outputs& out, const std::optional<DistortionLoss>& distortion) {
+  const uint32_t numRays = in.numRays, samplesPerRay = in.samplesPerRay;
+  const float maxOpticalDepth = in.maxOpticalDepth;
+  const std::array<float, 3>& background = in.background;
+  const gpu::BufferRange* perRayBackground = in.perRayBackground ? &*in.perRayBackground : nullptr;
+  const gpu::BufferRange* out3 = out.out3 ? &*out.out3 : nullptr;
+  const gpu::BufferRange& rayOffsets = in.rayOffsets;
   if (samplesPerRay == 0 && numRays > 0 && !rayOffsets.buffer)
     throw Error("Compositor: samplesPerRay == 0 (packed layout) needs a rayOffsets buffer");
   if (!(maxOpticalDepth >= 0.0f)) throw Error("Compositor: maxOpticalDepth must be >= 0 (or +inf)");
@@ -59,28 +61,17 @@ void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* l
   gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
   gpu::BufferRange kept = out3 ? *out3 : gpu::BufferRange(dummy_);
   gpu::BufferRange rays = distorted ? distortion->rays : gpu::BufferRange(dummy_);
-  rec.dispatch(kernel, {offsets, samples, field, bg, out0, out1, out2, kept, rays}, p, gpu::groupsFor(numRays, kLocal),
-               1, 1, label);
+  rec.dispatch(kernel, {offsets, in.samples, in.field, bg, out.out0, out.out1, out.out2, kept, rays}, p,
+               gpu::groupsFor(numRays, kLocal), 1, 1, label);
 }
 
-void Compositor::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay,
-                               const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
-                               const gpu::BufferRange& field, const std::array<float, 3>& background,
-                               const gpu::BufferRange* perRayBackground, const gpu::BufferRange& outColor,
-                               const gpu::BufferRange& outDepth, const gpu::BufferRange& outWeights,
-                               float maxOpticalDepth, const gpu::BufferRange* outKeptCounts) {
-  dispatch(rec, forward_, "composite_forward", numRays, samplesPerRay, rayOffsets, samples, field, background,
-           perRayBackground, outColor, outDepth, outWeights, maxOpticalDepth, outKeptCounts, nullptr);
+void Compositor::recordForward(gpu::Recorder& rec, const CompositeInputs& in, const CompositeOutputs& out) {
+  dispatch(rec, forward_, "composite_forward", in, {out.color, out.depth, out.weights, out.keptCounts}, std::nullopt);
 }
 
-void Compositor::recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay,
-                                const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
-                                const gpu::BufferRange& field, const std::array<float, 3>& background,
-                                const gpu::BufferRange* perRayBackground, const gpu::BufferRange& dColor,
-                                const gpu::BufferRange& dDepth, const gpu::BufferRange& dField,
-                                float maxOpticalDepth, const DistortionLoss* distortion) {
-  dispatch(rec, backward_, "composite_backward", numRays, samplesPerRay, rayOffsets, samples, field, background,
-           perRayBackground, dColor, dDepth, dField, maxOpticalDepth, nullptr, distortion);
+void Compositor::recordBackward(gpu::Recorder& rec, const CompositeInputs& in, const CompositeGradients& grads) {
+  dispatch(rec, backward_, "composite_backward", in, {grads.dColor, grads.dDepth, grads.dField, std::nullopt},
+           grads.distortion);
 }
 
 }  // namespace vknerf::nerf

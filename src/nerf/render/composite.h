@@ -23,7 +23,9 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
+#include "nerf/sampling/packed_samples.h"
 #include "nerf/sampling/sample_layout.h"
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
@@ -33,6 +35,8 @@
 namespace vknerf::nerf {
 
 constexpr VkDeviceSize kFieldBytes = 16;
+constexpr VkDeviceSize kColorBytes = 16;  // a ray's colour (and its gradient, its background): vec4
+constexpr VkDeviceSize kDepthBytes = 4;   // a ray's depth: float
 
 // The distortion loss the backward pass adds (mip-NeRF 360's; reference/render/distortion_loss.h):
 // its weight per ray, and what it measures distances in: the march's spacing and each ray's near
@@ -43,6 +47,41 @@ struct DistortionLoss {
   gpu::BufferRange rays;
 };
 
+// What both passes read, built once for a batch and handed to its forward and then its backward:
+// numRays rays' samples, the field at them, what lies behind each ray and where it stops.
+struct CompositeInputs {
+  uint32_t numRays = 0;
+  uint32_t samplesPerRay = 0;   // N > 0: ray r owns samples [r*N, (r+1)*N); 0: the packed layout
+  gpu::BufferRange rayOffsets;  // the packed layout's offsets; unused (may stay empty) when N > 0
+  gpu::BufferRange samples, field;
+  std::array<float, 3> background = {0, 0, 0};       // behind every ray, unless perRayBackground
+  std::optional<gpu::BufferRange> perRayBackground;  // behind each ray
+  float maxOpticalDepth = std::numeric_limits<float>::infinity();  // early termination (none: +inf)
+
+  // The first numRays rays of a packed batch (samplesPerRay = 0).
+  static CompositeInputs packed(uint32_t numRays, const PackedSamples& batch, const gpu::BufferRange& field) {
+    CompositeInputs in;
+    in.numRays = numRays;
+    in.rayOffsets = batch.offsets;
+    in.samples = batch.samples;
+    in.field = field;
+    return in;
+  }
+};
+
+// What the forward writes; keptCounts (early termination) is optional.
+struct CompositeOutputs {
+  gpu::BufferRange color, depth, weights;
+  std::optional<gpu::BufferRange> keptCounts;
+};
+
+// What the backward reads (dColor, dDepth) and writes (dField, in full); `distortion`, with a
+// weight > 0, adds that weight times each ray's distortion loss (ref::distortionLoss) to the loss.
+struct CompositeGradients {
+  gpu::BufferRange dColor, dDepth, dField;
+  std::optional<DistortionLoss> distortion;
+};
+
 class Compositor {
  public:
   explicit Compositor(Context& ctx);
@@ -51,34 +90,21 @@ class Compositor {
   // The optical depth the kernels compare against: -ln(minTransmittance), rounded to float.
   static float maxOpticalDepth(float minTransmittance);
 
-  // rayOffsets may be a default BufferRange when samplesPerRay > 0; perRayBackground == nullptr
-  // uses `background` for every ray.
-  void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
-                     const gpu::BufferRange& samples, const gpu::BufferRange& field,
-                     const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
-                     const gpu::BufferRange& outColor, const gpu::BufferRange& outDepth,
-                     const gpu::BufferRange& outWeights, float maxOpticalDepth = kNoTermination,
-                     const gpu::BufferRange* outKeptCounts = nullptr);
-
+  void recordForward(gpu::Recorder& rec, const CompositeInputs& in, const CompositeOutputs& out);
   // Recomputes T and w from the inputs rather than reading the forward outputs: the stable
-  // back-to-front suffix sums need only the field. dField is written in full. `distortion`, with a
-  // weight > 0, adds that weight times each ray's distortion loss (ref::distortionLoss) to the loss.
-  void recordBackward(gpu::Recorder& rec, uint32_t numRays, uint32_t samplesPerRay, const gpu::BufferRange& rayOffsets,
-                      const gpu::BufferRange& samples, const gpu::BufferRange& field,
-                      const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
-                      const gpu::BufferRange& dColor, const gpu::BufferRange& dDepth,
-                      const gpu::BufferRange& dField, float maxOpticalDepth = kNoTermination,
-                      const DistortionLoss* distortion = nullptr);
+  // back-to-front suffix sums need only the field.
+  void recordBackward(gpu::Recorder& rec, const CompositeInputs& in, const CompositeGradients& grads);
 
  private:
   using Push = glsl::CompositePush;
   // Both passes bind the same inputs and four outputs (forward: colour, depth, weights, kept
   // counts; backward: dColor, dDepth, dField, nothing), then the rays (backward's distortion loss).
-  void dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, uint32_t numRays, uint32_t samplesPerRay,
-                const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples, const gpu::BufferRange& field,
-                const std::array<float, 3>& background, const gpu::BufferRange* perRayBackground,
-                const gpu::BufferRange& out0, const gpu::BufferRange& out1, const gpu::BufferRange& out2,
-                float maxOpticalDepth, const gpu::BufferRange* out3, const DistortionLoss* distortion);
+  struct Outputs {
+    gpu::BufferRange out0, out1, out2;
+    std::optional<gpu::BufferRange> out3;
+  };
+  void dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, const CompositeInputs& in,
+                const Outputs& out, const std::optional<DistortionLoss>& distortion);
 
   gpu::Buffer dummy_;  // bound where the layout or the background source leaves a binding unused
   gpu::Kernel forward_, backward_;

@@ -25,10 +25,11 @@ SegmentAccumulator::SegmentAccumulator(Context& ctx, uint32_t maxRays)
 
 void SegmentAccumulator::recordResetCounts(gpu::Recorder& rec) { rec.fill(counters_, 0, 0, 8); }
 
-void SegmentAccumulator::record(gpu::Recorder& rec, uint32_t numRays, const Round& round,
-                                const gpu::BufferRange& rays, const gpu::BufferRange& rayOffsets,
-                                const gpu::BufferRange& samples, const gpu::BufferRange& background,
-                                const gpu::BufferRange& color, const gpu::BufferRange& depth) {
+void SegmentAccumulator::record(gpu::Recorder& rec, const Round& round, const RaySpan& raySpan,
+                                const PackedSamples& batch, const Gathered& gathered) {
+  const uint32_t numRays = raySpan.count;
+  const gpu::BufferRange &rays = raySpan.range, &rayOffsets = batch.offsets, &samples = batch.samples;
+  const gpu::BufferRange &background = gathered.background, &color = gathered.color, &depth = gathered.depth;
   if (numRays > maxRays_)
     throw Error("SegmentAccumulator: " + std::to_string(numRays) + " rays, over the " + std::to_string(maxRays_) +
                 " it was built for");

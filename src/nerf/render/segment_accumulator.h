@@ -14,6 +14,8 @@
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
+#include "nerf/rays/rays.h"
+#include "nerf/sampling/packed_samples.h"
 
 namespace vknerf::nerf {
 
@@ -35,11 +37,14 @@ class SegmentAccumulator {
     bool first, last;   // the tile's first round (nothing gathered) / last round (every ray ends)
     float minTransmittance;
   };
-  // rays: (o, t_near), (d, t_far) per ray, t_near rewritten; rayOffsets and samples: the round's
-  // march; background, color, depth: per ray (color and depth gather the render).
-  void record(gpu::Recorder& rec, uint32_t numRays, const Round& round, const gpu::BufferRange& rays,
-              const gpu::BufferRange& rayOffsets, const gpu::BufferRange& samples,
-              const gpu::BufferRange& background, const gpu::BufferRange& color, const gpu::BufferRange& depth);
+  // Per ray of a render: its background, and the colour and depth that gather the render.
+  struct Gathered {
+    gpu::BufferRange background, color, depth;
+  };
+  // rays: (o, t_near), (d, t_far) per ray, t_near rewritten; batch: the round's march (its offsets
+  // and samples are read).
+  void record(gpu::Recorder& rec, const Round& round, const RaySpan& rays, const PackedSamples& batch,
+              const Gathered& gathered);
 
   // After the submission's wait: rays still live after the rounds since recordResetCounts (one
   // round: the rays the next round must march), and the samples those rounds composited.

@@ -19,7 +19,7 @@ class KeptRows {
  public:
   KeptRows(Context& ctx, uint32_t maxRays, uint32_t sampleCapacity);
 
-  // uint per ray: the samples it kept (Compositor::recordForward's outKeptCounts).
+  // uint per ray: the samples it kept (Compositor::recordForward's CompositeOutputs::keptCounts).
   const gpu::Buffer& counts() const { return layout_.counts(); }
   gpu::Buffer& counts() { return layout_.counts(); }
   // rayOffsets: the march's packed layout (numRays + 1); positions: vec4 per marched sample, bound

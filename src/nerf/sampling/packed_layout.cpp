@@ -32,9 +32,10 @@ void PackedLayout::recordOffsetsAndTotals(gpu::Recorder& rec, uint32_t numRays, 
   rec.dispatch(totals_, {offsets, totals}, p, 1, 1, 1, "march_totals");
 }
 
-void PackedLayout::recordCutToWholeRays(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity, uint32_t rayAlign,
-                                        const gpu::BufferRange& offsets, const gpu::BufferRange& totals,
+void PackedLayout::recordCutToWholeRays(gpu::Recorder& rec, const PackedCut& cut, const PackedSamples& batch,
                                         const gpu::BufferRange& wholeRays) {
+  const uint32_t numRays = cut.numRays, capacity = cut.capacity, rayAlign = cut.rayAlign;
+  const gpu::BufferRange &offsets = batch.offsets, &totals = batch.totals;
   requireOutputs("PackedLayout::recordCutToWholeRays", numRays, offsets, totals);
   gpu::requireBytes("PackedLayout::recordCutToWholeRays", "wholeRays", wholeRays, 4);
   if (rayAlign == 0) throw Error("PackedLayout::recordCutToWholeRays: rayAlign must be positive");

@@ -15,8 +15,16 @@
 #include "gpu/kernel.h"
 #include "gpu/prefix_sum.h"
 #include "gpu/recorder.h"
+#include "nerf/sampling/packed_samples.h"
 
 namespace vknerf::nerf {
+
+// How a batch packed at a sample capacity is cut to its whole rays (PackedLayout::recordCutToWholeRays).
+struct PackedCut {
+  uint32_t numRays = 0;   // the rays the batch was packed for
+  uint32_t capacity = 0;  // the samples it was packed at
+  uint32_t rayAlign = 1;  // the rays kept are a multiple of this
+};
 
 class PackedLayout {
  public:
@@ -33,12 +41,12 @@ class PackedLayout {
                              const gpu::BufferRange& totals);
   void recordOffsetsAndTotals(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity,
                               const gpu::BufferRange& offsets, const gpu::BufferRange& totals);
-  // After a batch was packed at `capacity`: keeps its whole rays on the device (all of them when the
-  // batch is under the capacity; else those ending below it, rounded down to a multiple of rayAlign,
-  // at least rayAlign), empties the offsets of the rest at the kept total, rewrites the totals for
-  // the kept samples and writes the rays kept as the uint `wholeRays` (shaders/sampling/march_cut.comp).
-  void recordCutToWholeRays(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity, uint32_t rayAlign,
-                            const gpu::BufferRange& offsets, const gpu::BufferRange& totals,
+  // After a batch was packed at cut.capacity: keeps its whole rays on the device (all of them when
+  // the batch is under the capacity; else those ending below it, rounded down to a multiple of
+  // cut.rayAlign, at least rayAlign), empties the offsets of the rest at the kept total, rewrites the
+  // totals for the kept samples and writes the rays kept as the uint `wholeRays`
+  // (shaders/sampling/march_cut.comp). Only the batch's offsets and totals are read and written.
+  void recordCutToWholeRays(gpu::Recorder& rec, const PackedCut& cut, const PackedSamples& batch,
                             const gpu::BufferRange& wholeRays);
 
  private:

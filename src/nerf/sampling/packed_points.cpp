@@ -30,9 +30,9 @@ PackedSamplePoints::PackedSamplePoints(Context& ctx, uint32_t chunkRows)
 }
 
 void PackedSamplePoints::record(gpu::Recorder& rec, uint32_t capacity, const gpu::BufferRange& rays,
-                                const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
-                                const gpu::BufferRange& totals, const Aabb& box, const gpu::BufferRange& positions,
-                                const gpu::BufferRange& directions) {
+                                const PackedSamples& batch, const Aabb& box, const PointBuffers& out) {
+  const gpu::BufferRange &samples = batch.samples, &sampleRay = batch.sampleRay, &totals = batch.totals;
+  const gpu::BufferRange &positions = out.positions, &directions = out.directions;
   for (int k = 0; k < 3; ++k)
     if (!(box.max[k] > box.min[k])) throw Error("PackedSamplePoints: scene box is empty along axis " + std::to_string(k));
   requireBytes("PackedSamplePoints", "samples", samples, uint64_t(capacity) * kSampleBytes);
@@ -43,7 +43,7 @@ void PackedSamplePoints::record(gpu::Recorder& rec, uint32_t capacity, const gpu
   if (capacity == 0) return;
   // Over the capacity the dispatch was a few us of lavapipe time per idle workgroup: a render tile
   // of 2048 rays (capacity 131072 samples) paid ~2 ms for its ~30k samples.
-  const gpu::BufferRange total(*totals.buffer, totals.offset, 4);
+  const gpu::BufferRange total = batch.total();
   limited_.begin(rec, &total, capacity, chunkRows_, {kPointsLocal});
   PointsPush p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}, chunkRows_, 0};
   for (uint32_t c = 0; uint64_t(c) * chunkRows_ < capacity; ++c)

@@ -9,18 +9,25 @@
 #include "gpu/kernel.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
+#include "nerf/sampling/packed_samples.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
+
+// Where the points go: positions and directions, vec4 per sample.
+struct PointBuffers {
+  gpu::BufferRange positions, directions;
+};
 
 class PackedSamplePoints {
  public:
   // A chunk is at most 32768 workgroups of 64 (the x count every device allows is 65535).
   static constexpr uint32_t kChunkRows = 1u << 21;
   explicit PackedSamplePoints(Context& ctx, uint32_t chunkRows = kChunkRows);
-  void record(gpu::Recorder& rec, uint32_t capacity, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
-              const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, const Aabb& box,
-              const gpu::BufferRange& positions, const gpu::BufferRange& directions);
+  // rays: those the batch was marched for (its sampleRay indexes them); reads the batch's samples,
+  // sampleRay and totals.
+  void record(gpu::Recorder& rec, uint32_t capacity, const gpu::BufferRange& rays, const PackedSamples& batch,
+              const Aabb& box, const PointBuffers& out);
 
  private:
   gpu::Kernel kernel_;

@@ -47,10 +47,14 @@ Aabb RayMarcher::innerCube(const Aabb& box, uint32_t cascades) {
   return inner;
 }
 
-void RayMarcher::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const OccupancyGrid& grid,
-                        const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
-                        const gpu::BufferRange& offsets, const gpu::BufferRange& samples,
-                        const gpu::BufferRange& sampleRay, const gpu::BufferRange& totals, const ConeSteps& cone) {
+void RayMarcher::record(gpu::Recorder& rec, const RaySpan& raySpan, const OccupancyGrid& grid, const Aabb& box,
+                        const MarchSteps& steps, const PackedSamples& out) {
+  const uint32_t numRays = raySpan.count, maxSamplesPerRay = steps.maxSamplesPerRay;
+  const gpu::BufferRange& rays = raySpan.range;
+  const float dt = steps.dt;
+  const ConeSteps& cone = steps.cone;
+  const gpu::BufferRange &offsets = out.offsets, &samples = out.samples, &sampleRay = out.sampleRay,
+                         &totals = out.totals;
   if (numRays > maxRays_)
     throw Error("RayMarcher: " + std::to_string(numRays) + " rays exceed the capacity " + std::to_string(maxRays_));
   if (!(std::isfinite(dt) && dt > 0.0f)) throw Error("RayMarcher: step " + std::to_string(dt) + " must be finite and > 0");
@@ -72,7 +76,7 @@ void RayMarcher::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferR
   const Aabb g = cascades > 1 ? innerCube(box, cascades) : box;
   MarchPush p{{g.min[0], g.min[1], g.min[2], dt},
               {float(r) / (g.max[0] - g.min[0]), float(r) / (g.max[1] - g.min[1]), float(r) / (g.max[2] - g.min[2]), 0},
-              numRays, r, maxSamplesPerRay, seed, jitter ? 1u : 0u, uint32_t(capacity), cascades,
+              numRays, r, maxSamplesPerRay, steps.seed, steps.jitter ? 1u : 0u, uint32_t(capacity), cascades,
               cone.coneAngle, cone.dtMax};
   rec.dispatchFlat(count_, {rays, grid.bits(), layout_.counts()}, p, numRays, kMarchLocal, "march_count");
   layout_.recordOffsetsAndTotals(rec, numRays, uint32_t(capacity), offsets, totals);

@@ -23,7 +23,9 @@
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
 #include "nerf/occupancy/occupancy_grid.h"
+#include "nerf/rays/rays.h"
 #include "nerf/sampling/packed_layout.h"
+#include "nerf/sampling/packed_samples.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
@@ -31,6 +33,16 @@ namespace vknerf::nerf {
 // Step sizes of a cascaded march: the step grows with t up to dtMax (dtMax >= the march's dt).
 struct ConeSteps {
   float coneAngle = 0, dtMax = 0;
+};
+
+// How one march steps along its rays: the step dt, at most maxSamplesPerRay samples per ray, the
+// jitter's seed when `jitter` (training), and the cone steps (used only with several cascades).
+struct MarchSteps {
+  float dt = 0;
+  uint32_t maxSamplesPerRay = 0;
+  uint32_t seed = 0;
+  bool jitter = false;
+  ConeSteps cone = {};
 };
 
 class RayMarcher {
@@ -41,21 +53,18 @@ class RayMarcher {
   static float defaultStep(const Aabb& box);
 
   // rays: 2 x vec4 per ray (o, t_near), (d, t_far), misses (-1, -1). Throws vknerf::Error for
-  // numRays > maxRays, dt not finite and > 0, maxSamplesPerRay == 0, numRays * maxSamplesPerRay
-  // over 32 bits, an empty box, or buffers too small for numRays (offsets, totals); with cascades,
-  // a cone angle not finite and >= 0 or dtMax < dt. `box` is the whole scene box (the outermost
-  // cascade's); `cone` is used only when the grid has more than one cascade.
-  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const OccupancyGrid& grid,
-              const Aabb& box, float dt, uint32_t maxSamplesPerRay, uint32_t seed, bool jitter,
-              const gpu::BufferRange& offsets, const gpu::BufferRange& samples, const gpu::BufferRange& sampleRay,
-              const gpu::BufferRange& totals, const ConeSteps& cone = {});
+  // rays.count > maxRays, steps.dt not finite and > 0, steps.maxSamplesPerRay == 0, rays.count *
+  // maxSamplesPerRay over 32 bits, an empty box, or outputs too small for the rays (offsets,
+  // totals); with cascades, a cone angle not finite and >= 0 or dtMax < dt. `box` is the whole scene
+  // box (the outermost cascade's).
+  void record(gpu::Recorder& rec, const RaySpan& rays, const OccupancyGrid& grid, const Aabb& box,
+              const MarchSteps& steps, const PackedSamples& out);
 
   // After record() at a sample capacity: the batch cut to its whole rays on the device, the rays kept
   // written to `wholeRays` (PackedLayout::recordCutToWholeRays).
-  void recordCutToWholeRays(gpu::Recorder& rec, uint32_t numRays, uint32_t capacity, uint32_t rayAlign,
-                            const gpu::BufferRange& offsets, const gpu::BufferRange& totals,
+  void recordCutToWholeRays(gpu::Recorder& rec, const PackedCut& cut, const PackedSamples& batch,
                             const gpu::BufferRange& wholeRays) {
-    layout_.recordCutToWholeRays(rec, numRays, capacity, rayAlign, offsets, totals, wholeRays);
+    layout_.recordCutToWholeRays(rec, cut, batch, wholeRays);
   }
 
   // The inner cube of a grid of `cascades` over `box`: the box shrunk by 2^(cascades - 1) about its centre.

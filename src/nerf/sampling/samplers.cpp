@@ -34,13 +34,15 @@ StratifiedSampler::StratifiedSampler(Context& ctx)
                     sizeof(StratifiedPush),
                     {{glsl::SamplingSpec::LOCAL_SIZE_X, kStratifiedLocal}}}) {}
 
-void StratifiedSampler::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays,
-                               uint32_t samplesPerRay, uint32_t seed, bool jitter, const gpu::BufferRange& samples) {
+void StratifiedSampler::record(gpu::Recorder& rec, const RaySpan& raySpan, uint32_t samplesPerRay,
+                               const Jitter& jitter, const gpu::BufferRange& samples) {
+  const uint32_t numRays = raySpan.count;
+  const gpu::BufferRange& rays = raySpan.range;
   uint64_t count = uint64_t(numRays) * samplesPerRay;
   requireIndexable("sample_stratified", count);
   requireBytes("sample_stratified", "rays", rays, uint64_t(numRays) * kRayBytes);
   requireBytes("sample_stratified", "samples", samples, count * kSampleBytes);
-  StratifiedPush p{numRays, samplesPerRay, seed, jitter ? 1u : 0u};
+  StratifiedPush p{numRays, samplesPerRay, jitter.seed, jitter.jitter ? 1u : 0u};
   rec.dispatchFlat(kernel_, {rays, samples}, p, numRays, kStratifiedLocal, "sample_stratified");
 }
 
@@ -50,10 +52,11 @@ PdfSampler::PdfSampler(Context& ctx)
                     sizeof(PdfPush),
                     {{glsl::SamplingSpec::LOCAL_SIZE_X, kPdfLocal}}}) {}
 
-void PdfSampler::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays,
-                        const gpu::BufferRange& coarseSamples, const gpu::BufferRange& coarseWeights, uint32_t nCoarse,
-                        uint32_t nFine, uint32_t seed, bool jitter, float padding,
+void PdfSampler::record(gpu::Recorder& rec, const RaySpan& raySpan, const CoarseSamples& coarse, const Draws& draws,
                         const gpu::BufferRange& mergedSamples) {
+  const uint32_t numRays = raySpan.count, nCoarse = coarse.perRay, nFine = draws.perRay;
+  const gpu::BufferRange &rays = raySpan.range, &coarseSamples = coarse.samples, &coarseWeights = coarse.weights;
+  const float padding = draws.padding;
   if (!(std::isfinite(padding) && padding >= 0.0f))
     throw Error("sample_pdf: padding " + std::to_string(padding) + " must be finite and >= 0");
   uint64_t perRay = uint64_t(nCoarse) + nFine;
@@ -62,7 +65,7 @@ void PdfSampler::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferR
   requireBytes("sample_pdf", "coarse samples", coarseSamples, uint64_t(numRays) * nCoarse * kSampleBytes);
   requireBytes("sample_pdf", "coarse weights", coarseWeights, uint64_t(numRays) * nCoarse * sizeof(float));
   requireBytes("sample_pdf", "merged samples", mergedSamples, uint64_t(numRays) * perRay * kSampleBytes);
-  PdfPush p{numRays, nCoarse, nFine, seed, jitter ? 1u : 0u, padding};
+  PdfPush p{numRays, nCoarse, nFine, draws.jitter.seed, draws.jitter.jitter ? 1u : 0u, padding};
   rec.dispatchFlat(kernel_, {rays, coarseSamples, coarseWeights, mergedSamples}, p, numRays, kPdfLocal, "sample_pdf");
 }
 

@@ -9,22 +9,33 @@
 // different seeds so their jitter is independent.
 #include <cstdint>
 
+#include "nerf/rays/rays.h"
 #include "nerf/sampling/sample_layout.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
 
 namespace vknerf::nerf {
 
+// Jittered draws: u = rng01(seed, ray, i) when `jitter`, else the bin's middle.
+struct Jitter {
+  uint32_t seed = 0;
+  bool jitter = false;
+};
 
+// The coarse pass a fine pass draws from: `perRay` samples per ray and their compositing weights.
+struct CoarseSamples {
+  gpu::BufferRange samples, weights;
+  uint32_t perRay = 0;
+};
 
 class StratifiedSampler {
  public:
   explicit StratifiedSampler(Context& ctx);
   // samplesPerRay equal bins in [t_near, t_far] of each ray, one sample per bin: at
   // t_near + (i + u) / N * (t_far - t_near) with u = rng01(seed, ray, i) (jitter) or 0.5.
-  // `samples` holds numRays * samplesPerRay samples.
-  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, uint32_t samplesPerRay, uint32_t seed,
-              bool jitter, const gpu::BufferRange& samples);
+  // `samples` holds rays.count * samplesPerRay samples.
+  void record(gpu::Recorder& rec, const RaySpan& rays, uint32_t samplesPerRay, const Jitter& jitter,
+              const gpu::BufferRange& samples);
 
  private:
   gpu::Kernel kernel_;
@@ -33,17 +44,22 @@ class StratifiedSampler {
 class PdfSampler {
  public:
   explicit PdfSampler(Context& ctx);
-  // nFine inverse-CDF draws per ray from the coarse weights (nCoarse floats per ray, each clamped at
-  // 0 and plus `padding`), whose bins are the coarse segments [t_k, t_{k+1}], the last closing at
-  // t_far (only the coarse t's are read). Uniform over [t_near, t_far] instead when the weights sum
-  // below 1e-30 (or to Inf/NaN) or the coarse segments have no length. Draw j is at
-  // u = (j + rng01(seed, ray, j)) / nFine (jitter) or (j + 0.5) / nFine, placed by linear
+  // How the fine pass draws: perRay (nFine) draws per ray, each coarse weight plus `padding`.
+  struct Draws {
+    uint32_t perRay = 0;
+    Jitter jitter;
+    float padding = 0;
+  };
+  // nFine inverse-CDF draws per ray from the coarse weights (nCoarse = coarse.perRay floats per
+  // ray, each clamped at 0 and plus `padding`), whose bins are the coarse segments [t_k, t_{k+1}],
+  // the last closing at t_far (only the coarse t's are read). Uniform over [t_near, t_far] instead
+  // when the weights sum below 1e-30 (or to Inf/NaN) or the coarse segments have no length. Draw j
+  // is at u = (j + rng01(seed, ray, j)) / nFine (jitter) or (j + 0.5) / nFine, placed by linear
   // interpolation in its bin. The fine t's are merged in order with the coarse ones: `mergedSamples`
-  // holds numRays * (nCoarse + nFine) samples, deltas recomputed. Throws vknerf::Error for a
+  // holds rays.count * (nCoarse + nFine) samples, deltas recomputed. Throws vknerf::Error for a
   // negative or non-finite padding or a buffer too small for the counts.
-  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const gpu::BufferRange& coarseSamples,
-              const gpu::BufferRange& coarseWeights, uint32_t nCoarse, uint32_t nFine, uint32_t seed, bool jitter,
-              float padding, const gpu::BufferRange& mergedSamples);
+  void record(gpu::Recorder& rec, const RaySpan& rays, const CoarseSamples& coarse, const Draws& draws,
+              const gpu::BufferRange& mergedSamples);
 
  private:
   gpu::Kernel kernel_;

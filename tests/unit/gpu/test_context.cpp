@@ -94,7 +94,7 @@ TEST_F(ContextTest, AdoptedDeviceRunsKernelsAndIsNotDestroyed) {
     auto camBuf = gpu::Buffer::of(*adopted, cams);
     gpu::Buffer rays(*adopted, 16 * nerf::kRayBytes), ids(*adopted, 16 * nerf::kPixelIdBytes);
     test::submitOnce(*adopted, [&](gpu::Recorder& rec) {
-      gen.recordImage(rec, 16, camBuf, 0, 0, Aabb{}, 0, rays, ids);
+      gen.recordImage(rec, camBuf, {0, 0, 16}, {Aabb{}, 0}, {rays, ids});
     });
     auto r = rays.download<float>(16 * 8);
     EXPECT_GT(r[3], 1.9f);  // enters the unit box near z = 1
@@ -135,9 +135,9 @@ TEST_F(ContextTest, BindingOverStorageRangeIsRejected) {
   gpu::Buffer big(ctx(), limit + 256), cams(ctx(), 80), ids(ctx(), 64);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(gen.recordImage(rec, 1, cams, 0, 0, Aabb{}, 0, big, ids), Error);
+  EXPECT_THROW(gen.recordImage(rec, cams, {0, 0, 1}, {Aabb{}, 0}, {big, ids}), Error);
   // The same buffer bound at an offset, within the limit, is accepted.
-  EXPECT_NO_THROW(gen.recordImage(rec, 1, cams, 0, 0, Aabb{}, 0, gpu::BufferRange(big, 256, limit), ids));
+  EXPECT_NO_THROW(gen.recordImage(rec, cams, {0, 0, 1}, {Aabb{}, 0}, {gpu::BufferRange(big, 256, limit), ids}));
   rec.end();
 }
 

@@ -98,7 +98,7 @@ std::vector<float> deviceRays(Context& ctx, const Dataset& d, uint32_t camera, c
   const uint32_t count = d.cameras[camera].width * d.cameras[camera].height;
   gpu::Buffer rays(ctx, count * nerf::kRayBytes), ids(ctx, count * nerf::kPixelIdBytes);
   nerf::RayGeneration gen(ctx);
-  submitOnce(ctx, [&](gpu::Recorder& rec) { gen.recordImage(rec, count, cameras, camera, 0, box, 0.0f, rays, ids); });
+  submitOnce(ctx, [&](gpu::Recorder& rec) { gen.recordImage(rec, cameras, {camera, 0, count}, {box, 0.0f}, {rays, ids}); });
   return rays.download<float>(count * 8);
 }
 

@@ -71,10 +71,11 @@ LossRun runLoss(Context& ctx, const Scene& s, const std::vector<float>& pred, ui
   gpu::Buffer bgB(ctx, 16 * numRays), partB(ctx, 4 * loss.partialCount(numRays));
   auto dB = gpu::Buffer::of(ctx, std::vector<float>(4 * size_t(numRays), -777.0f));
   auto limitB = gpu::Buffer::of(ctx, std::vector<uint32_t>{rayLimit ? *rayLimit : 0u, 0, 0, 0});
-  const gpu::BufferRange limit(limitB, 0, 4);
+  nerf::LossRays rays{numRays, predB, idB, bgB};
+  if (rayLimit) rays.rayLimit = gpu::BufferRange(limitB, 0, 4);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     bg.recordRandom(rec, bgB, numRays, bgSeed);
-    loss.record(rec, numRays, predB, idB, pixB, camB, bgB, dB, partB, gradScale, rayLimit ? &limit : nullptr);
+    loss.record(rec, rays, pixB, camB, {dB, partB, gradScale});
   });
   return {bgB.download<float>(), dB.download<float>(), partB.download<float>(), loss.read(partB, numRays)};
 }
@@ -248,7 +249,7 @@ TEST_F(Loss, SummaryAndEmptyBatch) {
        bg = gpu::Buffer::of(ctx(), std::vector<float>(4, 0.0f)), d = gpu::Buffer::of(ctx(), std::vector<float>(4, 9.0f)),
        part = gpu::Buffer::of(ctx(), std::vector<float>(1, 9.0f));
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    loss.record(rec, 0, pred, ids, pix, cams, bg, d, part);
+    loss.record(rec, {0, pred, ids, bg}, pix, cams, {d, part});
   });
   EXPECT_EQ(d.download<float>()[0], 9.0f);
   EXPECT_EQ(part.download<float>()[0], 9.0f);
@@ -292,7 +293,7 @@ TEST_F(Loss, PixelsOverManyBindingsMatchReference) {
   gpu::Buffer bgB(ctx(), 16 * n), dB(ctx(), 16 * n), partB(ctx(), 4 * loss.partialCount(n));
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
     bg.recordRandom(rec, bgB, n, 8);
-    loss.record(rec, n, predB, idB, pixels.bindings(), camB, bgB, dB, partB);
+    loss.record(rec, {n, predB, idB, bgB}, {pixels.bindings(), camB}, {dB, partB});
   });
   std::vector<Vec4> p(n);
   std::vector<Vec3> target(n);

@@ -72,9 +72,9 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
   grads.zero();
   nerf::NerfMlp::Workspace ws(ctx, mlp, c.count);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    mlp.recordForward(rec, c.count, params, pos, dir, out, &ws);
-    gpu::BufferRange dPosRange(dPos);
-    if (c.backward) mlp.recordBackward(rec, c.count, params, pos, dir, out, dOut, grads, ws, &dPosRange);
+    const nerf::NerfRows rows{c.count, pos, dir, out};
+    mlp.recordForward(rec, rows, params, &ws);
+    if (c.backward) mlp.recordBackward(rec, rows, params, {dOut, grads, gpu::BufferRange(dPos)}, ws);
   });
   return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size())};
 }
@@ -84,7 +84,7 @@ std::vector<float> inferNerf(Context& ctx, nerf::NerfMlp& mlp, uint32_t count, c
   auto params = gpu::Buffer::of(ctx, d.params);
   auto pos = gpu::Buffer::of(ctx, d.pos), dir = gpu::Buffer::of(ctx, d.dir);
   gpu::Buffer out(ctx, size_t(count) * 16);
-  test::submitOnce(ctx, [&](gpu::Recorder& rec) { mlp.recordForward(rec, count, params, pos, dir, out, nullptr); });
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) { mlp.recordForward(rec, {count, pos, dir, out}, params, nullptr); });
   return out.download<float>(size_t(count) * 4);
 }
 
@@ -393,9 +393,8 @@ TEST_F(MlpDense, ForwardAndBackwardMatchReference) {
   grads.zero();
   nerf::DenseMlp::Workspace ws(ctx(), mlp, count);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    mlp.recordForward(rec, count, pBuf, inBuf, out, &ws);
-    gpu::BufferRange dInRange(dIn);
-    mlp.recordBackward(rec, count, pBuf, inBuf, out, dOutBuf, grads, ws, &dInRange);
+    mlp.recordForward(rec, {count, inBuf, out}, pBuf, &ws);
+    mlp.recordBackward(rec, {count, inBuf, out}, pBuf, {dOutBuf, grads, gpu::BufferRange(dIn)}, ws);
   });
   auto gOut = out.download<float>(count * 4), gGrads = grads.download<float>(params.size()), gIn = dIn.download<float>(in.size());
 

@@ -114,7 +114,9 @@ TEST_F(RowLimit, NerfMlpForwardInChunks) {
       auto dir = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * mlp.dirStride(), 5));
       expectLimited(ctx(), 4,
                     [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
-                      mlp.recordForward(rec, kRows, params, pos, dir, out, keep ? &ws : nullptr, limit);
+                      nerf::NerfRows rows{kRows, pos, dir, out};
+                      if (limit) rows.rowLimit = *limit;
+                      mlp.recordForward(rec, rows, params, keep ? &ws : nullptr);
                     },
                     {0, 1, 100, 256, 257, 700, kRows, kRows + 1});
     }

@@ -63,16 +63,17 @@ TEST_F(RowLimitBackward, NerfMlpEqualsTheBackwardOverTheTotal) {
     auto dOut = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * 4, 6));
     gpu::Buffer out(ctx(), VkDeviceSize(kRows) * 16);
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      mlp.recordForward(rec, kRows, params, pos, dir, out, &ws);
+      mlp.recordForward(rec, {kRows, pos, dir, out}, params, &ws);
     });
     // Backward over `rows` rows, cut to `limit` on the device when given: (grads, dPos).
     auto backward = [&](uint32_t rows, const uint32_t* limit) {
       auto grads = gpu::Buffer::zeros(ctx(), VkDeviceSize(mlp.parameterCount()) * 4);
       auto dPos = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * mlp.posStride(), kSentinel));
       auto word = gpu::Buffer::of(ctx(), std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
-      gpu::BufferRange limitWord(word, 0, 4), dPosRange(dPos);
+      nerf::NerfRows batch{rows, pos, dir, out};
+      if (limit) batch.rowLimit = gpu::BufferRange(word, 0, 4);
       test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-        mlp.recordBackward(rec, rows, params, pos, dir, out, dOut, grads, ws, &dPosRange, limit ? &limitWord : nullptr);
+        mlp.recordBackward(rec, batch, params, {dOut, grads, gpu::BufferRange(dPos)}, ws);
       });
       return std::make_pair(grads.download<float>(), dPos.download<float>());
     };
@@ -167,11 +168,13 @@ TEST_F(RowLimitBackward, NerfMlpGatheredEqualsTheBackwardOfThePackedRows) {
       auto dPos = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * P, kSentinel));
       auto word = gpu::Buffer::of(ctx(), std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
       auto rowsBuf = gpu::Buffer::of(ctx(), gather ? *gather : std::vector<uint32_t>(4));
-      gpu::BufferRange limitWord(word, 0, 4), dPosRange(dPos), gatherRange(rowsBuf);
+      nerf::NerfRows batch{count, pos, dir, out};
+      if (limit) batch.rowLimit = gpu::BufferRange(word, 0, 4);
+      nerf::NerfGradients gradients{dOut, grads, gpu::BufferRange(dPos)};
+      if (gather) gradients.rowGather = gpu::BufferRange(rowsBuf);
       test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-        mlp.recordForward(rec, rows, params, pos, dir, out, &ws);
-        mlp.recordBackward(rec, count, params, pos, dir, out, dOut, grads, ws, &dPosRange, limit ? &limitWord : nullptr,
-                           gather ? &gatherRange : nullptr);
+        mlp.recordForward(rec, {rows, pos, dir, out}, params, &ws);
+        mlp.recordBackward(rec, batch, params, gradients, ws);
       });
       return std::make_pair(grads.download<float>(), dPos.download<float>());
     };
@@ -194,9 +197,9 @@ TEST_F(RowLimitBackward, NerfMlpGatheredBackwardOverOneChunkIsAnError) {
   nerf::NerfMlp::Workspace ws(ctx(), mlp, 300);
   auto params = gpu::Buffer::of(ctx(), mlp.initialParameters());
   auto rows = gpu::Buffer::zeros(ctx(), 300 * 64), grads = gpu::Buffer::zeros(ctx(), mlp.parameterCount() * 4);
-  gpu::BufferRange gather(rows);
+  nerf::NerfGradients gradients{rows, grads};
+  gradients.rowGather = gpu::BufferRange(rows);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    EXPECT_THROW(mlp.recordBackward(rec, 300, params, rows, rows, rows, rows, grads, ws, nullptr, nullptr, &gather),
-                 Error);
+    EXPECT_THROW(mlp.recordBackward(rec, {300, rows, rows, rows}, params, gradients, ws), Error);
   });
 }

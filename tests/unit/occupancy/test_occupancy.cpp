@@ -41,7 +41,7 @@ void runUpdate(Context& ctx, nerf::OccupancyGrid& grid, const std::vector<uint32
   auto cellBuf = gpu::Buffer::of(ctx, cells.empty() ? std::vector<uint32_t>{0} : cells);
   auto denBuf = gpu::Buffer::of(ctx, density.empty() ? std::vector<float>{0} : density);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    grid.recordUpdate(rec, cellBuf, denBuf, uint32_t(cells.size()), decay, threshold);
+    grid.recordUpdate(rec, {cellBuf, denBuf, uint32_t(cells.size())}, {decay, threshold});
   });
 }
 
@@ -189,9 +189,9 @@ TEST_F(Occupancy, RejectsBadArguments) {
   gpu::Buffer small(ctx(), 16);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(grid.recordUpdate(rec, small, small, 4, 1.5f, 0.1f), Error);
-  EXPECT_THROW(grid.recordUpdate(rec, small, small, 4, 0.9f, -1.0f), Error);
-  EXPECT_THROW(grid.recordUpdate(rec, small, small, 5, 0.9f, 0.1f), Error);
+  EXPECT_THROW(grid.recordUpdate(rec, {small, small, 4}, {1.5f, 0.1f}), Error);
+  EXPECT_THROW(grid.recordUpdate(rec, {small, small, 4}, {0.9f, -1.0f}), Error);
+  EXPECT_THROW(grid.recordUpdate(rec, {small, small, 5}, {0.9f, 0.1f}), Error);
   EXPECT_THROW(grid.recordAllCellPoints(rec, 0, small, small), Error);
   rec.end();
   EXPECT_FLOAT_EQ(nerf::OccupancyGrid::densityThreshold(0.01f, 0.002f), 5.0f);
@@ -215,14 +215,14 @@ TEST_F(Occupancy, StridedDensityReadsTheChosenComponent) {
   auto cellBuf = gpu::Buffer::of(ctx(), cells);
   auto fieldBuf = gpu::Buffer::of(ctx(), field);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    four.recordUpdate(rec, cellBuf, fieldBuf, uint32_t(cells.size()), 0.5f, 1.2f, 4, 3);
+    four.recordUpdate(rec, {cellBuf, fieldBuf, uint32_t(cells.size()), 4, 3}, {0.5f, 1.2f});
   });
   EXPECT_EQ(one.density().download<float>(one.numCells()), four.density().download<float>(four.numCells()));
   EXPECT_EQ(one.bits().download<uint32_t>(one.numWords()), four.bits().download<uint32_t>(four.numWords()));
   EXPECT_GT(one.occupiedFraction(), 0.0f);
   EXPECT_LT(one.occupiedFraction(), 1.0f);
   gpu::Recorder rec(ctx());  // the component check throws before anything is recorded
-  EXPECT_THROW(four.recordUpdate(rec, cellBuf, fieldBuf, 4, 0.5f, 1.2f, 4, 4), Error);
+  EXPECT_THROW(four.recordUpdate(rec, {cellBuf, fieldBuf, 4, 4, 4}, {0.5f, 1.2f}), Error);
 }
 
 // The threshold cap of a young field: the grid's mean density, computed on the device, against the
@@ -247,7 +247,7 @@ TEST_F(Occupancy, DeviceMeanDensityCapsTheThreshold) {
   auto cellBuf = gpu::Buffer::of(ctx(), cells);
   auto denBuf = gpu::Buffer::of(ctx(), measured);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    grid.recordUpdate(rec, cellBuf, denBuf, uint32_t(cells.size()), 1.0f, threshold, 1, 0, true);
+    grid.recordUpdate(rec, {cellBuf, denBuf, uint32_t(cells.size()), 1, 0}, {1.0f, threshold, true});
   });
   const float deviceMean = grid.meanDensity().download<float>(1)[0];
   EXPECT_NEAR(deviceMean, mean, 1e-5 * mean);

@@ -72,7 +72,7 @@ TEST_F(OccupancyUnseen, UnseenCellsStayEmptyThroughUpdates) {
   gpu::Buffer cellBuf = gpu::Buffer::of(ctx(), cells);
   gpu::Buffer dense = gpu::Buffer::of(ctx(), std::vector<float>(grid.numCells(), 100.0f));
   for (int u = 0; u < 3; ++u)
-    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { grid.recordUpdate(rec, cellBuf, dense, grid.numCells(), 0.95f, 0.01f); });
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { grid.recordUpdate(rec, {cellBuf, dense, grid.numCells()}, {0.95f, 0.01f}); });
   const auto after = grid.density().download<float>(grid.numCells());
   const auto bits = grid.bits().download<uint32_t>(grid.numWords());
   uint32_t unseen = 0;

@@ -173,7 +173,7 @@ class LensRays : public test::GpuTest {
     gpu::Buffer rays(ctx(), count * nerf::kRayBytes), ids(ctx(), count * nerf::kPixelIdBytes);
     nerf::RayGeneration gen(ctx());
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      gen.recordImage(rec, count, camBuf, 0, 0, Aabb{}, 0, rays, ids);
+      gen.recordImage(rec, camBuf, {0, 0, count}, {Aabb{}, 0}, {rays, ids});
     });
     return rays.download<float>(count * 8);
   }

@@ -32,9 +32,9 @@ GpuRays runRays(Context& ctx, const std::vector<Camera>& cams, bool random, uint
   nerf::RayGeneration gen(ctx);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     if (random)
-      gen.recordRandom(rec, count, camBuf, uint32_t(cams.size()), seed, box, nearPlane, rays, ids);
+      gen.recordRandom(rec, camBuf, {uint32_t(cams.size()), seed, count}, {box, nearPlane}, {rays, ids});
     else
-      gen.recordImage(rec, count, camBuf, cam, first, box, nearPlane, rays, ids);
+      gen.recordImage(rec, camBuf, {cam, first, count}, {box, nearPlane}, {rays, ids});
   });
   return {rays.download<float>(count * 8), ids.download<uint32_t>(count * 2)};
 }

@@ -101,15 +101,14 @@ GpuResult runGpu(Context& ctx, const Batch& b, const Distortion& distortion = {}
   depth.upload(nan.data(), rays * 4);
 
   nerf::Compositor comp(ctx);
-  const gpu::BufferRange bgRange(bgBuf);
-  const gpu::BufferRange* perRay = b.perRayBg.empty() ? nullptr : &bgRange;
-  gpu::BufferRange off = b.samplesPerRay ? gpu::BufferRange() : gpu::BufferRange(offsets);
+  nerf::CompositeInputs in{rays, b.samplesPerRay, b.samplesPerRay ? gpu::BufferRange() : gpu::BufferRange(offsets),
+                           sampleBuf, fieldBuf, b.bg};
+  if (!b.perRayBg.empty()) in.perRayBackground = gpu::BufferRange(bgBuf);
   const nerf::DistortionLoss loss{float(distortion.weight), float(distortion.spacing.coneAngle),
                                   float(distortion.spacing.dtMin), float(distortion.spacing.dtMax), rayBuf};
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    comp.recordForward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, color, depth, weights);
-    comp.recordBackward(rec, rays, b.samplesPerRay, off, sampleBuf, fieldBuf, b.bg, perRay, dColor, dDepth, dField,
-                        nerf::Compositor::kNoTermination, &loss);
+    comp.recordForward(rec, in, {color, depth, weights});
+    comp.recordBackward(rec, in, {dColor, dDepth, dField, loss});
   });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(samples),
           dField.download<float>(4 * samples)};

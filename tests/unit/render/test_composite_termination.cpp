@@ -93,13 +93,13 @@ Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth, flo
   auto rayBuf = gpu::Buffer::of(ctx, rayData);
   const nerf::DistortionLoss distortion{distortionWeight, 1.0f / 64, 0.01f, 0.08f, rayBuf};
   nerf::Compositor comp(ctx);
-  const gpu::BufferRange perRay(bg), keptRange(kept);
+  const nerf::CompositeInputs in{rays, 0, offsets, samples, field, {0, 0, 0}, gpu::BufferRange(bg), maxOpticalDepth};
   const bool terminate = maxOpticalDepth < nerf::Compositor::kNoTermination;
+  nerf::CompositeOutputs out{color, depth, weights};
+  if (terminate) out.keptCounts = gpu::BufferRange(kept);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    comp.recordForward(rec, rays, 0, offsets, samples, field, {0, 0, 0}, &perRay, color, depth, weights,
-                       maxOpticalDepth, terminate ? &keptRange : nullptr);
-    comp.recordBackward(rec, rays, 0, offsets, samples, field, {0, 0, 0}, &perRay, dColor, dDepth, dField,
-                        maxOpticalDepth, &distortion);
+    comp.recordForward(rec, in, out);
+    comp.recordBackward(rec, in, {dColor, dDepth, dField, distortion});
   });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(n),
           dField.download<float>(4 * n), terminate ? kept.download<uint32_t>(rays) : std::vector<uint32_t>{}};

@@ -61,8 +61,8 @@ TEST_F(SegmentAccumulatorTest, PutsEachSegmentBehindTheLastAndEndsRaysAsTheRefer
       rec.copy(segColorBuf, acc.segmentColor(), VkDeviceSize(kRays) * 16);
       rec.copy(segDepthBuf, acc.segmentDepth(), VkDeviceSize(kRays) * 4);
       acc.recordResetCounts(rec);
-      acc.record(rec, kRays, {kCap, first, last, kMinTransmittance}, raysBuf, offsetsBuf, samplesBuf, bgBuf, color,
-                 depth);
+      acc.record(rec, {kCap, first, last, kMinTransmittance}, {raysBuf, kRays},
+                 {.offsets = offsetsBuf, .samples = samplesBuf}, {bgBuf, color, depth});
     });
     uint32_t wantLive = 0, wantSamples = 0;
     for (uint32_t r = 0; r < kRays; ++r) {
@@ -109,7 +109,7 @@ TEST_F(SegmentAccumulatorTest, RejectsMoreRaysThanItWasBuiltForAndAZeroCap) {
   gpu::Buffer big(ctx(), 1 << 16);
   auto attempt = [&](uint32_t rays, uint32_t cap) {
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      acc.record(rec, rays, {cap, true, false, kMinTransmittance}, big, big, big, big, big, big);
+      acc.record(rec, {cap, true, false, kMinTransmittance}, {big, rays}, {big, big, big, big}, {big, big, big});
     });
   };
   EXPECT_THROW(attempt(65, 8), Error);

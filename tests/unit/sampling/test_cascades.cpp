@@ -66,7 +66,8 @@ MarchOut runMarch(Context& ctx, const std::vector<TestRay>& rays, const nerf::Oc
   gpu::Buffer offsets(ctx, (n + 1) * 4), samples(ctx, capacity * 8), sampleRay(ctx, capacity * 4), totals(ctx, 16);
   nerf::RayMarcher marcher(ctx, n);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    marcher.record(rec, n, rayBuf, grid, box, dt, maxSamples, seed, jitter, offsets, samples, sampleRay, totals, cone);
+    marcher.record(rec, {rayBuf, n}, grid, box, {dt, maxSamples, seed, jitter, cone},
+                   {offsets, samples, sampleRay, totals});
   });
   MarchOut out{offsets.download<uint32_t>(n + 1), {}};
   out.samples = samples.download<float>(size_t(out.offsets[n]) * 2);

@@ -53,7 +53,8 @@ TEST_F(MarchCut, KeepsTheWholeRaysAndEmptiesTheRest) {
       auto totals = gpu::Buffer::of(ctx(), std::vector<uint32_t>{before.back(), 7, 7, 7});
       auto whole = gpu::Buffer::of(ctx(), std::vector<uint32_t>{12345u, 0, 0, 0});
       test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-        layout.recordCutToWholeRays(rec, c.rays, c.capacity, kAlign, offsets, totals, gpu::BufferRange(whole, 0, 4));
+        layout.recordCutToWholeRays(rec, {c.rays, c.capacity, kAlign}, {.offsets = offsets, .totals = totals},
+                                    gpu::BufferRange(whole, 0, 4));
       });
       const auto [rays, samples] = expectedCut(before, c.capacity);
       EXPECT_EQ(whole.download<uint32_t>(1)[0], rays);

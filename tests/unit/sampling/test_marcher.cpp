@@ -80,7 +80,8 @@ MarchOut runMarch(Context& ctx, const std::vector<TestRay>& rays, nerf::Occupanc
   gpu::Buffer offsets(ctx, (n + 1) * 4), samples(ctx, capacity * 8), sampleRay(ctx, capacity * 4), totals(ctx, 16);
   nerf::RayMarcher marcher(ctx, std::max(n, 1u));
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    marcher.record(rec, n, rayBuf, grid, box, dt, maxSamples, seed, jitter, offsets, samples, sampleRay, totals);
+    marcher.record(rec, {rayBuf, n}, grid, box, {dt, maxSamples, seed, jitter},
+                   {offsets, samples, sampleRay, totals});
   });
   MarchOut out{offsets.download<uint32_t>(n + 1), {}, totals.download<uint32_t>(4), {}};
   uint32_t total = out.offsets[n];
@@ -408,17 +409,15 @@ TEST_F(Marcher, RejectsBadArguments) {
   gpu::Buffer rays(ctx(), 11 * 32), offsets(ctx(), 12 * 4), samples(ctx(), 64), sampleRay(ctx(), 64), totals(ctx(), 16);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(marcher.record(rec, 11, rays, grid, box, 0.01f, 8, 0, false, offsets, samples, sampleRay, totals),
-               Error);
-  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, 0.0f, 8, 0, false, offsets, samples, sampleRay, totals), Error);
-  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, NAN, 8, 0, false, offsets, samples, sampleRay, totals), Error);
-  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, 0.01f, 0, 0, false, offsets, samples, sampleRay, totals),
-               Error);
+  const nerf::PackedSamples out{offsets, samples, sampleRay, totals};
+  EXPECT_THROW(marcher.record(rec, {rays, 11}, grid, box, {0.01f, 8, 0, false}, out), Error);
+  EXPECT_THROW(marcher.record(rec, {rays, 10}, grid, box, {0.0f, 8, 0, false}, out), Error);
+  EXPECT_THROW(marcher.record(rec, {rays, 10}, grid, box, {NAN, 8, 0, false}, out), Error);
+  EXPECT_THROW(marcher.record(rec, {rays, 10}, grid, box, {0.01f, 0, 0, false}, out), Error);
   Aabb flat{{0, 0, 0}, {1, 0, 1}};
-  EXPECT_THROW(marcher.record(rec, 10, rays, grid, flat, 0.01f, 8, 0, false, offsets, samples, sampleRay, totals),
-               Error);
+  EXPECT_THROW(marcher.record(rec, {rays, 10}, grid, flat, {0.01f, 8, 0, false}, out), Error);
   gpu::Buffer shortOffsets(ctx(), 40);
-  EXPECT_THROW(marcher.record(rec, 10, rays, grid, box, 0.01f, 8, 0, false, shortOffsets, samples, sampleRay, totals),
+  EXPECT_THROW(marcher.record(rec, {rays, 10}, grid, box, {0.01f, 8, 0, false}, {shortOffsets, samples, sampleRay, totals}),
                Error);
   rec.end();
 }
@@ -438,8 +437,8 @@ void packedPointsFollowSampleRays(Context& ctx, uint32_t chunkRows) {
   nerf::RayMarcher marcher(ctx, n);
   nerf::PackedSamplePoints points(ctx, chunkRows);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    marcher.record(rec, n, rayBuf, grid, box, 0.02f, 256, 8, true, offsets, samples, sampleRay, totals);
-    points.record(rec, capacity, rayBuf, samples, sampleRay, totals, box, positions, directions);
+    marcher.record(rec, {rayBuf, n}, grid, box, {0.02f, 256, 8, true}, {offsets, samples, sampleRay, totals});
+    points.record(rec, capacity, rayBuf, {offsets, samples, sampleRay, totals}, box, {positions, directions});
   });
   uint32_t total = totals.download<uint32_t>(1)[0];
   ASSERT_GT(total, 1000u);

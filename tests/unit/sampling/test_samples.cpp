@@ -38,7 +38,7 @@ std::vector<float> runStratified(Context& ctx, const std::vector<std::pair<float
   gpu::Buffer samples(ctx, std::max<VkDeviceSize>(numRays * n * nerf::kSampleBytes, 16));
   nerf::StratifiedSampler sampler(ctx);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    sampler.record(rec, numRays, rays, n, seed, jitter, samples);
+    sampler.record(rec, {rays, numRays}, n, {seed, jitter}, samples);
   });
   return samples.download<float>(size_t(numRays) * n * 2);
 }
@@ -69,7 +69,8 @@ std::vector<float> runPdf(Context& ctx, const PdfCase& c) {
   gpu::Buffer merged(ctx, std::max<VkDeviceSize>(numRays * nOut * nerf::kSampleBytes, 16));
   nerf::PdfSampler sampler(ctx);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    sampler.record(rec, numRays, rays, coarseBuf, weightBuf, c.nCoarse, c.nFine, c.seed, c.jitter, c.padding, merged);
+    sampler.record(rec, {rays, numRays}, {coarseBuf, weightBuf, c.nCoarse}, {c.nFine, {c.seed, c.jitter}, c.padding},
+                   merged);
   });
   return merged.download<float>(size_t(numRays) * nOut * 2);
 }
@@ -215,8 +216,8 @@ TEST_F(SamplesStratified, EmptyBatchAndUndersizedBuffers) {
   nerf::StratifiedSampler sampler(ctx());
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(sampler.record(rec, 2, rays, 64, 0, true, small), Error);
-  EXPECT_THROW(sampler.record(rec, 3, rays, 1, 0, true, small), Error);  // 3 rays, buffer of 2
+  EXPECT_THROW(sampler.record(rec, {rays, 2}, 64, {0, true}, small), Error);
+  EXPECT_THROW(sampler.record(rec, {rays, 3}, 1, {0, true}, small), Error);  // 3 rays, buffer of 2
   rec.end();
 }
 
@@ -509,9 +510,9 @@ TEST_F(SamplesPdf, RejectsUndersizedBuffersAndBadPadding) {
   nerf::PdfSampler sampler(ctx());
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 64, 129, 0, true, 0, merged), Error);
-  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 65, 127, 0, true, 0, merged), Error);
-  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 64, 128, 0, true, -1e-5f, merged), Error);
-  EXPECT_THROW(sampler.record(rec, 2, rays, coarse, weights, 64, 128, 0, true, std::nanf(""), merged), Error);
+  EXPECT_THROW(sampler.record(rec, {rays, 2}, {coarse, weights, 64}, {129, {0, true}, 0}, merged), Error);
+  EXPECT_THROW(sampler.record(rec, {rays, 2}, {coarse, weights, 65}, {127, {0, true}, 0}, merged), Error);
+  EXPECT_THROW(sampler.record(rec, {rays, 2}, {coarse, weights, 64}, {128, {0, true}, -1e-5f}, merged), Error);
+  EXPECT_THROW(sampler.record(rec, {rays, 2}, {coarse, weights, 64}, {128, {0, true}, std::nanf("")}, merged), Error);
   rec.end();
 }

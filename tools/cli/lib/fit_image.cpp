@@ -65,9 +65,9 @@ FitImageResult fitImage(Context& ctx, const std::vector<uint32_t>& rgba8, uint32
 
   for (uint32_t step = 1; step <= config.steps; ++step) {
     rec.begin();
-    mlp.recordForward(rec, n, params, features, out, &ws);
-    loss.record(rec, n, out, pixelIds, images, cameras, background, dOut, partials);
-    mlp.recordBackward(rec, n, params, features, out, dOut, grads, ws);
+    mlp.recordForward(rec, {n, features, out}, params, &ws);
+    loss.record(rec, {n, out, pixelIds, background}, images, cameras, {dOut, partials});
+    mlp.recordBackward(rec, {n, features, out}, params, {dOut, grads}, ws);
     adam.record(rec, uint32_t(mlp.parameterCount()), params, grads, m, v, step, adam.config().learningRate(step - 1));
     rec.end();
     rec.submitAndWait();
@@ -76,7 +76,7 @@ FitImageResult fitImage(Context& ctx, const std::vector<uint32_t>& rgba8, uint32
   }
 
   rec.begin();
-  mlp.recordForward(rec, n, params, features, out, nullptr);
+  mlp.recordForward(rec, {n, features, out}, params, nullptr);
   rec.end();
   rec.submitAndWait();
   auto pred = out.download<float>(size_t(n) * 4);

@@ -78,16 +78,16 @@ SelfCheckResult selfCheck(Context& ctx, uint32_t size, uint32_t nc, uint32_t nf)
 
   gpu::Recorder rec(ctx, true);
   rec.begin();
-  rayGen.recordImage(rec, R, camBuf, 0, 0, box, kNear, rays, ids);
-  stratified.record(rec, R, rays, nc, 0, false, coarse);
+  rayGen.recordImage(rec, camBuf, {0, 0, R}, {box, kNear}, {rays, ids});
+  stratified.record(rec, {rays, R}, nc, {0, false}, coarse);
   auto shade = [&](const gpu::Buffer& samples, uint32_t spr) {
     const uint32_t n = R * spr;
     points.record(rec, R, rays, samples, spr, box, pos, dir);
     rec.dispatch(analytic, {pos, field}, n, gpu::groupsFor(n, 64), 1, 1, "field_analytic");
-    compositor.recordForward(rec, R, spr, noOffsets, samples, field, kBackground, nullptr, color, depth, weights);
+    compositor.recordForward(rec, {R, spr, noOffsets, samples, field, kBackground}, {color, depth, weights});
   };
   shade(coarse, nc);
-  pdf.record(rec, R, rays, coarse, weights, nc, nf, 1, false, kPadding, fine);
+  pdf.record(rec, {rays, R}, {coarse, weights, nc}, {nf, {1, false}, kPadding}, fine);
   shade(fine, nAll);
   rec.end();
   rec.submitAndWait();

@@ -3,7 +3,7 @@
 
 Scans the comments of C++, C and GLSL files and the whole text of scripts, CMake files and
 Markdown under the folders below for path-like citations (`src/io/file/json_file.cpp`,
-`io/image/image_io.h`, `shaders/render/composite.glsl`, `vknerf/config.h`, `tools/dev/`), and
+`io/image/jpeg_decode.h`, `shaders/render/composite.glsl`, `vknerf/config.h`, `tools/dev/`), and
 resolves each against the repository root and the folders that code names paths from (src/,
 include/, shaders/, tools/, tests/, tools/cli/). A word is taken for a citation when its first
 folder is a top-level folder of the repository, when it names a source file (.h .cpp .comp .py

@@ -10,7 +10,7 @@ namespace vknerf::process {
 // in `folder`, sorted by name. Throws vknerf::Error when the folder cannot be listed.
 std::vector<std::filesystem::path> listImages(const std::filesystem::path& folder);
 
-// Decodes each of `images` as vknerf reads photos (io/image/image_io.h: PNG through stb_image, JPEG
+// Decodes each of `images` as vknerf reads photos (vknerf/image_io.h: PNG through stb_image, JPEG
 // through libjpeg-turbo, which refuses a truncated file). Throws vknerf::Error naming the ones it
 // refuses and why (the first few, and how many in all) and `folder`: COLMAP would skip them with a
 // line in its log, or stop with a stack trace, minutes later.

@@ -1,4 +1,4 @@
-// CPU twin: tools/cli/lib/field_analytic_reference.h.
+// CPU twin: tools/cli/kernels/field_analytic_reference.h.
 #ifndef VKNERF_FIELD_ANALYTIC_GLSL
 #define VKNERF_FIELD_ANALYTIC_GLSL
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "support/gpu_test.h"
-#include "lib/fit_image.h"
+#include "kernels/fit_image.h"
 
 using namespace vknerf;
 

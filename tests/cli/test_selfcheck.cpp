@@ -1,6 +1,6 @@
 // The rendering kernels chained on an analytic field, against the double CPU reference.
 #include "support/gpu_test.h"
-#include "lib/selfcheck.h"
+#include "kernels/selfcheck.h"
 
 using namespace vknerf;
 

@@ -15,7 +15,7 @@
 #include "command_files.h"
 #include "command.h"
 #include "vknerf/image_io.h"
-#include "lib/fit_image.h"
+#include "kernels/fit_image.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 

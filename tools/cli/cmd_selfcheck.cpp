@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "command.h"
-#include "lib/selfcheck.h"
+#include "kernels/selfcheck.h"
 
 namespace vknerf::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "lib/selfcheck.h"
+#include "kernels/selfcheck.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/samplers.h"
 #include "reference/render/composite.h"
-#include "lib/field_analytic_reference.h"
+#include "kernels/field_analytic_reference.h"
 #include "reference/rays/rays.h"
 #include "reference/sampling/samplers.h"
 

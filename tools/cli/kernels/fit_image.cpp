@@ -1,4 +1,4 @@
-#include "lib/fit_image.h"
+#include "kernels/fit_image.h"
 
 #include <string>
 

@@ -178,8 +178,8 @@ void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool kee
   const PackedSamples batch = marched_.view();
   points_.record(rec, count, rays.range, batch, box_, {f.positions, f.directions});
   const gpu::BufferRange total = batch.total();
-  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0, &total);
-  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, &total);
+  hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0, total}, table_.params());
+  sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, total});
   NerfRows rows = f.mlpRows(count);
   rows.rowLimit = total;
   mlp_.recordForward(rec, rows, network_.params(), keep ? f.workspace.get() : nullptr);
@@ -240,8 +240,8 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
 }
 
 void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count) {
-  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0);
-  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0);
+  hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0}, table_.params());
+  sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0});
   mlp_.recordForward(rec, f.mlpRows(count), network_.params(), nullptr);
 }
 
@@ -262,7 +262,7 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   // (nothing would be sampled, and nothing learnt).
   const float threshold = OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
   // The density alone: the colour branch would cost more than the trunk and is not looked at.
-  hash_.recordForward(rec, count, occPositions_, table_.params(), occFeatures_, mlp_.posStride(), 0);
+  hash_.recordForward(rec, {count, occPositions_, occFeatures_, mlp_.posStride(), 0}, table_.params());
   mlp_.recordDensity(rec, count, network_.params(), occFeatures_, occDensity_);
   grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {kOccupancyDecay, threshold, true});
 }
@@ -337,7 +337,7 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
   NerfRows rows = field_.mlpRows(sampleCapacity_);
   rows.rowLimit = limit;
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
-  hash_.recordBackward(rec, sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, table_.grads(), &limit);
+  hash_.recordBackward(rec, {sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit}, table_.grads());
 }
 
 FieldPipeline::StepSize FastPipeline::countTrainingStep() {

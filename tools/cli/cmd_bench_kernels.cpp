@@ -82,7 +82,7 @@ int run(const Options& o, Context& ctx) {
     compositor.recordForward(rec, {R, nAll, noOffsets, fine, field, {1, 1, 1}, bgr}, {color, depth, weights});
     loss.record(rec, {R, color, ids, bg}, images, camBuf, {dColor, partials});
     compositor.recordBackward(rec, {R, nAll, noOffsets, fine, field, {1, 1, 1}, bgr}, {dColor, dDepth, dField});
-    adam.record(rec, o.params, params, grads, m, v, rep + 1, 1e-3f);
+    adam.record(rec, {o.params, params, grads, m, v}, rep + 1, 1e-3f);
     rec.end();
     rec.submitAndWait();
     if (rep == 0) continue;  // the first run includes pipeline compilation

@@ -75,7 +75,7 @@ void VanillaPipeline::recordQuery(gpu::Recorder& rec, uint32_t count) {
 void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, uint32_t numRays, bool keep) {
   const uint32_t n = numRays * l.samplesPerRay;
   FieldBatch& f = l.field;
-  points_.record(rec, numRays, rays_.rays(), l.samples, l.samplesPerRay, box_, f.positions, f.directions);
+  points_.record(rec, {rays_.rays(), numRays}, l.samples, l.samplesPerRay, box_, {f.positions, f.directions});
   recordNetwork(rec, f, net, n, keep);
   compositor_.recordForward(rec, compositeInputs(l, numRays), {l.color, l.depth, l.weights});
 }

@@ -192,12 +192,12 @@ CompositeInputs FastPipeline::compositeInputs(uint32_t first, uint32_t count, co
   return in;
 }
 
-void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                                  uint32_t count, const std::array<float, 3>& background, bool mayWait) {
+void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) {
+  const uint32_t count = view.count;
   if (count > rayCapacity_)
     throw Error("fast model: render block of " + std::to_string(count) + " rays over capacity " + std::to_string(rayCapacity_));
   if (count == 0) return;
-  rays_.recordView(rec, cameras, camera, first, count, box_, background);
+  rays_.recordView(rec, view, box_);
   if (farField_) farField_->recordForward(rec, count, rays_.rays(), rays_.background(), false);
   // A tile marched in segments, each ray stopped where it has turned opaque (SegmentAccumulator).
   // The first segment gives every ray kFirstSegment samples. Recorded into a caller's command buffer

@@ -32,7 +32,7 @@ RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(ui
   for (uint32_t first = 0; first < total; first += cap) {
     const uint32_t n = std::min(cap, total - first);
     rec.begin();
-    pipe->recordRender(rec, camBuf, 0, first, n, config.background, true);
+    pipe->recordRender(rec, {camBuf, 0, first, n, config.background}, true);
     rec.end();
     rec.submitAndWait();
     auto color = pipe->color().download<float>(size_t(n) * 4);

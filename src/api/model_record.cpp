@@ -42,7 +42,7 @@ void Model::recordRender(VkCommandBuffer cmd, const Camera& camera, const Render
   const uint32_t total = camera.width * camera.height, cap = m.pipe->rayCapacity();
   for (uint32_t first = 0; first < total; first += cap) {
     const uint32_t n = std::min(cap, total - first);
-    m.pipe->recordRender(rec, rs.camera, 0, first, n, m.config.background, /*mayWait=*/false);
+    m.pipe->recordRender(rec, {rs.camera, 0, first, n, m.config.background}, /*mayWait=*/false);
     rs.writer.record(rec, bound, first, n);
   }
 }

@@ -39,13 +39,14 @@ void PrefixSum::record(Recorder& rec, const BufferRange& input, uint32_t inputCo
     throw Error("PrefixSum: " + std::to_string(outputCount) + " outputs exceed the capacity " + std::to_string(maxCount_));
   requireBytes("PrefixSum", "input", input, uint64_t(inputCount) * 4);
   requireBytes("PrefixSum", "output", output, uint64_t(outputCount) * 4);
-  recordLevel(rec, input, inputCount, output, outputCount, clampTo, 0);
+  recordLevel(rec, {input, inputCount, output, outputCount}, clampTo, 0);
 }
 
 // One block: scanned and clamped in place. More: block totals, their scan (recursively), and the
 // scanned totals added back, clamping only there, where the sums are final.
-void PrefixSum::recordLevel(Recorder& rec, const BufferRange& input, uint32_t inputCount, const BufferRange& output,
-                            uint32_t outputCount, uint32_t clampTo, size_t level) {
+void PrefixSum::recordLevel(Recorder& rec, const Pass& pass, uint32_t clampTo, size_t level) {
+  const BufferRange &input = pass.input, &output = pass.output;
+  const uint32_t inputCount = pass.inputCount, outputCount = pass.outputCount;
   uint32_t blocks = blocksFor(outputCount);
   if (blocks <= 1) {
     BlocksPush p{inputCount, outputCount, clampTo, 0};
@@ -54,7 +55,7 @@ void PrefixSum::recordLevel(Recorder& rec, const BufferRange& input, uint32_t in
   }
   BlocksPush p{inputCount, outputCount, 0xffffffffu, 1};
   rec.dispatch(blocks_, {input, output, blockSums_[level]}, p, blocks, 1, 1, "scan_blocks");
-  recordLevel(rec, blockSums_[level], blocks, blockOffsets_[level], blocks, 0xffffffffu, level + 1);
+  recordLevel(rec, {blockSums_[level], blocks, blockOffsets_[level], blocks}, 0xffffffffu, level + 1);
   AddPush a{outputCount, clampTo};
   rec.dispatch(add_, {output, blockOffsets_[level]}, a, groupsFor(outputCount, kAddLocal), 1, 1, "scan_add");
 }

@@ -21,8 +21,14 @@ class PrefixSum {
   uint32_t maxCount() const { return maxCount_; }
 
  private:
-  void recordLevel(Recorder& rec, const BufferRange& input, uint32_t inputCount, const BufferRange& output,
-                   uint32_t outputCount, uint32_t clampTo, size_t level);
+  // What one level scans: inputCount uints of input into outputCount uints of output.
+  struct Pass {
+    BufferRange input;
+    uint32_t inputCount = 0;
+    BufferRange output;
+    uint32_t outputCount = 0;
+  };
+  void recordLevel(Recorder& rec, const Pass& pass, uint32_t clampTo, size_t level);
   uint32_t maxCount_;
   std::vector<Buffer> blockSums_, blockOffsets_;  // one pair per level above the first
   Buffer dummy_;

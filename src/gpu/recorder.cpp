@@ -70,19 +70,22 @@ VkDescriptorSet Recorder::cachedSet(Kernel& k, std::span<const BufferRange> bind
   return k.descriptorSet(bindings);
 }
 
-void Recorder::recordKernel(Kernel& k, std::span<const BufferRange> bindings, VkDescriptorSet set, const void* push,
-                            uint32_t pushBytes, const char* label, bool indirect, const std::function<void()>& issue) {
+void Recorder::recordKernel(const BoundKernel& bound, bool indirect, const std::function<void()>& issue) {
+  Kernel& k = bound.kernel;
+  const VkDescriptorSet set = bound.set;
+  const uint32_t pushBytes = bound.pushBytes;
+  const char* label = bound.label;
   if (pushBytes != k.desc().pushConstantBytes)
     throw Error(std::string("kernel ") + k.desc().shader.name + " expects " + std::to_string(k.desc().pushConstantBytes) +
                 " bytes of push constants, got " + std::to_string(pushBytes));
-  if (owned_) device(ctx_).compiler().dispatching(k, bindings);
+  if (owned_) device(ctx_).compiler().dispatching(k, bound.bindings);
   barrierIfNeeded(indirect);
   bool timed = queries_ && label && labels_.size() < maxTimestamps_;
   uint32_t q = uint32_t(labels_.size()) * 2;
   if (timed) vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, q);
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
   vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout(), 0, 1, &set, 0, nullptr);
-  if (pushBytes) vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, push);
+  if (pushBytes) vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, bound.push);
   issue();
   if (timed) {
     vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q + 1);
@@ -94,7 +97,7 @@ void Recorder::recordKernel(Kernel& k, std::span<const BufferRange> bindings, Vk
 void Recorder::dispatch(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes,
                         uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
-  recordKernel(k, bindings, cachedSet(k, bindings), push, pushBytes, label, false,
+  recordKernel({k, bindings, cachedSet(k, bindings), push, pushBytes, label}, false,
                [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
@@ -113,13 +116,13 @@ void Recorder::dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindin
 void Recorder::dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
                                uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;
-  recordKernel(k, {}, set, push, pushBytes, label, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
+  recordKernel({k, {}, set, push, pushBytes, label}, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
 void Recorder::dispatchIndirect(Kernel& k, std::span<const BufferRange> bindings, const void* push,
                                 uint32_t pushBytes, const Buffer& args, VkDeviceSize offset, const char* label) {
   if (offset % 4 || offset + 12 > args.size()) throw Error("dispatchIndirect: arguments lie outside the buffer");
-  recordKernel(k, bindings, cachedSet(k, bindings), push, pushBytes, label, true,
+  recordKernel({k, bindings, cachedSet(k, bindings), push, pushBytes, label}, true,
                [&] { vkCmdDispatchIndirect(cmd_, args.handle(), offset); });
 }
 

@@ -100,8 +100,17 @@ class Recorder {
 
  private:
   void barrierIfNeeded(bool indirectNext = false);
-  void recordKernel(Kernel& k, std::span<const BufferRange> bindings, VkDescriptorSet set, const void* push,
-                    uint32_t pushBytes, const char* label, bool indirect, const std::function<void()>& issue);
+  // A kernel as one command binds it: the descriptor set (made from `bindings`, which are empty
+  // when the caller made the set), the push constants and the timestamp label.
+  struct BoundKernel {
+    Kernel& kernel;
+    std::span<const BufferRange> bindings;
+    VkDescriptorSet set;
+    const void* push;
+    uint32_t pushBytes;
+    const char* label;
+  };
+  void recordKernel(const BoundKernel& bound, bool indirect, const std::function<void()>& issue);
   static VkDescriptorSet cachedSet(Kernel& k, std::span<const BufferRange> bindings);
   Context& ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;

@@ -49,21 +49,28 @@ struct TrainingData {
   bool transparentPixels = true;
 };
 
+// A block of one view to render, as one value: pixels [first, first + count) (row-major) of camera
+// `camera` in `cameras` (nerf::packCameras), over a constant `background`.
+struct ViewBlock {
+  gpu::BufferRange cameras;
+  uint32_t camera = 0, first = 0, count = 0;
+  std::array<float, 3> background{};
+};
+
 class FieldPipeline {
  public:
   virtual ~FieldPipeline() = default;
 
   virtual uint32_t rayCapacity() const = 0;
 
-  // Renders pixels [first, first + count) (row-major) of camera `camera` in `cameras`,
-  // count <= rayCapacity(). Afterwards color() holds vec4 (rgb over `background`, opacity) and depth()
+  // Renders `view` (a block of view.count <= rayCapacity() pixels). Afterwards color() holds vec4
+  // (rgb over view.background, opacity) and depth()
   // the float sum w_i t_i, per ray. mayWait: `rec` is the pipeline's own and it may end, submit and
   // re-begin it to size later work from counts on the device; false: everything is recorded into
   // `rec` (a caller's command buffer) and nothing is submitted.
-  void recordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                    uint32_t count, const std::array<float, 3>& background, bool mayWait) {
+  void recordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) {
     gpu::MemoryAccount::Scope charge(memory_);
-    doRecordRender(rec, cameras, camera, first, count, background, mayWait);
+    doRecordRender(rec, view, mayWait);
   }
   virtual const gpu::Buffer& color() const = 0;
   virtual const gpu::Buffer& depth() const = 0;
@@ -116,8 +123,7 @@ class FieldPipeline {
                                                            : std::make_shared<gpu::MemoryAccount>()) {}
 
  private:
-  virtual void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                              uint32_t count, const std::array<float, 3>& background, bool mayWait) = 0;
+  virtual void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) = 0;
   virtual StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) = 0;
   virtual ModelStatistics modelStatistics() = 0;
 

@@ -76,7 +76,7 @@ void LearnedFarField::recordForward(gpu::Recorder& rec, uint32_t count, const gp
   if (count == 0) return;
   rec.dispatch(directionsKernel_, {holding(rays, count, kRayBytes), gpu::BufferRange(directions_)}, CountPush{count},
                gpu::groupsFor(count, kLocal), 1, 1, "far_field_directions");
-  hash_.recordForward(rec, count, directions_, table_.params(), features_, net_.inputStride(), 0);
+  hash_.recordForward(rec, {count, directions_, features_, net_.inputStride(), 0}, table_.params());
   net_.recordForward(rec, {count, features_, holding(background, count, 16)}, mlp_.params(),
                      keep ? &*workspace_ : nullptr);
 }
@@ -89,7 +89,7 @@ void LearnedFarField::recordBackward(gpu::Recorder& rec, uint32_t count, const g
                CountPush{count}, gpu::groupsFor(count, kLocal), 1, 1, "far_field_gradient");
   net_.recordBackward(rec, {count, features_, holding(background, count, 16)}, mlp_.params(),
                       {dBackground_, mlp_.grads(), gpu::BufferRange(dFeatures_)}, *workspace_);
-  hash_.recordBackward(rec, count, directions_, dFeatures_, net_.inputStride(), 0, table_.grads());
+  hash_.recordBackward(rec, {count, directions_, dFeatures_, net_.inputStride(), 0}, table_.grads());
 }
 
 void LearnedFarField::recordOptimizerStep(gpu::Recorder& rec, uint32_t step) {

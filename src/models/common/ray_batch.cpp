@@ -42,10 +42,10 @@ void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint
     backgrounds_.recordConstant(rec, background_, count, config.background);
 }
 
-void RayBatch::recordView(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                          uint32_t count, const Aabb& box, const std::array<float, 3>& background) {
-  generation_.recordImage(rec, cameras, {camera, first, count}, {box, nearPlane_}, {rays_, pixelIds_});
-  backgrounds_.recordConstant(rec, background_, count, background);
+void RayBatch::recordView(gpu::Recorder& rec, const ViewBlock& view, const Aabb& box) {
+  generation_.recordImage(rec, view.cameras, {view.camera, view.first, view.count}, {box, nearPlane_},
+                          {rays_, pixelIds_});
+  backgrounds_.recordConstant(rec, background_, view.count, view.background);
 }
 
 }  // namespace vknerf::nerf

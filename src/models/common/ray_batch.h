@@ -29,9 +29,8 @@ class RayBatch {
   // alpha) instead of borrowing the background's colour. A learned far field overwrites these.
   void recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count, const Aabb& box,
                       const TrainConfig& config);
-  // Rays through pixels [first, first + count) of camera `camera`, over a constant background.
-  void recordView(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first, uint32_t count,
-                  const Aabb& box, const std::array<float, 3>& background);
+  // Rays through the pixels of `view`, clipped to `box`, over its constant background.
+  void recordView(gpu::Recorder& rec, const ViewBlock& view, const Aabb& box);
 
   uint32_t capacity() const { return capacity_; }
   gpu::Buffer& rays() { return rays_; }          // 2 x vec4 per ray (nerf::kRayBytes)

@@ -28,7 +28,7 @@ TrainableParameters::TrainableParameters(Context& ctx, std::string name, const s
 
 void TrainableParameters::recordOptimizerStep(gpu::Recorder& rec, uint32_t step) {
   // Adam counts steps from 1 (bias correction); the rate schedule from 0.
-  adam_->record(rec, uint32_t(count_), params_, grads_, m_, v_, step + 1, adam_->config().learningRate(step));
+  adam_->record(rec, {uint32_t(count_), params_, grads_, m_, v_}, step + 1, adam_->config().learningRate(step));
 }
 
 void TrainableParameters::appendState(std::vector<StateArray>& out) {

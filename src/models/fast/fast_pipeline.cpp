@@ -178,8 +178,8 @@ void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool kee
   const PackedSamples batch = marched_.view();
   points_.record(rec, count, rays.range, batch, box_, {f.positions, f.directions});
   const gpu::BufferRange total = batch.total();
-  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0, &total);
-  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, &total);
+  hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0, total}, table_.params());
+  sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, total});
   NerfRows rows = f.mlpRows(count);
   rows.rowLimit = total;
   mlp_.recordForward(rec, rows, network_.params(), keep ? f.workspace.get() : nullptr);
@@ -192,12 +192,12 @@ CompositeInputs FastPipeline::compositeInputs(uint32_t first, uint32_t count, co
   return in;
 }
 
-void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                                  uint32_t count, const std::array<float, 3>& background, bool mayWait) {
+void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) {
+  const uint32_t count = view.count;
   if (count > rayCapacity_)
     throw Error("fast model: render block of " + std::to_string(count) + " rays over capacity " + std::to_string(rayCapacity_));
   if (count == 0) return;
-  rays_.recordView(rec, cameras, camera, first, count, box_, background);
+  rays_.recordView(rec, view, box_);
   if (farField_) farField_->recordForward(rec, count, rays_.rays(), rays_.background(), false);
   // A tile marched in segments, each ray stopped where it has turned opaque (SegmentAccumulator).
   // The first segment gives every ray kFirstSegment samples. Recorded into a caller's command buffer
@@ -240,8 +240,8 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& ca
 }
 
 void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count) {
-  hash_.recordForward(rec, count, f.positions, table_.params(), f.posFeatures, mlp_.posStride(), 0);
-  sh_.recordForward(rec, count, f.directions, f.dirFeatures, mlp_.dirStride(), 0);
+  hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0}, table_.params());
+  sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0});
   mlp_.recordForward(rec, f.mlpRows(count), network_.params(), nullptr);
 }
 
@@ -262,7 +262,7 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   // (nothing would be sampled, and nothing learnt).
   const float threshold = OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
   // The density alone: the colour branch would cost more than the trunk and is not looked at.
-  hash_.recordForward(rec, count, occPositions_, table_.params(), occFeatures_, mlp_.posStride(), 0);
+  hash_.recordForward(rec, {count, occPositions_, occFeatures_, mlp_.posStride(), 0}, table_.params());
   mlp_.recordDensity(rec, count, network_.params(), occFeatures_, occDensity_);
   grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {kOccupancyDecay, threshold, true});
 }
@@ -337,7 +337,7 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
   NerfRows rows = field_.mlpRows(sampleCapacity_);
   rows.rowLimit = limit;
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
-  hash_.recordBackward(rec, sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, table_.grads(), &limit);
+  hash_.recordBackward(rec, {sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit}, table_.grads());
 }
 
 FieldPipeline::StepSize FastPipeline::countTrainingStep() {

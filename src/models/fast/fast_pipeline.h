@@ -61,8 +61,7 @@ class FastPipeline final : public FieldPipeline {
   size_t parameterCount() const { return table_.count() + network_.count() + (farField_ ? farField_->parameterCount() : 0); }
 
  private:
-  void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                      uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
+  void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) override;
   void allocateTraining(Context& ctx);
   // A training step, one submission: the occupancy update when due, then the named steps below.
   StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;

@@ -75,7 +75,7 @@ void VanillaPipeline::recordQuery(gpu::Recorder& rec, uint32_t count) {
 void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, uint32_t numRays, bool keep) {
   const uint32_t n = numRays * l.samplesPerRay;
   FieldBatch& f = l.field;
-  points_.record(rec, numRays, rays_.rays(), l.samples, l.samplesPerRay, box_, f.positions, f.directions);
+  points_.record(rec, {rays_.rays(), numRays}, l.samples, l.samplesPerRay, box_, {f.positions, f.directions});
   recordNetwork(rec, f, net, n, keep);
   compositor_.recordForward(rec, compositeInputs(l, numRays), {l.color, l.depth, l.weights});
 }
@@ -116,10 +116,9 @@ void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const
   if (fine_) fine_->parameters.recordOptimizerStep(rec, step);
 }
 
-void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera,
-                                     uint32_t first, uint32_t count, const std::array<float, 3>& background, bool) {
-  rays_.recordView(rec, cameras, camera, first, count, box_, background);
-  recordForward(rec, count, 0, false);
+void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool) {
+  rays_.recordView(rec, view, box_);
+  recordForward(rec, view.count, 0, false);
 }
 
 FieldPipeline::StepSize VanillaPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {

@@ -57,8 +57,7 @@ class VanillaPipeline final : public FieldPipeline {
   void recordQuery(gpu::Recorder& rec, uint32_t count) override;
 
  private:
-  void doRecordRender(gpu::Recorder& rec, const gpu::BufferRange& cameras, uint32_t camera, uint32_t first,
-                      uint32_t count, const std::array<float, 3>& background, bool mayWait) override;
+  void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) override;
   StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
   ModelStatistics modelStatistics() override;
 

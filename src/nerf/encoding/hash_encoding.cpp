@@ -122,8 +122,9 @@ gpu::BufferRange HashEncoding::exactly(const gpu::BufferRange& table) const {
 }
 
 template <class Fn>
-void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
-                             const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn) {
+void HashEncoding::forChunks(const EncodedRows& rows, const gpu::BufferRange& table, const char* what, Fn&& fn) {
+  const uint32_t count = rows.count, stride = rows.stride, columnOffset = rows.columnOffset;
+  const gpu::BufferRange &positions = rows.inputs, &matrix = rows.features;
   const std::string name = std::string("HashEncoding::") + what + ": ";
   if (stride % 4 || columnOffset % 4)
     throw Error(name + "stride " + std::to_string(stride) + " and column offset " + std::to_string(columnOffset) +
@@ -147,29 +148,27 @@ void HashEncoding::forChunks(uint32_t count, uint32_t stride, uint32_t columnOff
   });
 }
 
-void HashEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
-                                 const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
-                                 uint32_t columnOffset, const gpu::BufferRange* rowLimit) {
+void HashEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params) {
+  const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("HashEncoding::recordForward: row limit binding holds no uint");
   if (params.offset % ctx_.properties().limits.minTexelBufferOffsetAlignment)
     throw Error("HashEncoding::recordForward: parameter offset " + std::to_string(params.offset) +
                 " is not a multiple of minTexelBufferOffsetAlignment");
-  forChunks(count, stride, columnOffset, positions, features, params, "recordForward",
+  forChunks(rows, params, "recordForward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& out, Push p, uint32_t groups, uint32_t c,
                 uint32_t chunkRows) {
-              if (c == 0) limited_.begin(rec, rowLimit, count, chunkRows, {kLocal});
+              if (c == 0) limited_.begin(rec, rowLimit, rows.count, chunkRows, {kLocal});
               gpu::dispatchLimited(rec, forward_, {in, exactly(params), out}, p, limited_.rows(c, 0), groups,
                                    "encode_hash");
             });
 }
 
-void HashEncoding::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
-                                  const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
-                                  const gpu::BufferRange& grads, const gpu::BufferRange* rowLimit) {
+void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads) {
+  const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("HashEncoding::recordBackward: row limit binding holds no uint");
   if (mode_ == HashBackwardMode::SortReduce) {
     // The sort passes are dispatched for the whole chunk; their kernels skip the rows past the limit.
-    forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
+    forChunks(rows, grads, "recordBackward",
               [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, const Push& p, uint32_t, uint32_t c,
                   uint32_t chunkRows) {
                 const gpu::LimitedRows L = rowLimit ? gpu::LimitedRows{*rowLimit, c * chunkRows} : limited_.uncut();
@@ -181,10 +180,10 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, uint32_t count, const gpu:
     throw Error("HashEncoding::recordBackward: the device lacks float atomics (VK_EXT_shader_atomic_float "
                 "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs (HashBackwardMode::SortReduce "
                 "does not)");
-  forChunks(count, stride, columnOffset, positions, dFeatures, grads, "recordBackward",
+  forChunks(rows, grads, "recordBackward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, Push p, uint32_t groups, uint32_t c,
                 uint32_t chunkRows) {
-              if (c == 0) limitedBackward_.begin(rec, rowLimit, count, chunkRows, {kLocal});
+              if (c == 0) limitedBackward_.begin(rec, rowLimit, rows.count, chunkRows, {kLocal});
               gpu::dispatchLimited(rec, backward_, {in, dF, exactly(grads)}, p, limitedBackward_.rows(c, 0), groups,
                                    "encode_hash_backward");
             });

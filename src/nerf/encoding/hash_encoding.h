@@ -12,6 +12,7 @@
 #include "gpu/kernel.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
+#include "nerf/encoding/encoded_rows.h"
 #include "reference/encoding/hash_encoding.h"
 #include "encoding/encode_hash_shared.h"
 #include "encoding/hash_sort_shared.h"
@@ -64,30 +65,23 @@ class HashEncoding {
   // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
   std::vector<float> initialParameters(uint32_t seed) const;
 
-  // positions: `count` vec4; params: parameterCount() floats (both bound as texel buffers: offsets
-  // multiples of minTexelBufferOffsetAlignment);
-  // features: `count` rows of `stride` floats, block at columnOffset (both multiples of 4).
-  // rowLimit (optional): a uint on the device (e.g. a sample total); only rows below it are encoded,
-  // the rest of the `count` rows are left untouched (shaders/gpu/row_limit.glsl).
-  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
-                     const gpu::BufferRange& params, const gpu::BufferRange& features, uint32_t stride,
-                     uint32_t columnOffset, const gpu::BufferRange* rowLimit = nullptr);
-  // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params.
-  // dFeatures has the features' layout; its padding columns are ignored. Atomic and SubgroupMerged
-  // need float atomics. SortReduce does not; it works in passes of at most sortSlotBudget()
-  // contributions (levels x 8 corners x samples) through scratch buffers this object owns, grown on
-  // demand. Grown buffers are kept, not freed, so every recording stays valid while this object lives.
-  // rowLimit (optional): as recordForward; the rows at and past it add nothing to grads.
-  void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& positions,
-                      const gpu::BufferRange& dFeatures, uint32_t stride, uint32_t columnOffset,
-                      const gpu::BufferRange& grads, const gpu::BufferRange* rowLimit = nullptr);
+  // rows.inputs: `count` vec4 positions; params: parameterCount() floats (both bound as texel
+  // buffers: offsets multiples of minTexelBufferOffsetAlignment); rows.features: the block written
+  // (nerf/encoding/encoded_rows.h); rows at and past rows.rowLimit are left untouched.
+  void recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params);
+  // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params, with
+  // dFeatures read from rows.features (the forward's layout; its padding columns are ignored).
+  // Atomic and SubgroupMerged need float atomics. SortReduce does not; it works in passes of at
+  // most sortSlotBudget() contributions (levels x 8 corners x samples) through scratch buffers this
+  // object owns, grown on demand. Grown buffers are kept, not freed, so every recording stays valid
+  // while this object lives. The rows at and past rows.rowLimit add nothing to grads.
+  void recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads);
 
  private:
   using Push = glsl::HashPush;
   gpu::BufferRange exactly(const gpu::BufferRange& table) const;
   template <class Fn>
-  void forChunks(uint32_t count, uint32_t stride, uint32_t columnOffset, const gpu::BufferRange& positions,
-                 const gpu::BufferRange& matrix, const gpu::BufferRange& table, const char* what, Fn&& fn);
+  void forChunks(const EncodedRows& rows, const gpu::BufferRange& table, const char* what, Fn&& fn);
 
   // Count and scatter kernels' push constants (shaders/encoding/hash_sort_shared.h).
   using SortPush = glsl::HashSortPush;

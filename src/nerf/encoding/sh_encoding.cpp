@@ -25,9 +25,10 @@ ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
                     {{glsl::ShSpec::DEGREE, degree}}}),
       limited_(ctx) {}
 
-void ShEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& directions,
-                               const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
-                               const gpu::BufferRange* rowLimit) {
+void ShEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows) {
+  const uint32_t count = rows.count, stride = rows.stride, columnOffset = rows.columnOffset;
+  const gpu::BufferRange &directions = rows.inputs, &features = rows.features;
+  const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   if (stride % 4 || columnOffset % 4)
     throw Error("ShEncoding: stride " + std::to_string(stride) + " and column offset " + std::to_string(columnOffset) +
                 " must be multiples of 4");

@@ -9,6 +9,7 @@
 #include "gpu/kernel.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
+#include "nerf/encoding/encoded_rows.h"
 
 namespace vknerf::nerf {
 
@@ -19,12 +20,10 @@ class ShEncoding {
   uint32_t outputDims() const { return degree_ * degree_; }
   uint32_t paddedDims() const { return (outputDims() + 3) / 4 * 4; }
 
-  // directions: `count` vec4 (xyz unit, w ignored; texel-buffer aligned offset); features: `count`
-  // rows of `stride` floats. rowLimit (optional): a uint on the device; only rows below it are
-  // encoded, the rest left untouched (shaders/gpu/row_limit.glsl).
-  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& directions,
-                     const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset,
-                     const gpu::BufferRange* rowLimit = nullptr);
+  // rows.inputs: `count` vec4 directions (xyz unit, w ignored; texel-buffer aligned offset);
+  // rows.features: the block written (nerf/encoding/encoded_rows.h); rows at and past
+  // rows.rowLimit are left untouched.
+  void recordForward(gpu::Recorder& rec, const EncodedRows& rows);
 
  private:
   Context& ctx_;

@@ -39,8 +39,9 @@ Adam::Adam(Context& ctx, AdamConfig config)
                     {}}),
       dummy_(ctx, 16) {}
 
-void Adam::record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& grads,
-                  const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t step, float lr) {
+void Adam::record(gpu::Recorder& rec, const AdamState& state, uint32_t step, float lr) {
+  const uint32_t count = state.count;
+  const gpu::BufferRange &params = state.params, &grads = state.grads, &m = state.m, &v = state.v;
   if (step == 0) throw Error("Adam: the step number is 1-based, got 0");
   if (count == 0) return;
   const auto& limits = ctx_.properties().limits;

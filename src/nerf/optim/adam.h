@@ -24,13 +24,20 @@ struct AdamConfig {
   float learningRate(uint32_t step) const;
 };
 
+// What one Adam step updates, as one value: `count` parameters and their gradients and first and
+// second moments, each a range of `count` floats (offsets multiples of 16 bytes and of the device's
+// storage and texel offset alignments; each buffer extends at least 16 bytes past its offset).
+struct AdamState {
+  uint32_t count = 0;
+  gpu::BufferRange params, grads, m, v;
+};
+
 class Adam {
  public:
   Adam(Context& ctx, AdamConfig config);
   const AdamConfig& config() const { return config_; }
   // One step; `step` is 1-based (bias correction 1 / (1 - beta^step)); lr is this step's rate.
-  void record(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& params, const gpu::BufferRange& grads,
-              const gpu::BufferRange& m, const gpu::BufferRange& v, uint32_t step, float lr);
+  void record(gpu::Recorder& rec, const AdamState& state, uint32_t step, float lr);
 
  private:
   Context& ctx_;

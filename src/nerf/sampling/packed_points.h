@@ -10,14 +10,10 @@
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 #include "nerf/sampling/packed_samples.h"
+#include "nerf/sampling/point_buffers.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
-
-// Where the points go: positions and directions, vec4 per sample.
-struct PointBuffers {
-  gpu::BufferRange positions, directions;
-};
 
 class PackedSamplePoints {
  public:

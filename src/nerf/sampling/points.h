@@ -5,6 +5,8 @@
 #include "nerf/sampling/sample_layout.h"
 #include "gpu/kernel.h"
 #include "gpu/recorder.h"
+#include "nerf/rays/rays.h"
+#include "nerf/sampling/point_buffers.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
@@ -15,10 +17,9 @@ constexpr VkDeviceSize kPointBytes = 16;  // vec4 position or direction
 class SamplePoints {
  public:
   explicit SamplePoints(Context& ctx);
-  // rays: 2 x vec4 per ray; samples: numRays * samplesPerRay vec2; positions, directions: vec4 each.
-  void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rays, const gpu::BufferRange& samples,
-              uint32_t samplesPerRay, const Aabb& box, const gpu::BufferRange& positions,
-              const gpu::BufferRange& directions);
+  // rays: 2 x vec4 per ray; samples: rays.count * samplesPerRay vec2; out: vec4 per sample.
+  void record(gpu::Recorder& rec, const RaySpan& rays, const gpu::BufferRange& samples, uint32_t samplesPerRay,
+              const Aabb& box, const PointBuffers& out);
 
  private:
   gpu::Kernel kernel_;

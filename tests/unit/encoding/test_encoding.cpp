@@ -225,8 +225,8 @@ TEST_F(Encoding, SamplePointsMatchReference) {
   gpu::Buffer pos(ctx(), numRays * n * nerf::kPointBytes), dir(ctx(), numRays * n * nerf::kPointBytes);
   nerf::SamplePoints sp(ctx());
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    sp.record(rec, numRays, rb, sb, n, box, pos, dir);
-    sp.record(rec, 0, rb, sb, n, box, pos, dir);  // empty batch: records nothing
+    sp.record(rec, {rb, numRays}, sb, n, box, {pos, dir});
+    sp.record(rec, {rb, 0}, sb, n, box, {pos, dir});  // empty batch: records nothing
   });
   auto p = pos.download<float>(), d = dir.download<float>();
   // |o| <= 3 and t <= 4.5 give |x| < 8: o + t d rounds to ~1 ulp of 8 (1e-6); the map onto [-1, 1]

@@ -90,7 +90,7 @@ std::vector<float> forward(Context& ctx, nerf::HashEncoding& enc, const std::vec
   auto tb = gpu::Buffer::of(ctx, table);
   auto out = gpu::Buffer::of(ctx, std::vector<float>(std::max<size_t>(1, size_t(count) * stride), kSentinel));
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    enc.recordForward(rec, count, pb, tb, out, stride, offset);
+    enc.recordForward(rec, {count, pb, out, stride, offset}, tb);
   });
   return out.download<float>();
 }
@@ -143,7 +143,7 @@ std::vector<float> backwardFromZero(Context& ctx, nerf::HashEncoding& enc, const
   gpu::Buffer gb(ctx, enc.parameterCount() * 4);
   gb.zero();
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    enc.recordBackward(rec, n, pb, db, stride, 0, gb);
+    enc.recordBackward(rec, {n, pb, db, stride, 0}, gb);
   });
   return gb.download<float>();
 }
@@ -172,10 +172,12 @@ std::vector<float> expectBackwardMatches(Context& ctx, nerf::HashEncoding& enc, 
   auto start = randomTable(c, 77);
   auto pb = gpu::Buffer::of(ctx, pos), db = gpu::Buffer::of(ctx, dF), gb = gpu::Buffer::of(ctx, start);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    enc.recordBackward(rec, n1, pb, db, stride, offset, gb);
+    enc.recordBackward(rec, {n1, pb, db, stride, offset}, gb);
     if (n2)
-      enc.recordBackward(rec, n2, gpu::BufferRange(pb, 16 * n1, 16 * n2),
-                         gpu::BufferRange(db, 4ull * stride * n1, 4ull * stride * n2), stride, offset, gb);
+      enc.recordBackward(rec,
+                         {n2, gpu::BufferRange(pb, 16 * n1, 16 * n2),
+                          gpu::BufferRange(db, 4ull * stride * n1, 4ull * stride * n2), stride, offset},
+                         gb);
   });
   auto g = gb.download<float>();
   // Reference sum, the sum of |terms| and the number of terms per entry.
@@ -462,13 +464,13 @@ TEST_F(HashEncoding, EmptyBatchesAndBadLayouts) {
   auto tb = gpu::Buffer::of(ctx(), table), gb = gpu::Buffer::of(ctx(), table);
   gpu::Buffer out(ctx(), 4 * 64 * 4), small(ctx(), 4 * 10);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    enc.recordBackward(rec, 0, pos, out, 4, 0, gb);             // count 0: no dispatch
-    EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 8, 2), Error);   // offset not a multiple of 4
-    EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 6, 0), Error);   // stride not a multiple of 4
-    EXPECT_THROW(enc.recordForward(rec, 4, pos, tb, out, 4, 4), Error);   // block overruns the row
-    EXPECT_THROW(enc.recordForward(rec, 5, pos, tb, out, 4, 0), Error);   // more rows than positions
-    EXPECT_THROW(enc.recordForward(rec, 4, pos, small, out, 4, 0), Error);  // table too small
-    EXPECT_THROW(enc.recordBackward(rec, 4, pos, out, 4, 0, small), Error); // gradient too small
+    enc.recordBackward(rec, {0, pos, out, 4, 0}, gb);             // count 0: no dispatch
+    EXPECT_THROW(enc.recordForward(rec, {4, pos, out, 8, 2}, tb), Error);   // offset not a multiple of 4
+    EXPECT_THROW(enc.recordForward(rec, {4, pos, out, 6, 0}, tb), Error);   // stride not a multiple of 4
+    EXPECT_THROW(enc.recordForward(rec, {4, pos, out, 4, 4}, tb), Error);   // block overruns the row
+    EXPECT_THROW(enc.recordForward(rec, {5, pos, out, 4, 0}, tb), Error);   // more rows than positions
+    EXPECT_THROW(enc.recordForward(rec, {4, pos, out, 4, 0}, small), Error);  // table too small
+    EXPECT_THROW(enc.recordBackward(rec, {4, pos, out, 4, 0}, small), Error); // gradient too small
   });
   EXPECT_EQ(gb.download<float>(), table);  // the empty backward added nothing
   EXPECT_THROW(nerf::HashEncoding(ctx(), HashGridConfig{0, 2, 12, 4, 2.0}), Error);
@@ -494,7 +496,7 @@ TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
   gpu::Recorder rec(*adopted);
   rec.begin();
   try {
-    enc.recordBackward(rec, 10, pb, db, 4, 0, gb);
+    enc.recordBackward(rec, {10, pb, db, 4, 0}, gb);
     ADD_FAILURE() << "recordBackward did not throw";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("float atomics"), std::string::npos) << e.what();
@@ -519,8 +521,8 @@ TEST_F(HashEncoding, TableInsideALargerBuffer) {
   gpu::Buffer feat(ctx(), 150 * stride * 4);
   gpu::BufferRange inner(bb, lead * 4, VK_WHOLE_SIZE);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    enc.recordForward(rec, 150, pb, inner, feat, stride, 0);
-    enc.recordBackward(rec, 150, pb, feat, stride, 0, inner);  // dFeatures = features, into the table itself
+    enc.recordForward(rec, {150, pb, feat, stride, 0}, inner);
+    enc.recordBackward(rec, {150, pb, feat, stride, 0}, inner);  // dFeatures = features, into the table itself
   });
   EXPECT_EQ(feat.download<float>(), forward(ctx(), enc, pos, table, stride, 0));
   auto after = bb.download<float>();

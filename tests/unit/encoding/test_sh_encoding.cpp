@@ -69,7 +69,7 @@ std::vector<float> encode(Context& ctx, nerf::ShEncoding& enc, const std::vector
   std::vector<float> init(std::max<size_t>(1, size_t(count) * stride), kSentinel);
   auto out = gpu::Buffer::of(ctx, init);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    enc.recordForward(rec, count, in, out, stride, offset);
+    enc.recordForward(rec, {count, in, out, stride, offset});
   });
   return out.download<float>(init.size());
 }
@@ -156,10 +156,10 @@ TEST_F(ShEncoding, EmptyBatchAndBadLayouts) {
   gpu::Buffer out(ctx(), 4 * 64 * 4);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 32, 2), Error);   // offset not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 18, 0), Error);   // stride not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 16, 4), Error);   // block overruns the row
-  EXPECT_THROW(enc.recordForward(rec, 5, in, out, 16, 0), Error);   // more rows than the inputs hold
+  EXPECT_THROW(enc.recordForward(rec, {4, in, out, 32, 2}), Error);   // offset not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, {4, in, out, 18, 0}), Error);   // stride not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, {4, in, out, 16, 4}), Error);   // block overruns the row
+  EXPECT_THROW(enc.recordForward(rec, {5, in, out, 16, 0}), Error);   // more rows than the inputs hold
   rec.end();
   EXPECT_THROW(nerf::ShEncoding(ctx(), 5), Error);
   EXPECT_THROW(nerf::ShEncoding(ctx(), 0), Error);

@@ -57,7 +57,7 @@ std::vector<float> renderBlock(nerf::FieldPipeline& pipe, const Camera& cam, uin
   auto packed = nerf::packCameras(std::span<const Camera>(&cam, 1));
   auto camBuf = gpu::Buffer::of(ctx, packed);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    pipe.recordRender(rec, camBuf, 0, 0, count, {1, 1, 1}, mayWait);
+    pipe.recordRender(rec, {camBuf, 0, 0, count, {1, 1, 1}}, mayWait);
   });
   return pipe.color().download<float>(size_t(count) * 4);
 }
@@ -161,7 +161,7 @@ size_t renderSubmissions(nerf::FieldPipeline& pipe, const Camera& cam, uint32_t 
   gpu::Recorder rec(ctx);
   rec.startLog();
   rec.begin();
-  pipe.recordRender(rec, camBuf, 0, 0, count, {1, 1, 1}, true);
+  pipe.recordRender(rec, {camBuf, 0, 0, count, {1, 1, 1}}, true);
   const size_t n = rec.submissions().size();
   rec.end();
   rec.submitAndWait();

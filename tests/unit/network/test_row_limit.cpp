@@ -74,7 +74,9 @@ TEST_F(RowLimit, HashEncodingForward) {
   const uint32_t stride = enc.paddedDims() + 4;  // a column past the block: untouched either way
   expectLimited(ctx(), stride,
                 [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
-                  enc.recordForward(rec, kRows, pos, table, out, stride, 0, limit);
+                  nerf::EncodedRows rows{kRows, pos, out, stride, 0};
+                  if (limit) rows.rowLimit = *limit;
+                  enc.recordForward(rec, rows, table);
                 },
                 {0, 1, 63, 64, 333, kRows, kRows + 5000});
 }
@@ -90,7 +92,9 @@ TEST_F(RowLimit, ShEncoding) {
   auto in = gpu::Buffer::of(ctx(), dirs);
   expectLimited(ctx(), 16,
                 [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
-                  enc.recordForward(rec, kRows, in, out, 16, 0, limit);
+                  nerf::EncodedRows rows{kRows, in, out, 16, 0};
+                  if (limit) rows.rowLimit = *limit;
+                  enc.recordForward(rec, rows);
                 },
                 {0, 1, 65, 999, kRows, UINT32_MAX});
 }
@@ -129,7 +133,7 @@ TEST_F(RowLimit, LimitBindingMustHoldAUint) {
   gpu::BufferRange tooSmall(limit, 0, 2);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(enc.recordForward(rec, 64, in, out, 4, 0, &tooSmall), Error);
+  EXPECT_THROW(enc.recordForward(rec, {64, in, out, 4, 0, tooSmall}), Error);
   rec.end();
 }
 

@@ -115,7 +115,7 @@ TEST_F(RowLimitBackward, HashGridEqualsTheBackwardOverTheTotal) {
         auto word = gpu::Buffer::of(ctx(), std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
         gpu::BufferRange limitWord(word, 0, 4);
         test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-          enc.recordBackward(rec, rows, pos, dF, stride, 0, grads, limit ? &limitWord : nullptr);
+          enc.recordBackward(rec, {rows, pos, dF, stride, 0, limit ? std::optional(limitWord) : std::nullopt}, grads);
         });
         return grads.download<float>();
       };

@@ -33,7 +33,7 @@ struct Problem {
   std::vector<float> step(Context& ctx, nerf::Adam& adam, const std::vector<float>& g, uint32_t t, float lr) {
     gb.upload(g);
     test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-      adam.record(rec, uint32_t(p.size()), pb, gb, mb, vb, t, lr);
+      adam.record(rec, {uint32_t(p.size()), pb, gb, mb, vb}, t, lr);
     });
     std::vector<double> rg(g.begin(), g.end());
     ref::adamStep<double>(rp, rg, rm, rv, t, double(lr), refParams(adam.config()));
@@ -220,10 +220,10 @@ TEST_F(Adam, EmptyStepAndBadArguments) {
   nerf::Adam adam(ctx(), {});
   auto b = gpu::Buffer::of(ctx(), std::vector<float>(8, 1.0f));
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    adam.record(rec, 0, b, b, b, b, 1, 0.1f);                                                // count 0: records nothing
-    EXPECT_THROW(adam.record(rec, 8, b, b, b, b, 0, 0.1f), Error);                           // steps are 1-based
-    EXPECT_THROW(adam.record(rec, 4, gpu::BufferRange(b, 4, 16), b, b, b, 1, 0.1f), Error);  // misaligned
-    EXPECT_THROW(adam.record(rec, 9, b, b, b, b, 1, 0.1f), Error);  // more parameters than the buffers hold
+    adam.record(rec, {0, b, b, b, b}, 1, 0.1f);                                                // count 0: records nothing
+    EXPECT_THROW(adam.record(rec, {8, b, b, b, b}, 0, 0.1f), Error);                           // steps are 1-based
+    EXPECT_THROW(adam.record(rec, {4, gpu::BufferRange(b, 4, 16), b, b, b}, 1, 0.1f), Error);  // misaligned
+    EXPECT_THROW(adam.record(rec, {9, b, b, b, b}, 1, 0.1f), Error);  // more parameters than the buffers hold
   });
   for (float x : b.download<float>()) EXPECT_EQ(x, 1.0f);
   nerf::AdamConfig bad;
@@ -247,7 +247,7 @@ TEST_F(Adam, SubRangesAndTinyCounts) {
          vb = gpu::Buffer::of(ctx(), mv);
     auto sub = [&](const gpu::Buffer& b) { return gpu::BufferRange(b, 4 * offset, 4 * count); };
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      adam.record(rec, count, sub(pb), sub(gb), sub(mb), sub(vb), 2, 0.01f);
+      adam.record(rec, {count, sub(pb), sub(gb), sub(mb), sub(vb)}, 2, 0.01f);
     });
     std::vector<double> rp(p.begin() + offset, p.begin() + offset + count), rg(g.begin() + offset, g.begin() + offset + count),
         rm(count, 0.5), rv(count, 0.5);

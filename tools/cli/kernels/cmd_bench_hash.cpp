@@ -107,7 +107,7 @@ int run(const Options& o, Context& ctx) {
         nerf::HashEncoding enc(ctx, grid.config, mode);
         gpu::Recorder rec(ctx);
         rec.begin();
-        enc.recordBackward(rec, n, pb, db, stride, 0, grads);
+        enc.recordBackward(rec, {n, pb, db, stride, 0}, grads);
         rec.end();
         rec.submitAndWait();  // warm-up: pipelines compile at first dispatch
         double best = 1e30;
@@ -122,7 +122,7 @@ int run(const Options& o, Context& ctx) {
         if (o.breakdown && mode == HashBackwardMode::SortReduce) {
           gpu::Recorder timed(ctx, true, 1024);
           timed.begin();
-          enc.recordBackward(timed, n, pb, db, stride, 0, grads);
+          enc.recordBackward(timed, {n, pb, db, stride, 0}, grads);
           timed.end();
           timed.submitAndWait();
           std::map<std::string, double> stages;

@@ -68,7 +68,7 @@ FitImageResult fitImage(Context& ctx, const std::vector<uint32_t>& rgba8, uint32
     mlp.recordForward(rec, {n, features, out}, params, &ws);
     loss.record(rec, {n, out, pixelIds, background}, images, cameras, {dOut, partials});
     mlp.recordBackward(rec, {n, features, out}, params, {dOut, grads}, ws);
-    adam.record(rec, uint32_t(mlp.parameterCount()), params, grads, m, v, step, adam.config().learningRate(step - 1));
+    adam.record(rec, {uint32_t(mlp.parameterCount()), params, grads, m, v}, step, adam.config().learningRate(step - 1));
     rec.end();
     rec.submitAndWait();
     if (progress && progressEvery && (step % progressEvery == 0 || step == config.steps))

@@ -82,7 +82,7 @@ SelfCheckResult selfCheck(Context& ctx, uint32_t size, uint32_t nc, uint32_t nf)
   stratified.record(rec, {rays, R}, nc, {0, false}, coarse);
   auto shade = [&](const gpu::Buffer& samples, uint32_t spr) {
     const uint32_t n = R * spr;
-    points.record(rec, R, rays, samples, spr, box, pos, dir);
+    points.record(rec, {rays, R}, samples, spr, box, {pos, dir});
     rec.dispatch(analytic, {pos, field}, n, gpu::groupsFor(n, 64), 1, 1, "field_analytic");
     compositor.recordForward(rec, {R, spr, noOffsets, samples, field, kBackground}, {color, depth, weights});
   };

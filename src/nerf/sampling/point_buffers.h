@@ -1,0 +1,12 @@
+#pragma once
+// Where the field inputs of a batch of samples go (SamplePoints, PackedSamplePoints).
+#include "gpu/buffer.h"
+
+namespace vknerf::nerf {
+
+// Positions and directions, vec4 per sample.
+struct PointBuffers {
+  gpu::BufferRange positions, directions;
+};
+
+}  // namespace vknerf::nerf

@@ -4,7 +4,7 @@
 #include "vknerf/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  using namespace vknerf::nerf;
+  using namespace vknerf;
   try {
     const vknerf::ImageRGBA8 image = decodeImage(data, size, "input");
     if (image.width >= 2 && image.height >= 2) downscaleImage(image, 2);

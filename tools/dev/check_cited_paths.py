@@ -113,7 +113,10 @@ def subfolders(root):
     for r in RESOLVE_ROOTS:
         base = os.path.join(root, r)
         if os.path.isdir(base):
-            names.update(d for d in os.listdir(base) if os.path.isdir(os.path.join(base, d)) and d != "build")
+            # Build folders (build/, build-asan/: .gitignore's /build*/) come and go with the
+            # builds: a path under one is an output, not a citation of the repository.
+            names.update(d for d in os.listdir(base)
+                         if os.path.isdir(os.path.join(base, d)) and not d.startswith(("build", ".")))
     return names
 
 

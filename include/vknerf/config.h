@@ -68,6 +68,12 @@ struct FastModel {
   // TrainConfig::background (random in training when the photos have alpha). Auto: the Trainer picks
   // Learned when every training pixel is opaque, else Constant.
   FarField farField = FarField::Auto;
+  // Camera refinement: each training photo's pose gets a learned correction (a rotation and a
+  // translation, nerfstudio's SO3xR3), trained with its own Adam rate (following the field's decay)
+  // and an L2 penalty of this weight that keeps it near the pose the photo came with.
+  bool refineCameras = false;
+  float cameraLearningRate = 1e-3f;
+  float cameraPenalty = 1e-4f;
 };
 
 using ModelConfig = std::variant<VanillaModel, FastModel>;

@@ -228,6 +228,12 @@ std::vector<ConfigField> table() {
           .check([](const TrainConfig& c) { checkCount("model.far_field", uint32_t(c.fastModel().farField), 0, uint32_t(FarField::Learned)); })
           .flag("--far-field", "fast: what rays see behind the scene box: learned (a colour per direction, trained), constant (white in renders, a random colour behind each training ray) or auto (learned when no training pixel has alpha)"),
 
+      fastTop("refine_cameras", &FastModel::refineCameras).addedLater()
+          .flag("--refine-cameras", "fast: learn a correction of each training photo's pose while training (docs/real_captures.md)"),
+      fastTop("camera_lr", &FastModel::cameraLearningRate).addedLater().range(0.0, 1e3).openLow()
+          .flag("--camera-lr", "fast, with --refine-cameras: the pose corrections' initial learning rate").flagPositive(),
+      fastTop("camera_penalty", &FastModel::cameraPenalty).addedLater().range(0.0, 1e6),
+
       top("lr", &TrainConfig::learningRate).range(0.0, 1e3).openLow(),
       top("lr_final", &TrainConfig::learningRateFinal).range(0.0, 1e3).openLow(),
       top("decay_steps", &TrainConfig::decaySteps).range(1, UINT32_MAX),

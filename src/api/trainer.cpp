@@ -88,6 +88,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   }
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
   s.pipe->markUnseenEmpty(train.cameras);
+  s.pipe->setTrainingCameras(s.numCameras);
   s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;

@@ -101,6 +101,12 @@ class FieldPipeline {
   // Before the first step: the training cameras, so that space none of them sees is never modelled
   // (the fast model's occupancy grid marks it empty for good). A model without such a structure ignores them.
   virtual void markUnseenEmpty(std::span<const Camera> cameras) { (void)cameras; }
+  // Before the first step and before a resume loads the state: how many training cameras there
+  // are, for state kept per camera (the fast model's camera refinement).
+  virtual void setTrainingCameras(uint32_t count) { (void)count; }
+  // Each training camera's learned pose correction (w, tau: nerf/rays/pose_correction.h), read
+  // back; empty when the cameras are not refined.
+  virtual std::vector<std::array<float, 6>> cameraCorrections() { return {}; }
   // Called after resume() loads the state: rebuild anything derived from it.
   virtual void stateLoaded() {}
 

@@ -96,7 +96,8 @@ FastPipeline::Packed::Packed(Context& ctx, uint32_t rays, uint32_t samples)
 
 FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
                            bool training, const RenderSettings& overrides)
-    : config_(config),
+    : ctx_(ctx),
+      config_(config),
       model_(withOverrides(checked(config.fastModel()), overrides)),
       box_(box),
       rayCapacity_(std::max(rayCapacity, kRayAlign)),
@@ -272,12 +273,22 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   const uint32_t seed = stepSeed(config_, step);
   rec.begin();
   if (model_.gridUpdateInterval && step % model_.gridUpdateInterval == 0 && step > 0) recordOccupancyUpdate(rec, step);
-  const RaySpan batch = recordTrainingBatch(rec, data, seed, raysNext_);
-  const CompositeInputs composite = recordTrainingForward(rec, data, batch);
+  // With camera refinement the step's rays come from the cameras as corrected so far.
+  TrainingData cameras = data;
+  if (cameras_) {
+    if (data.numCameras != cameras_->numCameras())
+      throw Error("fast model: " + std::to_string(data.numCameras) + " training cameras, but camera refinement was set up for " +
+                  std::to_string(cameras_->numCameras()));
+    cameras_->recordApply(rec, *data.cameras);
+    cameras.cameras = &cameras_->cameras();
+  }
+  const RaySpan batch = recordTrainingBatch(rec, cameras, seed, raysNext_);
+  const CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
   recordTrainingBackward(rec, batch, composite);
   network_.recordOptimizerStep(rec, step);
   table_.recordOptimizerStep(rec, step);
   if (farField_) farField_->recordOptimizerStep(rec, step);
+  if (cameras_) cameras_->recordOptimizerStep(rec, step);
   rec.end();
   rec.submitAndWait();
   return countTrainingStep();
@@ -337,7 +348,33 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
   NerfRows rows = field_.mlpRows(sampleCapacity_);
   rows.rowLimit = limit;
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
-  hash_.recordBackward(rec, {sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit}, table_.grads());
+  const EncodedRows encoded{sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit};
+  // Before the table's backward, which may overwrite nothing it reads, but before its optimizer step.
+  if (cameras_) recordCameraGradient(rec, batch, encoded, gatherBackward_ ? kept_->offsets() : marched_.offsets);
+  hash_.recordBackward(rec, encoded, table_.grads());
+}
+
+void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const EncodedRows& rows,
+                                        const gpu::BufferRange& rowOffsets) {
+  hash_.recordPositionGradient(rec, rows, table_.params(), dPosition_);
+  // The learned far field's colour also depends on the direction; that part is left out (its
+  // gradient is small and blurred: a colour per direction at infinity).
+  cameras_->recordGradient(rec, {batch, rays_.pixelIds(), marched_.offsets, rowOffsets, marched_.samples, dPosition_,
+                                 wholeRayCount(), box_});
+}
+
+void FastPipeline::setTrainingCameras(uint32_t count) {
+  if (!training_ || !model_.refineCameras) return;
+  gpu::MemoryAccount::Scope charge(memory());
+  CameraRefinementSettings settings;
+  settings.adam = adamConfigOf(config_, model_.cameraLearningRate / config_.learningRate);
+  settings.penalty = model_.cameraPenalty;
+  cameras_.emplace(ctx_, count, settings);
+  dPosition_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(sampleCapacity_) * 16, "the samples' position gradients");
+}
+
+std::vector<std::array<float, 6>> FastPipeline::cameraCorrections() {
+  return cameras_ ? cameras_->corrections() : std::vector<std::array<float, 6>>{};
 }
 
 FieldPipeline::StepSize FastPipeline::countTrainingStep() {
@@ -368,6 +405,7 @@ std::vector<StateArray> FastPipeline::state() {
   std::vector<StateArray> s;
   table_.appendState(s);
   network_.appendState(s);
+  if (cameras_) cameras_->appendState(s);
   if (farField_) farField_->appendState(s);
   s.push_back({"occupancy.density", &grid_.density(), grid_.numCells(), false});
   // uint words, carried bit for bit through the float section

@@ -15,6 +15,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
+#include "models/common/camera_refinement.h"
 #include "models/common/far_field.h"
 #include "models/common/field_batch.h"
 #include "models/common/ray_batch.h"
@@ -47,6 +48,8 @@ class FastPipeline final : public FieldPipeline {
   const gpu::Buffer& backgrounds() const override { return rays_.background(); }
   const gpu::Buffer& lossPartials() const override { return partials_; }
   void markUnseenEmpty(std::span<const Camera> cameras) override { grid_.markUnseenEmpty(cameras, box_); }
+  void setTrainingCameras(uint32_t count) override;
+  std::vector<std::array<float, 6>> cameraCorrections() override;
   std::vector<StateArray> state() override;
 
   FieldBatch& queryBatch() override { return field_; }
@@ -69,8 +72,12 @@ class FastPipeline final : public FieldPipeline {
   RaySpan recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R);
   // Field, compositing and photometric loss over the batch; returns what the backward composites again.
   CompositeInputs recordTrainingForward(gpu::Recorder& rec, const TrainingData& data, const RaySpan& batch);
-  // Compositor, far field, MLP and hash-grid backward.
+  // Compositor, far field, MLP and hash-grid backward; the cameras' gradient when they are refined.
   void recordTrainingBackward(gpu::Recorder& rec, const RaySpan& batch, const CompositeInputs& composite);
+  // The position gradient of the samples the backward ran over (`rows`: dPos_'s rows, ray r's
+  // [rowOffsets[r], rowOffsets[r + 1])), carried to the cameras that made the batch's rays.
+  void recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const EncodedRows& rows,
+                            const gpu::BufferRange& rowOffsets);
   // After the step's wait: the rays and samples it trained on; sets the next step's ray count.
   StepSize countTrainingStep();
   // The uint the device writes: how many of the batch's rays fit the sample capacity whole.
@@ -96,6 +103,7 @@ class FastPipeline final : public FieldPipeline {
   void recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count);
   void recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step);
 
+  Context& ctx_;
   TrainConfig config_;
   FastModel model_;
   Aabb box_;
@@ -114,6 +122,8 @@ class FastPipeline final : public FieldPipeline {
   Compositor compositor_;
   std::optional<PhotometricLoss> loss_;
   std::optional<LearnedFarField> farField_;  // FarField::Learned: writes the rays' backgrounds
+  std::optional<CameraRefinement> cameras_;  // FastModel::refineCameras, once the cameras are known
+  gpu::Buffer dPosition_;                    // with it: dL/dp per backward row (vec4)
 
   // per ray
   gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_;

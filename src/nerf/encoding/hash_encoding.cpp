@@ -64,7 +64,8 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                       gpu::Binding::Storage},
                      sizeof(Push), gridSpec(config)}),
       limited_(ctx),
-      limitedBackward_(ctx) {
+      limitedBackward_(ctx),
+      limitedPosition_(ctx) {
   for (uint32_t l = 0; l < config_.levels; ++l) {
     push_.res[l] = resolution(l);
     if (dense(l)) push_.denseMask |= 1u << l;
@@ -186,6 +187,33 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, c
               if (c == 0) limitedBackward_.begin(rec, rowLimit, rows.count, chunkRows, {kLocal});
               gpu::dispatchLimited(rec, backward_, {in, dF, exactly(grads)}, p, limitedBackward_.rows(c, 0), groups,
                                    "encode_hash_backward");
+            });
+}
+
+void HashEncoding::recordPositionGradient(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params,
+                                          const gpu::BufferRange& dPositions) {
+  const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
+  if (rowLimit && gpu::boundBytes(*rowLimit) < 4)
+    throw Error("HashEncoding::recordPositionGradient: row limit binding holds no uint");
+  if (params.offset % ctx_.properties().limits.minTexelBufferOffsetAlignment)
+    throw Error("HashEncoding::recordPositionGradient: parameter offset " + std::to_string(params.offset) +
+                " is not a multiple of minTexelBufferOffsetAlignment");
+  if (gpu::boundBytes(dPositions) < VkDeviceSize(rows.count) * 16)
+    throw Error("HashEncoding::recordPositionGradient: the position gradient holds fewer than " +
+                std::to_string(rows.count) + " vec4s");
+  if (!positionGradient_)
+    positionGradient_.emplace(ctx_, gpu::KernelDesc{gpu::shaders::encode_hash_position_gradient,
+                                                    {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
+                                                     gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
+                                                     gpu::Binding::Storage},
+                                                    sizeof(Push), gridSpec(config_)});
+  forChunks(rows, params, "recordPositionGradient",
+            [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, Push p, uint32_t groups, uint32_t c,
+                uint32_t chunkRows) {
+              if (c == 0) limitedPosition_.begin(rec, rowLimit, rows.count, chunkRows, {kLocal});
+              const gpu::BufferRange out = gpu::rowsOf(dPositions, 16, c * chunkRows, p.count);
+              gpu::dispatchLimited(rec, *positionGradient_, {in, dF, exactly(params), out}, p,
+                                   limitedPosition_.rows(c, 0), groups, "encode_hash_position_gradient");
             });
 }
 

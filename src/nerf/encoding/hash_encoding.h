@@ -7,6 +7,7 @@
 // columns, padding written as 0 and columns outside the block untouched (as FrequencyEncoding).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "gpu/kernel.h"
@@ -76,6 +77,12 @@ class HashEncoding {
   // object owns, grown on demand. Grown buffers are kept, not freed, so every recording stays valid
   // while this object lives. The rows at and past rows.rowLimit add nothing to grads.
   void recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads);
+  // dPositions (vec4 per row, w = 0) = d(sum dFeatures . features) / d position, the position in
+  // [-1, 1]^3 as rows.inputs hold it (0 along an axis where it lies outside); rows as recordBackward
+  // reads them, params as recordForward. Rows past rows.rowLimit are left untouched. The kernel is
+  // built by the first call (only camera refinement needs it).
+  void recordPositionGradient(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params,
+                              const gpu::BufferRange& dPositions);
 
  private:
   using Push = glsl::HashPush;
@@ -102,7 +109,8 @@ class HashEncoding {
   std::unique_ptr<gpu::PrefixSum> scan_;
   std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
   std::vector<std::unique_ptr<gpu::PrefixSum>> retiredScans_;
-  gpu::LimitedDispatch limited_, limitedBackward_;  // workgroup counts under a row limit
+  std::optional<gpu::Kernel> positionGradient_;
+  gpu::LimitedDispatch limited_, limitedBackward_, limitedPosition_;  // workgroup counts under a row limit
 };
 
 }  // namespace vknerf::nerf

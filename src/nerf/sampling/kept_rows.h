@@ -28,6 +28,7 @@ class KeptRows {
               const gpu::BufferRange& positions);
 
   const gpu::Buffer& rows() const { return rows_; }            // uint per packed row
+  const gpu::Buffer& offsets() const { return offsets_; }      // numRays + 1: ray r's rows [off[r], off[r+1])
   const gpu::Buffer& positions() const { return positions_; }  // vec4 per packed row
   gpu::BufferRange total() const { return {totals_, 0, 4}; }   // uint: the packed rows
 

@@ -1,0 +1,113 @@
+// encode_hash_position_gradient.comp (HashEncoding::recordPositionGradient: dL/dp for camera
+// refinement) against central differences of the CPU reference in double (src/reference/encoding/hash_encoding.h).
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/recorder.h"
+#include "nerf/encoding/hash_encoding.h"
+#include "reference/encoding/hash_encoding.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
+
+using namespace vknerf;
+using ref::HashGridConfig;
+
+namespace {
+
+class HashPositionGradient : public test::GpuTest {};
+
+// Dense and hashed levels, F = 1, 2, 4 and 8, resolutions that are and are not powers of two.
+const HashGridConfig kConfigs[] = {{6, 2, 12, 4, 2.0}, {3, 1, 6, 3, 1.37}, {2, 4, 8, 8, 3.0}, {3, 8, 7, 2, 2.0}};
+
+// Points with 12 fractional bits of u = (p + 1) / 2: u * res is exact in float for every level, so
+// the device's cell and in-cell position w equal the reference's exactly, and what differs is the
+// rounding of the products and sums alone. None lies on a cell face at any level (w = 0), where the
+// feature has a kink and a central difference would straddle two cells; w >= 1/4096 * res there,
+// far wider than the difference step. Every 7th point lies outside the box on one axis, where the
+// forward clamps p and the gradient along that axis is 0.
+std::vector<float> interiorPositions(const HashGridConfig& c, uint32_t count, uint32_t seed) {
+  std::mt19937 gen(seed);
+  std::uniform_int_distribution<int> k(1, 4095);
+  std::vector<float> v;
+  while (v.size() < 4 * size_t(count)) {
+    float p[3];
+    bool onFace = false;
+    for (int a = 0; a < 3; ++a) {
+      const int u = k(gen);
+      p[a] = float(u) / 2048.0f - 1.0f;
+      for (uint32_t l = 0; l < c.levels; ++l) onFace |= (uint64_t(u) * ref::hashGridResolution(c, l)) % 4096 == 0;
+    }
+    if (onFace) continue;
+    const size_t i = v.size() / 4;
+    if (i % 7 == 3) p[i % 3] = (i & 1) ? 1.5f : -2.0f;
+    v.insert(v.end(), {p[0], p[1], p[2], 0.0f});
+  }
+  return v;
+}
+
+TEST_F(HashPositionGradient, MatchesFiniteDifferencesOfTheReference) {
+  for (const HashGridConfig& c : kConfigs) {
+    nerf::HashEncoding enc(ctx(), c);
+    const uint32_t n = 300, D = enc.outputDims(), stride = enc.paddedDims() + 4;
+    std::mt19937 gen(c.levels * 10 + c.featuresPerLevel);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<float> table(enc.parameterCount()), dF(size_t(n) * stride, 0.0f);
+    for (auto& x : table) x = u(gen);
+    for (uint32_t r = 0; r < n; ++r)
+      for (uint32_t j = 0; j < D; ++j) dF[size_t(r) * stride + j] = u(gen);
+    // A sample behind a ray's cut has dL/dfeatures = 0: its gradient must be exactly 0.
+    for (uint32_t j = 0; j < D; ++j) dF[size_t(n - 1) * stride + j] = 0.0f;
+    const auto pos = interiorPositions(c, n, 7);
+    auto pb = gpu::Buffer::of(ctx(), pos), tb = gpu::Buffer::of(ctx(), table), db = gpu::Buffer::of(ctx(), dF);
+    auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * 4, 12345.0f));
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { enc.recordPositionGradient(rec, {n, pb, db, stride, 0}, tb, out); });
+    const auto got = out.download<float>();
+
+    const std::vector<double> tableD(table.begin(), table.end());
+    double resSum = 0;
+    for (uint32_t l = 0; l < c.levels; ++l) resSum += ref::hashGridResolution(c, l);
+    // Per level the device sums 8 corners of F products (|dF|, |table| <= 1) times weight
+    // products, all exact inputs: about 20 roundings of terms up to F * res / 2 each, 8 corners:
+    // 80 F res 2^-24 per level, summed over levels. The difference quotient is exact up to
+    // rounding of S (trilinear within a cell): |S| <= L F, 1e-15 relative over h = 1e-5.
+    const double tol = 80.0 * c.featuresPerLevel * resSum * std::ldexp(1.0, -24) + 1e-8;
+    const double h = 1e-5;
+    for (uint32_t r = 0; r < n; ++r) {
+      auto S = [&](const double* p) {
+        const auto f = ref::hashEncoding<double>(c, tableD.data(), p);
+        double s = 0;
+        for (uint32_t j = 0; j < D; ++j) s += double(dF[size_t(r) * stride + j]) * f[j];
+        return s;
+      };
+      for (int a = 0; a < 3; ++a) {
+        double up[3] = {pos[4 * r], pos[4 * r + 1], pos[4 * r + 2]}, down[3] = {up[0], up[1], up[2]};
+        up[a] += h, down[a] -= h;
+        const double want = (S(up) - S(down)) / (2 * h);
+        ASSERT_TRUE(test::near(got[4 * r + a], want, 0, tol))
+            << "levels " << c.levels << " F " << c.featuresPerLevel << " row " << r << " axis " << a << ": " << got[4 * r + a]
+            << " vs " << want;
+      }
+    }
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(got[4 * (n - 1) + a], 0.0f);
+  }
+}
+
+TEST_F(HashPositionGradient, RowLimitLeavesLaterRowsUntouched) {
+  const HashGridConfig& c = kConfigs[0];
+  nerf::HashEncoding enc(ctx(), c);
+  const uint32_t n = 130, stride = enc.paddedDims();
+  auto pb = gpu::Buffer::of(ctx(), interiorPositions(c, n, 3));
+  auto tb = gpu::Buffer::of(ctx(), std::vector<float>(enc.parameterCount(), 0.5f));
+  auto db = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * stride, 1.0f));
+  auto limit = gpu::Buffer::of(ctx(), std::vector<uint32_t>{70});
+  auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * 4, 12345.0f));
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    enc.recordPositionGradient(rec, {n, pb, db, stride, 0, gpu::BufferRange(limit)}, tb, out);
+  });
+  const auto got = out.download<float>();
+  for (uint32_t r = 0; r < n; ++r) EXPECT_EQ(got[4 * r + 3] == 12345.0f, r >= 70) << "row " << r;
+}
+
+}  // namespace

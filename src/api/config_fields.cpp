@@ -232,7 +232,8 @@ std::vector<ConfigField> table() {
           .flag("--refine-cameras", "fast: learn a correction of each training photo's pose while training (docs/real_captures.md)"),
       fastTop("camera_lr", &FastModel::cameraLearningRate).addedLater().range(0.0, 1e3).openLow()
           .flag("--camera-lr", "fast, with --refine-cameras: the pose corrections' initial learning rate").flagPositive(),
-      fastTop("camera_penalty", &FastModel::cameraPenalty).addedLater().range(0.0, 1e6),
+      fastTop("camera_penalty", &FastModel::cameraPenalty).addedLater().range(0.0, 1e6)
+          .flag("--camera-penalty", "fast, with --refine-cameras: weight of the L2 penalty that keeps each pose near its given one").flagRange(0.0, 1e6),
 
       top("lr", &TrainConfig::learningRate).range(0.0, 1e3).openLow(),
       top("lr_final", &TrainConfig::learningRateFinal).range(0.0, 1e3).openLow(),

@@ -45,6 +45,14 @@ struct Camera {
 // hand can be checked the same way.
 void checkLens(const Camera& camera, const std::string& where);
 
+// A training image's camera with the image's name, as a checkpoint records it (Model::trainingCameras,
+// vknerf export cameras). `name` is the image's path as Dataset::names held it (relative paths to the
+// folder training ran in); empty when the training set named no image.
+struct TrainedCamera {
+  std::string name;
+  Camera camera;
+};
+
 struct Aabb {
   std::array<float, 3> min{-1, -1, -1};
   std::array<float, 3> max{1, 1, 1};

@@ -38,6 +38,14 @@ class Model {
 
   const TrainConfig& config() const;
   const Aabb& bounds() const;
+  // The cameras of the training images in training order, each with its image's name (the path
+  // Dataset::names held; may be empty), as the checkpoint recorded them; a Trainer's model gives
+  // what Trainer::save would record now. Throws vknerf::Error naming the checkpoint and
+  // "training_cameras" when it was written before checkpoints recorded them (it still loads and
+  // renders), or the camera's field when one is malformed.
+  std::vector<TrainedCamera> trainingCameras() const;
+  // The same, read from the checkpoint file alone: no device, no model built.
+  static std::vector<TrainedCamera> trainingCamerasOf(const std::string& checkpoint);
   // Renders on the device, waits, and reads the image back.
   // `progress`, when given, is called after each tile of rays with (pixels done, pixels in all).
   RenderedImage render(const Camera& camera,

@@ -69,7 +69,8 @@ class Trainer {
   // resolution: 0) was chosen from the training data, one line; "" when nothing was left open.
   const std::string& capacityNote() const;
 
-  // Checkpoint: config, parameters, Adam state and the step, written atomically.
+  // Checkpoint: config, parameters, Adam state, the step and the training cameras (Model::trainingCameras),
+  // written atomically.
   void save(const std::string& path) const;
   // Continue exactly from a checkpoint written by save() for the same dataset; throws vknerf::Error when
   // its model config, scene box, camera count or image size differ from this trainer's.

@@ -56,6 +56,12 @@ Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 const TrainConfig& Model::config() const { return impl_->config; }
 const Aabb& Model::bounds() const { return impl_->box; }
+std::vector<TrainedCamera> Model::trainingCameras() const { return impl_->trainingCameras(); }
+
+std::vector<TrainedCamera> Model::trainingCamerasOf(const std::string& checkpoint) {
+  return nerf::CheckpointRecord(nerf::Checkpoint::load(checkpoint)).trainingCameras();
+}
+
 RenderedImage Model::render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const {
   return impl_->render(camera, progress);
 }
@@ -79,6 +85,7 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   impl->ctx = ctx;
   impl->config = record.config();
   impl->box = record.bounds();
+  impl->trainingCameras = [record] { return record.trainingCameras(); };
   impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false, settings);
   impl->pipe = impl->own.get();
   uploadState(ck, *impl->pipe);

@@ -1,7 +1,9 @@
 #pragma once
 // Model's insides, shared by the files that implement it (model.cpp: loading, host rendering;
 // model_record.cpp: rendering into a caller's command buffer; trainer.cpp: the model it trains).
+#include <functional>
 #include <memory>
+#include <vector>
 
 #include "models/field_pipeline.h"
 #include "vknerf/model.h"
@@ -29,6 +31,9 @@ struct Model::Impl {
   Aabb box;
   std::unique_ptr<nerf::FieldPipeline> own;  // a loaded model's inference pipeline
   nerf::FieldPipeline* pipe = nullptr;       // own, or the trainer's
+  // Model::trainingCameras: the checkpoint's record, read when asked (a checkpoint written before
+  // the cameras were recorded loads, and fails only there), or the trainer's cameras.
+  std::function<std::vector<TrainedCamera>()> trainingCameras;
   // Last member: destroyed first, while the pipeline and the context still exist.
   mutable std::unique_ptr<nerf::RecordState, nerf::RecordStateDeleter> record;
 

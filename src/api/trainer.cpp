@@ -25,6 +25,8 @@ struct Trainer::Impl {
   TrainConfig config;
   Aabb box;
   uint32_t numCameras = 0, imageWidth = 0, imageHeight = 0;  // the first image's size, for the checkpoint
+  std::vector<Camera> trainCameras;  // as the dataset gave them, for the checkpoint's record
+  std::vector<std::string> names;    // Dataset::names, one per camera ("" where it named none)
   std::unique_ptr<nerf::TrainingPixels> pixels;
   gpu::Buffer cameras;
   bool transparentPixels = false;  // some training pixel has alpha < 255
@@ -36,6 +38,16 @@ struct Trainer::Impl {
   std::unique_ptr<Model> model;
   uint32_t step = 0;
   std::string capacityNote;
+
+  // The cameras the checkpoint records. When camera refinement is on, the refined poses replace
+  // these: the record is what the model was fitted through, not what the dataset said.
+  std::vector<Camera> savedCameras() const { return trainCameras; }
+  std::vector<TrainedCamera> namedSavedCameras() const {
+    std::vector<Camera> cams = savedCameras();
+    std::vector<TrainedCamera> out;
+    for (size_t i = 0; i < cams.size(); ++i) out.push_back({names[i], cams[i]});
+    return out;
+  }
 };
 
 Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const TrainConfig& config)
@@ -56,6 +68,9 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.numCameras = uint32_t(train.cameras.size());
   s.imageWidth = train.images[0].width;
   s.imageHeight = train.images[0].height;
+  s.trainCameras = train.cameras;
+  s.names = train.names;
+  s.names.resize(train.cameras.size());  // a hand-made dataset may name no image
   std::vector<nerf::ImageSize> sizes;
   std::vector<uint64_t> pixelCounts;
   for (uint32_t i = 0; i < s.numCameras; ++i) {
@@ -95,6 +110,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   m->config = s.config;
   m->box = s.box;
   m->pipe = s.pipe.get();
+  m->trainingCameras = [&s] { return s.namedSavedCameras(); };  // s owns the model: it outlives it
   s.model.reset(new Model(std::move(m)));
 }
 
@@ -147,7 +163,8 @@ const std::string& Trainer::capacityNote() const { return impl_->capacityNote; }
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;
   nerf::Checkpoint ck;
-  ck.config = nerf::CheckpointRecord::write(s.config, s.step, s.box, {s.numCameras, s.imageWidth, s.imageHeight});
+  ck.config = nerf::CheckpointRecord::write(s.config, s.step, s.box, {s.numCameras, s.imageWidth, s.imageHeight},
+                                           s.namedSavedCameras());
   for (auto& a : s.pipe->state()) ck.put(a.name, a.buffer->download<float>(a.count));
   ck.save(path);
 }

@@ -249,6 +249,8 @@ TEST(BadInput, AnOutputNeverReplacesAnInput) {
        "-o " + hard + " would replace the model " + model},
       {"points over the model", "export points " + model + " --scene " + scene() + " -o " + model, 2,
        "would replace the model " + model},
+      {"cameras over a symlink to the model", "export cameras " + model + " -o " + link, 2,
+       "export cameras: -o " + link + " would replace the model " + model},
       {"eval JSON over the model", "eval " + model + " " + scene() + " --json " + model, 2,
        "--json " + model + " would replace the model " + model},
       {"video over the model", "render " + model + " --path " + path + " --video " + model, 2,

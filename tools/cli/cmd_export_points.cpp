@@ -1,7 +1,7 @@
 // `vknerf export points MODEL --scene SCENE -o points.ply [--split S] [--downscale N] [--min-opacity A]
 // [--max-points N]`: every training view rendered, each pixel the field makes opaque enough placed
-// at its expected depth with the field's colour there, as a binary PLY point cloud. A checkpoint keeps
-// the field, not the cameras: the scene names them.
+// at its expected depth with the field's colour there, as a binary PLY point cloud. The scene names
+// the views (any split, any --downscale), checked against the model's record.
 #include <chrono>
 #include <cstdio>
 #include <string>

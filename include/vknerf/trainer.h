@@ -56,6 +56,9 @@ class Trainer {
   StepStats step(bool readLoss = false);
   uint32_t steps() const;
   const Model& model() const;
+  // The training cameras as the model is fitted through them: the dataset's, with their learned
+  // corrections applied when the fast model refines cameras (FastModel::refineCameras).
+  std::vector<Camera> cameras() const;
   // Device milliseconds per kernel of the last step (GPU timestamps), in recording order.
   std::vector<std::pair<std::string, double>> lastStepTimings() const;
   // The whole last step: its submissions, the host time between them, and its wall time.

@@ -16,6 +16,7 @@
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
+#include "reference/rays/pose_correction.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -39,9 +40,19 @@ struct Trainer::Impl {
   uint32_t step = 0;
   std::string capacityNote;
 
-  // The cameras the checkpoint records. When camera refinement is on, the refined poses replace
-  // these: the record is what the model was fitted through, not what the dataset said.
-  std::vector<Camera> savedCameras() const { return trainCameras; }
+  // The cameras the checkpoint records: with camera refinement the refined poses, what the model
+  // was fitted through, not what the dataset said.
+  std::vector<Camera> savedCameras() const {
+    std::vector<Camera> out = trainCameras;
+    const auto corrections = pipe->cameraCorrections();
+    for (size_t i = 0; i < corrections.size() && i < out.size(); ++i) {
+      const std::array<double, 6> c{corrections[i][0], corrections[i][1], corrections[i][2],
+                                    corrections[i][3], corrections[i][4], corrections[i][5]};
+      const auto pose = ref::correctedPose<double>(out[i].c2w, c.data());
+      for (int k = 0; k < 16; ++k) out[i].c2w[k] = float(pose[k]);
+    }
+    return out;
+  }
   std::vector<TrainedCamera> namedSavedCameras() const {
     std::vector<Camera> cams = savedCameras();
     std::vector<TrainedCamera> out;
@@ -130,6 +141,7 @@ StepProfile Trainer::lastStepProfile() const {
   return p;
 }
 const Model& Trainer::model() const { return *impl_->model; }
+std::vector<Camera> Trainer::cameras() const { return impl_->savedCameras(); }
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;

@@ -23,6 +23,7 @@ layout(std430, binding = 7) writeonly buffer Grads { float grads[]; };
 layout(std430, binding = 8) readonly buffer RayCount { uint rayCount; };
 
 #include "rays/camera_gradient_shared.h"
+#define PER_CAMERA_VEC4 2u  // sum t (d x dL/dx), sum dL/dx
 #include "gpu/per_camera_sum.glsl"
 
 void main() {
@@ -38,8 +39,11 @@ void main() {
       a += samples[m].x * cross(d, gx);
     }
   }
-  vec3 sumW = perCameraSum(vec4(a, 0.0)).xyz, sumTau = perCameraSum(vec4(b, 0.0)).xyz;
+  perCameraScratch[2u * gl_LocalInvocationID.x] = vec4(a, 0.0);
+  perCameraScratch[2u * gl_LocalInvocationID.x + 1u] = vec4(b, 0.0);
+  perCameraReduce(2u);
   if (gl_LocalInvocationID.x != 0u) return;
+  vec3 sumW = perCameraScratch[0].xyz, sumTau = perCameraScratch[1].xyz;
   vec3 w = vec3(corrections[6u * c], corrections[6u * c + 1u], corrections[6u * c + 2u]);
   vec3 tau = vec3(corrections[6u * c + 3u], corrections[6u * c + 4u], corrections[6u * c + 5u]);
   vec3 gw = transpose(so3LeftJacobian(w)) * sumW + pc.penalty * w;

@@ -38,7 +38,7 @@ struct AppearanceGradientInputs {
 class AppearanceEmbedding {
  public:
   // dims: a multiple of 4, 4..kMaxDims.
-  static constexpr uint32_t kMaxDims = 64;  // appearance_gradient.comp's MAX_VEC4 x 4
+  static constexpr uint32_t kMaxDims = 64;  // appearance_gradient.comp's shared sums: 16 vec4 a lane
   AppearanceEmbedding(Context& ctx, uint32_t dims);
   uint32_t dims() const { return dims_; }
 

@@ -116,34 +116,39 @@ TEST_F(Appearance, RenderRowsGetAChosenPhotosVectorOrTheMean) {
 // absolute tolerance is 1e-5 * sum|terms| (the reference's sum of magnitudes, entry by entry),
 // which any missing or doubled row (at least one whole term) exceeds. Two runs agree bit for bit.
 TEST_F(Appearance, GradientSumsEachPhotosRowsDeterministically) {
-  nerf::AppearanceEmbedding emb(ctx(), kDims);
-  const Batch b = randomBatch(4);
-  const uint32_t trained = 150;  // the device's ray count: the rays past it add nothing
-  const uint32_t rows = b.rowOffsets.back();
-  const auto dDir = uniform(size_t(rows) * kStride, 5);
-  auto ids = gpu::Buffer::of(ctx(), b.pixelIds), offsets = gpu::Buffer::of(ctx(), b.rowOffsets);
-  auto dDirBuf = gpu::Buffer::of(ctx(), dDir);
-  auto count = gpu::Buffer::of(ctx(), std::vector<uint32_t>{trained, 0, 0, 0});
-  auto run = [&] {
-    auto grads = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kPhotos) * kDims, kSentinel));
-    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      emb.recordGradient(rec, {kRays, ids, offsets, dDirBuf, gpu::BufferRange(count, 0, 4), kStride, kOffset}, kPhotos,
-                         grads);
-    });
-    return grads.download<float>(size_t(kPhotos) * kDims);
-  };
-  const auto got = run(), again = run();
-  const auto want = ref::appearanceGradient(dDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
-  std::vector<float> absDir(dDir.size());
-  for (size_t i = 0; i < dDir.size(); ++i) absDir[i] = std::fabs(dDir[i]);
-  const auto scale = ref::appearanceGradient(absDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
-  int nonzero = 0;
-  for (size_t i = 0; i < want.size(); ++i) {
-    EXPECT_TRUE(test::near(got[i], want[i], 0.0, 1e-5 * scale[i] + 1e-30)) << "photo " << i / kDims << " entry " << i % kDims;
-    nonzero += want[i] != 0.0;
+  // A few dims, and the most the configuration allows (every vec4 slot of the kernel's shared sums).
+  for (const uint32_t dims : {8u, 64u}) {
+    SCOPED_TRACE(testing::Message() << dims << " dims");
+    const uint32_t kDims = dims, kStride = 16 + dims + 4;  // [SH 16 | vector | 4 unused]
+    nerf::AppearanceEmbedding emb(ctx(), kDims);
+    const Batch b = randomBatch(4);
+    const uint32_t trained = 150;  // the device's ray count: the rays past it add nothing
+    const uint32_t rows = b.rowOffsets.back();
+    const auto dDir = uniform(size_t(rows) * kStride, 5);
+    auto ids = gpu::Buffer::of(ctx(), b.pixelIds), offsets = gpu::Buffer::of(ctx(), b.rowOffsets);
+    auto dDirBuf = gpu::Buffer::of(ctx(), dDir);
+    auto count = gpu::Buffer::of(ctx(), std::vector<uint32_t>{trained, 0, 0, 0});
+    auto run = [&] {
+      auto grads = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kPhotos) * kDims, kSentinel));
+      test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+        emb.recordGradient(rec, {kRays, ids, offsets, dDirBuf, gpu::BufferRange(count, 0, 4), kStride, kOffset}, kPhotos,
+                           grads);
+      });
+      return grads.download<float>(size_t(kPhotos) * kDims);
+    };
+    const auto got = run(), again = run();
+    const auto want = ref::appearanceGradient(dDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
+    std::vector<float> absDir(dDir.size());
+    for (size_t i = 0; i < dDir.size(); ++i) absDir[i] = std::fabs(dDir[i]);
+    const auto scale = ref::appearanceGradient(absDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
+    int nonzero = 0;
+    for (size_t i = 0; i < want.size(); ++i) {
+      EXPECT_TRUE(test::near(got[i], want[i], 0.0, 1e-5 * scale[i] + 1e-30)) << "photo " << i / kDims << " entry " << i % kDims;
+      nonzero += want[i] != 0.0;
+    }
+    EXPECT_GT(nonzero, int(want.size()) / 2);  // most photos have rays in the batch
+    ASSERT_EQ(std::memcmp(got.data(), again.data(), got.size() * 4), 0) << "the sums differ between runs";
   }
-  EXPECT_GT(nonzero, int(want.size()) / 2);  // most photos have rays in the batch
-  ASSERT_EQ(std::memcmp(got.data(), again.data(), got.size() * 4), 0) << "the sums differ between runs";
 }
 
 TEST_F(Appearance, DimsThatCannotWorkAreErrors) {

@@ -138,10 +138,8 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       renderMinTransmittance_(overrides.minTransmittance),
       raysNext_(std::min(rayCapacity_, 1024u)) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
-  renderPhoto_ = overrides.appearancePhoto;  // checked against the photos when they are known
-  if (renderPhoto_ && !model_.appearanceDims)
-    throw Error("render settings: an appearance photo was chosen, but the model has no appearance embedding "
-                "(model.appearance_dims is 0)");
+  // Checked against the photos when they are known (a model without the embedding: makeFieldPipeline).
+  renderPhoto_ = overrides.appearancePhoto;
   if (!(renderMinTransmittance_ >= 0 && renderMinTransmittance_ < 1))
     throw Error("render settings: minTransmittance must be in [0, 1), got " + std::to_string(renderMinTransmittance_));
   if (model_.farField == FarField::Learned)

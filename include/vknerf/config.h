@@ -35,6 +35,11 @@ struct FastModel {
   uint32_t hashLevels = 16, hashFeatures = 2, hashLog2Size = 19, hashBaseResolution = 16;
   float hashGrowth = 1.5f;
   uint32_t shDegree = 4;              // direction encoding: shDegree^2 coefficients
+  // Per-photo appearance embedding (0: none; a multiple of 4, at most 64): a learned vector of this
+  // many floats per training photo, fed to the colour network beside the direction encoding, so
+  // that exposure and white balance that change from photo to photo are explained there and not by
+  // density (nerfacto: 32, instant-ngp: 16). Renders use the mean of the photos' vectors.
+  uint32_t appearanceDims = 0;
   uint32_t width = 64, depth = 1;     // instant-ngp: one hidden layer for density, the colour layer after it
   // The features the density network passes to the colour layer (a multiple of 4, at most width;
   // 0: width, as models saved before this field): instant-ngp passes 16 (15 and the density).

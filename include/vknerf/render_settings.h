@@ -1,6 +1,7 @@
 #pragma once
 // Sampling when rendering a loaded model (Model::load); 0 keeps what the model was trained with.
 #include <cstdint>
+#include <optional>
 
 namespace vknerf {
 
@@ -10,6 +11,9 @@ struct RenderSettings {
   // fast: a ray stops once its transmittance is below this (what lies behind adds less than that
   // times its colour); 0 shades every sample the march finds. In [0, 1).
   float minTransmittance = 1e-4f;
+  // fast, trained with an appearance embedding: the training photo (its index in the training
+  // split) whose appearance vector renders use; none: the mean of the photos' vectors.
+  std::optional<uint32_t> appearancePhoto;
 };
 
 }  // namespace vknerf

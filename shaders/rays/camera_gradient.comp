@@ -6,10 +6,8 @@
 // (t fixed: the march's choice of samples is not differentiated), so
 //   dL/dtau = sum dL/dx,   dL/dw = J_l(w)^T sum t (d x dL/dx)
 // over the camera's rays and their samples, plus penalty * (w, tau) from the L2 term that keeps
-// each pose near the one it was given. One workgroup per camera reads every ray's camera id and
-// sums its own rays' samples, then reduces in shared memory: the sum is the same at every run (no
-// float atomics), and no host round trip. The cost is rays x cameras id reads, a few per cent of a
-// step at a hundred photos. Writes (does not add to) the gradient. ref: tests/unit/rays.
+// each pose near the one it was given. One workgroup per camera (gpu/per_camera_sum.glsl: the same
+// sum at every run, no float atomics). Writes (does not add to) the gradient. ref: tests/unit/rays.
 #include "rays/so3.glsl"
 
 layout(local_size_x = 64) in;
@@ -25,15 +23,14 @@ layout(std430, binding = 7) writeonly buffer Grads { float grads[]; };
 layout(std430, binding = 8) readonly buffer RayCount { uint rayCount; };
 
 #include "rays/camera_gradient_shared.h"
-
-shared vec3 sumW[64], sumTau[64];
+#define PER_CAMERA_VEC4 2u  // sum t (d x dL/dx), sum dL/dx
+#include "gpu/per_camera_sum.glsl"
 
 void main() {
-  uint c = gl_WorkGroupID.x, lane = gl_LocalInvocationID.x;
+  uint c = gl_WorkGroupID.x;
   uint n = min(pc.maxRays, rayCount);
   vec3 a = vec3(0.0), b = vec3(0.0);
-  for (uint r = lane; r < n; r += 64u) {
-    if (pixelIds[r].x != c) continue;
+  FOR_EACH_CAMERA_RAY(r, n) {
     vec3 d = rays[2u * r + 1u].xyz;
     uint m = marched[r];
     for (uint q = rowOffsets[r], end = rowOffsets[r + 1u]; q < end; ++q, ++m) {
@@ -42,21 +39,15 @@ void main() {
       a += samples[m].x * cross(d, gx);
     }
   }
-  sumW[lane] = a;
-  sumTau[lane] = b;
-  barrier();
-  for (uint s = 32u; s > 0u; s >>= 1u) {
-    if (lane < s) {
-      sumW[lane] += sumW[lane + s];
-      sumTau[lane] += sumTau[lane + s];
-    }
-    barrier();
-  }
-  if (lane != 0u) return;
+  perCameraScratch[2u * gl_LocalInvocationID.x] = vec4(a, 0.0);
+  perCameraScratch[2u * gl_LocalInvocationID.x + 1u] = vec4(b, 0.0);
+  perCameraReduce(2u);
+  if (gl_LocalInvocationID.x != 0u) return;
+  vec3 sumW = perCameraScratch[0].xyz, sumTau = perCameraScratch[1].xyz;
   vec3 w = vec3(corrections[6u * c], corrections[6u * c + 1u], corrections[6u * c + 2u]);
   vec3 tau = vec3(corrections[6u * c + 3u], corrections[6u * c + 4u], corrections[6u * c + 5u]);
-  vec3 gw = transpose(so3LeftJacobian(w)) * sumW[0] + pc.penalty * w;
-  vec3 gt = sumTau[0] + pc.penalty * tau;
+  vec3 gw = transpose(so3LeftJacobian(w)) * sumW + pc.penalty * w;
+  vec3 gt = sumTau + pc.penalty * tau;
   for (int k = 0; k < 3; ++k) {
     grads[6u * c + uint(k)] = gw[k];
     grads[6u * c + 3u + uint(k)] = gt[k];

@@ -194,6 +194,9 @@ std::vector<ConfigField> table() {
           .flag("--hash-max-resolution", "fast: finest grid level's cells per axis").flagTakes(Type::Count).flagRange(2, 65536)
           .flagApplies([](TrainConfig& c, const ConfigValue& v) { spreadHashLevels(c.fastModel(), std::get<uint32_t>(v)); }),
       model("sh_degree", &FastModel::shDegree).addedLater().range(1, 8),
+      model("appearance_dims", &FastModel::appearanceDims).addedLater(0u).range(0, 64).multipleOf(4)
+          .flag("--appearance-dims", "fast: a learned appearance vector of N floats per training photo (exposure, white balance; multiple of 4, 0: none)")
+          .flagRange(0, 64),
       model("grid_resolution", &FastModel::gridResolution).addedLater().range(1, 256)
           .flag("--grid", "fast: occupancy grid cells per axis").flagRange(1, 256),
       model("cascades", &FastModel::cascades).addedLater(1u).range(0, 8)  // models saved before cascades have one

@@ -2,6 +2,7 @@
 
 #include "models/fast/fast_pipeline.h"
 #include "models/vanilla/vanilla_pipeline.h"
+#include "vknerf/error.h"
 
 namespace vknerf::nerf {
 
@@ -9,6 +10,9 @@ std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig
                                                  uint32_t rayCapacity, bool training, const RenderSettings& overrides) {
   // Every buffer the pipeline's members allocate while it is built is charged to its account.
   gpu::MemoryAccount::Scope charge(std::make_shared<gpu::MemoryAccount>());
+  if (overrides.appearancePhoto && !(config.isFast() && config.fastModel().appearanceDims))
+    throw Error("render settings: an appearance photo was chosen, but the model has no appearance embedding "
+                "(model.appearance_dims is 0)");
   if (config.isFast()) return std::make_unique<FastPipeline>(ctx, config, box, rayCapacity, training, overrides);
   return std::make_unique<VanillaPipeline>(ctx, config, box, rayCapacity, training, overrides);
 }

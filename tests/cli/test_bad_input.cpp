@@ -220,6 +220,8 @@ TEST(BadInput, CheckpointsAreCheckedBeyondTheirChecksum) {
       {"unknown activation", "render " + badActivation + render, 1, "model.density is not a known activation"},
       {"NaN weights", "render " + nanWeights + render, 1, "holds a non-finite value"},
       {"checkpoint is a folder", "eval " + folder + " " + scene(), 1, folder + ": is a folder, not a checkpoint"},
+      {"appearance of a model without one", "render " + tinyModel() + render + " --appearance 0", 1,
+       "the model has no appearance embedding (model.appearance_dims is 0)"},
       {"steps past the counter", "train " + scene() + resume + " --steps 4294967295", 2,
        "passes the step counter's limit"},
       {"flag conflicting with the checkpoint", "train " + scene() + resume + " --steps 1 --width 32", 2,

@@ -3,10 +3,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "appearance_option.h"
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
@@ -27,6 +29,7 @@ namespace {
 struct Options {
   std::string model, scene, split = "test", json, csv, sheet;
   uint32_t downscale = 1, limit = 0, sheetViews = 8, sheetSize = 100;
+  std::optional<uint32_t> appearance;  // --appearance
 };
 
 // The error tiles' full scale: a mean |render - truth| of 0.25 over RGB (PSNR ~12 dB on its own) and
@@ -75,7 +78,9 @@ int run(const Options& o, const Globals& g) {
   files.input(o.model, "model").scene(o.scene).output(o.json, "--json").output(o.csv, "--csv").output(o.sheet, "--sheet");
   files.check();
   auto ctx = g.context();
-  Model model = Model::load(ctx, o.model);
+  RenderSettings settings;
+  settings.appearancePhoto = o.appearance;
+  Model model = Model::load(ctx, o.model, settings);
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;
@@ -127,6 +132,7 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   app.add_option("--json", o->json, "Write the results as JSON");
   app.add_option("--csv", o->csv, "Write per-image results as CSV");
   app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
+  addAppearanceOption(app, o->appearance);
   app.add_option("--limit", o->limit, "Evaluate at most this many views (default 0: all)");
   app.add_option("--sheet", o->sheet,
                  "Write a contact sheet PNG: a row per view (name, PSNR, SSIM), ground truth | render | depth "

@@ -175,6 +175,15 @@ uint32_t CheckpointRecord::step() const {
   }
 }
 
+std::optional<uint32_t> CheckpointRecord::trainingCameras() const {
+  if (!j_.contains("scene")) return std::nullopt;
+  try {
+    return j_.at("scene").at("cameras").get<uint32_t>();
+  } catch (const json::exception& e) {
+    throw Error(path_ + ": checkpoint scene.cameras: " + e.what());
+  }
+}
+
 void CheckpointRecord::checkScene(const SceneFacts& scene) const {
   const std::string& path = path_;
   try {

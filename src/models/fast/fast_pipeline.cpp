@@ -113,7 +113,9 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                           .width = model_.width,
                           .skipLayer = 0,  // the hash grid's features need no re-injection through a shallow trunk
                           .posDims = hash_.outputDims(),
-                          .dirDims = sh_.outputDims(),
+                          // [SH(d) | appearance vector], the vector at a multiple of 4 columns
+                          .dirDims = model_.appearanceDims ? sh_.paddedDims() + model_.appearanceDims
+                                                           : sh_.outputDims(),
                           .density = model_.density,
                           .seed = config.seed,
                           .featureWidth = model_.featureWidth},
@@ -136,6 +138,8 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       renderMinTransmittance_(overrides.minTransmittance),
       raysNext_(std::min(rayCapacity_, 1024u)) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
+  // Checked against the photos when they are known (a model without the embedding: makeFieldPipeline).
+  renderPhoto_ = overrides.appearancePhoto;
   if (!(renderMinTransmittance_ >= 0 && renderMinTransmittance_ < 1))
     throw Error("render settings: minTransmittance must be in [0, 1), got " + std::to_string(renderMinTransmittance_));
   if (model_.farField == FarField::Learned)
@@ -181,6 +185,7 @@ void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool kee
   const gpu::BufferRange total = batch.total();
   hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0, total}, table_.params());
   sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, total});
+  recordAppearance(rec, f, count, total, keep);
   NerfRows rows = f.mlpRows(count);
   rows.rowLimit = total;
   mlp_.recordForward(rec, rows, network_.params(), keep ? f.workspace.get() : nullptr);
@@ -243,7 +248,20 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
 void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count) {
   hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0}, table_.params());
   sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0});
+  recordAppearance(rec, f, count, std::nullopt, false);
   mlp_.recordForward(rec, f.mlpRows(count), network_.params(), nullptr);
+}
+
+void FastPipeline::recordAppearance(gpu::Recorder& rec, FieldBatch& f, uint32_t count,
+                                    std::optional<gpu::BufferRange> rowLimit, bool training) {
+  if (!model_.appearanceDims) return;
+  if (!appearance_)
+    throw Error("fast model: model.appearance_dims is " + std::to_string(model_.appearanceDims) +
+                ", but the number of training photos (whose vectors it learns) was never given");
+  AppearanceRows rows{count, f.dirFeatures, mlp_.dirStride(), sh_.paddedDims(), rowLimit};
+  if (!training) return appearance_->recordRenderRows(rec, rows);
+  rows.pixelIds = rays_.pixelIds(), rows.sampleRay = marched_.sampleRay;
+  appearance_->recordTrainingRows(rec, rows);
 }
 
 void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
@@ -289,6 +307,7 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   table_.recordOptimizerStep(rec, step);
   if (farField_) farField_->recordOptimizerStep(rec, step);
   if (cameras_) cameras_->recordOptimizerStep(rec, step);
+  if (appearance_) appearance_->recordOptimizerStep(rec, step);
   rec.end();
   rec.submitAndWait();
   return countTrainingStep();
@@ -345,12 +364,17 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
     kept_->record(rec, R, marched_.offsets, field_.positions);
     positions = kept_->positions(), limit = kept_->total(), gradients.rowGather = kept_->rows();
   }
+  if (appearance_) gradients.dDir = gpu::BufferRange(dDir_);
   NerfRows rows = field_.mlpRows(sampleCapacity_);
   rows.rowLimit = limit;
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
+  const gpu::Buffer& rowOffsets = gatherBackward_ ? kept_->offsets() : marched_.offsets;
+  if (appearance_)
+    appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dDir_, wholeRayCount(), mlp_.dirStride(),
+                                      sh_.paddedDims()});
   const EncodedRows encoded{sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit};
   // Before the table's backward, which may overwrite nothing it reads, but before its optimizer step.
-  if (cameras_) recordCameraGradient(rec, batch, encoded, gatherBackward_ ? kept_->offsets() : marched_.offsets);
+  if (cameras_) recordCameraGradient(rec, batch, encoded, rowOffsets);
   hash_.recordBackward(rec, encoded, table_.grads());
 }
 
@@ -364,8 +388,15 @@ void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch
 }
 
 void FastPipeline::setTrainingCameras(uint32_t count) {
-  if (!training_ || !model_.refineCameras) return;
   gpu::MemoryAccount::Scope charge(memory());
+  if (model_.appearanceDims) {
+    appearance_.emplace(ctx_, count, model_.appearanceDims, training_ ? std::optional(adamConfigOf(config_)) : std::nullopt,
+                        renderPhoto_);
+    if (training_)
+      dDir_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(sampleCapacity_) * mlp_.dirStride() * 4,
+                                 "the samples' direction-input gradients");
+  }
+  if (!training_ || !model_.refineCameras) return;
   CameraRefinementSettings settings;
   settings.adam = adamConfigOf(config_, model_.cameraLearningRate / config_.learningRate);
   settings.penalty = model_.cameraPenalty;
@@ -406,6 +437,7 @@ std::vector<StateArray> FastPipeline::state() {
   table_.appendState(s);
   network_.appendState(s);
   if (cameras_) cameras_->appendState(s);
+  if (appearance_) appearance_->appendState(s);
   if (farField_) farField_->appendState(s);
   s.push_back({"occupancy.density", &grid_.density(), grid_.numCells(), false});
   // uint words, carried bit for bit through the float section

@@ -15,6 +15,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
+#include "models/common/appearance.h"
 #include "models/common/camera_refinement.h"
 #include "models/common/far_field.h"
 #include "models/common/field_batch.h"
@@ -94,8 +95,13 @@ class FastPipeline final : public FieldPipeline {
   void recordMarch(gpu::Recorder& rec, const RaySpan& rays, uint32_t maxSamples, uint32_t seed, bool jitter);
   // Field at marched_'s samples of `rays` (the block last marched): points, encodings, MLP, recorded
   // for the sample capacity and cut on the device to the march's total (shaders/gpu/row_limit.glsl);
-  // `keep` keeps the activations for backward.
+  // `keep` keeps the activations for backward (training: each sample sees its own photo's
+  // appearance vector, when the model has them; a render sees the render's vector).
   void recordField(gpu::Recorder& rec, const RaySpan& rays, bool keep);
+  // The appearance vectors into the first `count` rows of field_'s direction input, beside the SH
+  // encoding (nothing without an appearance embedding).
+  void recordAppearance(gpu::Recorder& rec, FieldBatch& f, uint32_t count, std::optional<gpu::BufferRange> rowLimit,
+                        bool training);
   // What the compositor reads of marched_'s rays [first, first + count): their samples, the field
   // there and each ray's background from rays_ (`background` where a ray has none of its own).
   CompositeInputs compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background);
@@ -123,6 +129,9 @@ class FastPipeline final : public FieldPipeline {
   std::optional<PhotometricLoss> loss_;
   std::optional<LearnedFarField> farField_;  // FarField::Learned: writes the rays' backgrounds
   std::optional<CameraRefinement> cameras_;  // FastModel::refineCameras, once the cameras are known
+  std::optional<Appearance> appearance_;     // FastModel::appearanceDims, once the cameras are known
+  std::optional<uint32_t> renderPhoto_;      // RenderSettings::appearancePhoto
+  gpu::Buffer dDir_;                         // training with it: dL/d(direction input) per backward row
   gpu::Buffer dPosition_;                    // with it: dL/dp per backward row (vec4)
 
   // per ray

@@ -253,8 +253,10 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
   const gpu::BufferRange &dOut = gradients.dOut, &grads = gradients.grads;
   const gpu::BufferRange* dPos = gradients.dPos ? &*gradients.dPos : nullptr;
   const gpu::BufferRange* rowGather = gradients.rowGather ? &*gradients.rowGather : nullptr;
+  const gpu::BufferRange* dDir = gradients.dDir ? &*gradients.dDir : nullptr;
   if (count == 0) return;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
+  if (dDir) gpu::requireBytes("NeRF MLP backward", "dDir", *dDir, uint64_t(count) * dirStride() * 4);
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
@@ -285,6 +287,7 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
     Mat F = Mat{ws.f_, V + 4}.rows(first, n), C = Mat{ws.c_, W / 2}.rows(first, n);
     Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], V + 4}.rows(0, n), dC = Mat{ws.dc_, W / 2}.rows(0, n);
     Mat dP = dPos ? Mat{*dPos, posStride()}.rows(first, n) : p;
+    Mat dD = dDir ? Mat{*dDir, dirStride()}.rows(first, n) : d;
 
     const gpu::BufferRange* gather = rowGather;  // one chunk: the gathered rows index the whole batch
     HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4, gather ? 1u : 0u, 0};
@@ -296,7 +299,8 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
     if (gather) layerRows.gather = *gather;
     layers_[D + 2].recordBackwardWeights(rec, layerRows.as("nerf head dW"), C, C, dzh, grads);
     layers_[D + 1].recordBackwardWeights(rec, layerRows.as("nerf colour dW"), F, d, dC, grads);
-    layers_[D + 1].recordBackwardInput(rec, layerRows.as("nerf colour dX"), params, dC, F, {GradMode::Store, dF});
+    layers_[D + 1].recordBackwardInput(rec, layerRows.as("nerf colour dX"), params, dC, F,
+                                       {GradMode::Store, dF, dDir ? GradMode::Store : GradMode::Skip, dD});
     layers_[D].recordBackwardWeights(rec, layerRows.as("nerf feature+sigma dW"), H(D - 1), H(D - 1), dF, grads);
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
     layers_[D].recordBackwardInput(rec, layerRows.as("nerf feature+sigma dX"), params, dF, H(D - 1),

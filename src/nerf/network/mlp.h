@@ -45,12 +45,14 @@ struct NerfRows {
 
 // What a NeRF MLP's backward reads and writes besides the forward's rows: dOut (vec4 per row), the
 // parameter gradients it accumulates into, dPos (optional, posStride() per row) = dL/dgamma(x),
-// overwritten; rowGather (optional, uint per row): the batch is packed, its row i the forward's row
+// overwritten; dDir (optional, dirStride() per row) = dL/d(the direction input), overwritten (the
+// colour layer's input gradient: what an input learned beside the direction, such as a per-photo
+// appearance vector, trains from); rowGather (optional, uint per row): the batch is packed, its row i the forward's row
 // rowGather[i] (pos, dir, out, dOut and the activations are read there; the rows early termination
-// cut need not be computed), and dPos is written packed (row i).
+// cut need not be computed), and dPos and dDir are written packed (row i).
 struct NerfGradients {
   gpu::BufferRange dOut, grads;
-  std::optional<gpu::BufferRange> dPos, rowGather;
+  std::optional<gpu::BufferRange> dPos, rowGather, dDir;
 };
 
 class NerfMlp {

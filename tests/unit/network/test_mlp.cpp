@@ -35,7 +35,7 @@ constexpr double kFwdRel = 2e-4, kFwdAbs = 2e-5;
 constexpr double kGradRel = 1e-3, kGradAbsScale = 1e-4;
 
 struct NerfRun {
-  std::vector<float> out, grads, dPos;
+  std::vector<float> out, grads, dPos, dDir;
 };
 
 struct NerfCase {
@@ -67,6 +67,7 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
   auto dOut = gpu::Buffer::of(ctx, d.dOut.empty() ? std::vector<float>(4) : d.dOut);
   size_t outFloats = std::max<size_t>(size_t(c.count) * 4, 4);
   gpu::Buffer out(ctx, outFloats * 4), grads(ctx, d.params.size() * 4), dPos(ctx, std::max<size_t>(d.pos.size(), 4) * 4);
+  gpu::Buffer dDir(ctx, std::max<size_t>(d.dir.size(), 4) * 4);
   std::vector<float> sentinel(outFloats, -7.0f);
   out.upload(sentinel);
   grads.zero();
@@ -74,9 +75,12 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     const nerf::NerfRows rows{c.count, pos, dir, out};
     mlp.recordForward(rec, rows, params, &ws);
-    if (c.backward) mlp.recordBackward(rec, rows, params, {dOut, grads, gpu::BufferRange(dPos)}, ws);
+    nerf::NerfGradients gradients{dOut, grads, gpu::BufferRange(dPos)};
+    gradients.dDir = gpu::BufferRange(dDir);
+    if (c.backward) mlp.recordBackward(rec, rows, params, gradients, ws);
   });
-  return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size())};
+  return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size()),
+          dDir.download<float>(d.dir.size())};
 }
 
 // The forward alone, without a workspace (nothing kept for backward).
@@ -89,13 +93,13 @@ std::vector<float> inferNerf(Context& ctx, nerf::NerfMlp& mlp, uint32_t count, c
 }
 
 struct NerfRef {
-  std::vector<double> out, grads, dPos;
+  std::vector<double> out, grads, dPos, dDir;
 };
 
 NerfRef referenceNerf(const nerf::NerfMlp& mlp, const NerfCase& c, const NerfData& d) {
   const auto& s = mlp.shape();
   NerfRef r{std::vector<double>(size_t(c.count) * 4), std::vector<double>(s.total, 0.0),
-            std::vector<double>(d.pos.size(), 0.0)};
+            std::vector<double>(d.pos.size(), 0.0), std::vector<double>(d.dir.size(), 0.0)};
   std::vector<double> pos(s.posDims), dir(s.dirDims);
   for (uint32_t i = 0; i < c.count; ++i) {
     for (uint32_t k = 0; k < s.posDims; ++k) pos[k] = d.pos[size_t(i) * mlp.posStride() + k];
@@ -105,7 +109,7 @@ NerfRef referenceNerf(const nerf::NerfMlp& mlp, const NerfCase& c, const NerfDat
     if (!c.backward) continue;
     std::array<double, 4> g{d.dOut[4 * i], d.dOut[4 * i + 1], d.dOut[4 * i + 2], d.dOut[4 * i + 3]};
     ref::nerfBackward(s, d.params, pos.data(), dir.data(), fw, g, r.grads, &r.dPos[size_t(i) * mlp.posStride()],
-                      (double*)nullptr);
+                      &r.dDir[size_t(i) * mlp.dirStride()]);
   }
   return r;
 }
@@ -139,6 +143,10 @@ void checkNerf(Context& ctx, const NerfCase& c) {
   expectNear(gpu.grads, ref.grads, kGradRel, kGradAbsScale * gScale, "grads");
   // dPos is per sample (no sum over the batch): the forward-style tolerance, scaled to its magnitude.
   expectNear(gpu.dPos, ref.dPos, kGradRel, kGradAbsScale * maxAbs(ref.dPos), "dPos");
+  // dDir (what an appearance vector beside the direction trains from) is per sample too, through
+  // the head and the colour layer only: the same tolerance. Its padding columns are written 0.
+  ASSERT_GT(maxAbs(ref.dDir), 0.0);
+  expectNear(gpu.dDir, ref.dDir, kGradRel, kGradAbsScale * maxAbs(ref.dDir), "dDir");
 }
 
 nerf::MlpConfig smallNerf(DensityActivation density = DensityActivation::Relu) {

@@ -74,11 +74,11 @@ void expectNerfGradientsMatchFiniteDifferences(const ref::NerfShape& s) {
   auto pos = randomVector(samples * s.posDims, 1, 1.0), dir = randomVector(samples * s.dirDims, 2, 1.0);
   auto dOut = randomVector(samples * 4, 3, 1.0);
 
-  std::vector<double> g(s.total, 0.0), dPos(samples * s.posDims);
+  std::vector<double> g(s.total, 0.0), dPos(samples * s.posDims), dDir(samples * s.dirDims);
   for (int i = 0; i < samples; ++i) {
     auto fw = ref::nerfForward<double>(s, p, &pos[i * s.posDims], &dir[i * s.dirDims]);
     std::array<double, 4> d{dOut[4 * i], dOut[4 * i + 1], dOut[4 * i + 2], dOut[4 * i + 3]};
-    ref::nerfBackward(s, p, &pos[i * s.posDims], &dir[i * s.dirDims], fw, d, g, &dPos[i * s.posDims], (double*)nullptr);
+    ref::nerfBackward(s, p, &pos[i * s.posDims], &dir[i * s.dirDims], fw, d, g, &dPos[i * s.posDims], &dDir[i * s.dirDims]);
   }
   int nonzero = 0;
   for (size_t i = 0; i < s.total; ++i) {
@@ -101,6 +101,20 @@ void expectNerfGradientsMatchFiniteDifferences(const ref::NerfShape& s) {
     double fd = (up - down) / (2 * kFdStep);
     EXPECT_NEAR(dPos[i], fd, kFdTol + kFdTol * std::fabs(fd)) << "gamma(x) component " << i;
   }
+  // The direction input (and what is learned beside it, an appearance vector): through the colour
+  // layer alone. A wrong gradient here would train the vectors the wrong way.
+  int dirNonzero = 0;
+  for (size_t i = 0; i < dir.size(); ++i) {
+    auto q = dir;
+    q[i] += kFdStep;
+    double up = nerfLoss(s, p, pos, q, dOut, samples);
+    q[i] -= 2 * kFdStep;
+    double down = nerfLoss(s, p, pos, q, dOut, samples);
+    double fd = (up - down) / (2 * kFdStep);
+    EXPECT_NEAR(dDir[i], fd, kFdTol + kFdTol * std::fabs(fd)) << "direction component " << i;
+    dirNonzero += dDir[i] != 0;
+  }
+  EXPECT_GT(dirNonzero, 0);
 }
 
 }  // namespace

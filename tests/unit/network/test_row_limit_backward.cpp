@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -158,7 +159,7 @@ TEST_F(RowLimitBackward, NerfMlpGatheredEqualsTheBackwardOfThePackedRows) {
       return p;
     };
     // Forward over `rows` rows of (pos, dir), then the backward over `count` rows cut to `limit`,
-    // gathered through `gather` when given: (grads, dPos).
+    // gathered through `gather` when given: (grads, dPos, dDir).
     auto run = [&](const std::vector<float>& pv, const std::vector<float>& dv, const std::vector<float>& gv,
                    uint32_t rows, uint32_t count, const uint32_t* limit, const std::vector<uint32_t>* gather) {
       nerf::NerfMlp::Workspace ws(ctx(), mlp, rows);
@@ -166,26 +167,33 @@ TEST_F(RowLimitBackward, NerfMlpGatheredEqualsTheBackwardOfThePackedRows) {
       gpu::Buffer out(ctx(), VkDeviceSize(rows) * 16);
       auto grads = gpu::Buffer::zeros(ctx(), VkDeviceSize(mlp.parameterCount()) * 4);
       auto dPos = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * P, kSentinel));
+      auto dDir = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * Dd, kSentinel));
       auto word = gpu::Buffer::of(ctx(), std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
       auto rowsBuf = gpu::Buffer::of(ctx(), gather ? *gather : std::vector<uint32_t>(4));
       nerf::NerfRows batch{count, pos, dir, out};
       if (limit) batch.rowLimit = gpu::BufferRange(word, 0, 4);
       nerf::NerfGradients gradients{dOut, grads, gpu::BufferRange(dPos)};
       if (gather) gradients.rowGather = gpu::BufferRange(rowsBuf);
+      gradients.dDir = gpu::BufferRange(dDir);
       test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
         mlp.recordForward(rec, {rows, pos, dir, out}, params, &ws);
         mlp.recordBackward(rec, batch, params, gradients, ws);
       });
-      return std::make_pair(grads.download<float>(), dPos.download<float>());
+      return std::make_tuple(grads.download<float>(), dPos.download<float>(), dDir.download<float>());
     };
-    const auto [wantGrads, wantDPos] = run(packed(posV, P), packed(dirV, Dd), packed(dOutV, 4), K, K, nullptr, nullptr);
+    const auto [wantGrads, wantDPos, wantDDir] = run(packed(posV, P), packed(dirV, Dd), packed(dOutV, 4), K, K, nullptr, nullptr);
     std::vector<uint32_t> gather = index;
     gather.resize(kRows, 0);  // the index covers the capacity; entries past the count are never read
-    const auto [grads, dPos] = run(posV, dirV, dOutV, kRows, kRows, &K, &gather);
+    const auto [grads, dPos, dDir] = run(posV, dirV, dOutV, kRows, kRows, &K, &gather);
     ASSERT_EQ(std::memcmp(dPos.data(), wantDPos.data(), size_t(K) * P * 4), 0)
         << "dL/dgamma(x) of the packed rows differs from the backward of a batch of only them";
     for (size_t i = size_t(K) * P; i < dPos.size(); ++i)
       ASSERT_EQ(dPos[i], kSentinel) << "packed row " << i / P << " past the count was written";
+    // dL/d(direction input) (what an appearance vector trains from) likewise, packed.
+    ASSERT_EQ(std::memcmp(dDir.data(), wantDDir.data(), size_t(K) * Dd * 4), 0)
+        << "dL/d(direction input) of the packed rows differs from the backward of a batch of only them";
+    for (size_t i = size_t(K) * Dd; i < dDir.size(); ++i)
+      ASSERT_EQ(dDir[i], kSentinel) << "packed row " << i / Dd << " past the count was written (dDir)";
     expectNearSums(grads, wantGrads, "dW");
   }
 }

@@ -89,7 +89,7 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false, settings);
   impl->pipe = impl->own.get();
   // State kept per training photo (the fast model's appearance vectors) is sized by their count.
-  if (const auto cameras = record.trainingCameras()) impl->pipe->setTrainingCameras(*cameras);
+  if (const auto cameras = record.trainingPhotoCount()) impl->pipe->setTrainingCameras(*cameras);
   uploadState(ck, *impl->pipe);
   return Model(std::move(impl));
 }

@@ -175,7 +175,7 @@ uint32_t CheckpointRecord::step() const {
   }
 }
 
-std::optional<uint32_t> CheckpointRecord::trainingCameras() const {
+std::optional<uint32_t> CheckpointRecord::trainingPhotoCount() const {
   if (!j_.contains("scene")) return std::nullopt;
   try {
     return j_.at("scene").at("cameras").get<uint32_t>();

@@ -57,7 +57,7 @@ class CheckpointRecord {
   Aabb bounds() const;
   uint32_t step() const;
   // The number of training photos (scene.cameras); none in a checkpoint written before the scene record.
-  std::optional<uint32_t> trainingCameras() const;
+  std::optional<uint32_t> trainingPhotoCount() const;
   // Weights fitted to another scene would train or render inside this scene's box: throws naming
   // the checkpoint when `scene` is not the one it was trained on.
   void checkScene(const SceneFacts& scene) const;

@@ -1,4 +1,5 @@
-// The push constants of appearance_gradient.comp; on the host, vknerf::glsl::AppearanceGradientPush.
+// The push constants of appearance_ray_sums.comp and appearance_gradient.comp; on the host,
+// vknerf::glsl::AppearanceGradientPush.
 #ifndef VKNERF_ENCODING_APPEARANCE_GRADIENT_SHARED_H
 #define VKNERF_ENCODING_APPEARANCE_GRADIENT_SHARED_H
 #include "common/shared_types.h"

@@ -3,6 +3,8 @@
 // (columns [0, KA4) of X) and the B part ([KA4, KA4 + KB4)). dZ is dL/d(pre-activation).
 //   MODE_A / MODE_B: 0 skip, 1 store, 2 store times [A > 0] (the ReLU derivative of the layer that
 //   produced A, so the result is already the previous layer's dZ), 3 add to what is there.
+//   KB_FIRST: the B part's columns before it are neither computed nor written (an appearance
+//   vector beside SH(d) needs its own columns' gradient, not the direction's).
 // Same shape as mlp_dense.comp: lanes are rows, R rows per invocation with dZ in registers, the n
 // loop unrolled with uniform weight reads, a dynamic loop over blocks of KBLK input columns.
 #extension GL_EXT_control_flow_attributes : require
@@ -62,7 +64,7 @@ void main() {
     }
   }
   if (MODE_B != 0u) {
-    [[dont_unroll]] for (uint k0 = 0; k0 < KB4; k0 += 4u) {
+    [[dont_unroll]] for (uint k0 = KB_FIRST; k0 < KB4; k0 += 4u) {
       DX_BLOCK(4u, KA4, k0)
       [[unroll]] for (uint r = 0; r < R; r++) {
         uint row = row0 + r * G;

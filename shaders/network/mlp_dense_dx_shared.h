@@ -14,6 +14,7 @@ SPEC_CONSTANTS_BEGIN(MlpDenseDxSpec)
   SPEC_CONSTANT(6, uint, KBLK, 8)    // divides KA4 (the B part goes 4 at a time)
   SPEC_CONSTANT(7, uint, MODE_A, 2)
   SPEC_CONSTANT(8, uint, MODE_B, 0)
+  SPEC_CONSTANT(9, uint, KB_FIRST, 0)  // the B part's first column computed (a multiple of 4): those before are left
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpDenseDxPush)

@@ -1,4 +1,5 @@
-// The push constants of camera_gradient.comp; on the host, vknerf::glsl::CameraGradientPush.
+// The push constants of camera_ray_sums.comp and camera_gradient.comp; on the host,
+// vknerf::glsl::CameraGradientPush.
 #ifndef VKNERF_RAYS_CAMERA_GRADIENT_SHARED_H
 #define VKNERF_RAYS_CAMERA_GRADIENT_SHARED_H
 #include "common/shared_types.h"

@@ -364,27 +364,29 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
     kept_->record(rec, R, marched_.offsets, field_.positions);
     positions = kept_->positions(), limit = kept_->total(), gradients.rowGather = kept_->rows();
   }
-  if (appearance_) gradients.dDir = gpu::BufferRange(dDir_);
+  // The appearance vector's columns alone: SH(d)'s gradient is not used.
+  if (appearance_) gradients.dDir = gpu::BufferRange(dDir_), gradients.dDirFirst = sh_.paddedDims();
   NerfRows rows = field_.mlpRows(sampleCapacity_);
   rows.rowLimit = limit;
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
   const gpu::Buffer& rowOffsets = gatherBackward_ ? kept_->offsets() : marched_.offsets;
   if (appearance_)
-    appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dDir_, wholeRayCount(), mlp_.dirStride(),
-                                      sh_.paddedDims()});
+    appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dDir_, wholeRayCount(), raySums_,
+                                      mlp_.dirStride(), sh_.paddedDims()});
   const EncodedRows encoded{sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit};
-  // Before the table's backward, which may overwrite nothing it reads, but before its optimizer step.
-  if (cameras_) recordCameraGradient(rec, batch, encoded, rowOffsets);
-  hash_.recordBackward(rec, encoded, table_.grads());
+  // Camera refinement: the table's backward also gives dL/dp (from the table before its optimizer
+  // step), which the per-camera sums then carry to the poses.
+  std::optional<PositionGradientTarget> position;
+  if (cameras_) position = PositionGradientTarget{table_.params(), dPosition_};
+  hash_.recordBackward(rec, encoded, table_.grads(), position);
+  if (cameras_) recordCameraGradient(rec, batch, rowOffsets);
 }
 
-void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const EncodedRows& rows,
-                                        const gpu::BufferRange& rowOffsets) {
-  hash_.recordPositionGradient(rec, rows, table_.params(), dPosition_);
+void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const gpu::BufferRange& rowOffsets) {
   // The learned far field's colour also depends on the direction; that part is left out (its
   // gradient is small and blurred: a colour per direction at infinity).
   cameras_->recordGradient(rec, {batch, rays_.pixelIds(), marched_.offsets, rowOffsets, marched_.samples, dPosition_,
-                                 wholeRayCount(), box_});
+                                 wholeRayCount(), raySums_, box_});
 }
 
 void FastPipeline::setTrainingCameras(uint32_t count) {
@@ -396,6 +398,11 @@ void FastPipeline::setTrainingCameras(uint32_t count) {
       dDir_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(sampleCapacity_) * mlp_.dirStride() * 4,
                                  "the samples' direction-input gradients");
   }
+  // Scratch of the per-photo gradients (appearance, then cameras: one after the other), a ray's
+  // rows summed: the larger of an appearance vector and the cameras' 8 floats a ray.
+  if (training_ && (model_.appearanceDims || model_.refineCameras))
+    raySums_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(rayCapacity_) * std::max(model_.appearanceDims, 8u) * 4,
+                                  "the rays' sums of per-photo gradients");
   if (!training_ || !model_.refineCameras) return;
   CameraRefinementSettings settings;
   settings.adam = adamConfigOf(config_, model_.cameraLearningRate / config_.learningRate);

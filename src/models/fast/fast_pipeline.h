@@ -75,10 +75,9 @@ class FastPipeline final : public FieldPipeline {
   CompositeInputs recordTrainingForward(gpu::Recorder& rec, const TrainingData& data, const RaySpan& batch);
   // Compositor, far field, MLP and hash-grid backward; the cameras' gradient when they are refined.
   void recordTrainingBackward(gpu::Recorder& rec, const RaySpan& batch, const CompositeInputs& composite);
-  // The position gradient of the samples the backward ran over (`rows`: dPos_'s rows, ray r's
+  // The position gradient of the samples the backward ran over (dPosition_, ray r's rows
   // [rowOffsets[r], rowOffsets[r + 1])), carried to the cameras that made the batch's rays.
-  void recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const EncodedRows& rows,
-                            const gpu::BufferRange& rowOffsets);
+  void recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const gpu::BufferRange& rowOffsets);
   // After the step's wait: the rays and samples it trained on; sets the next step's ray count.
   StepSize countTrainingStep();
   // The uint the device writes: how many of the batch's rays fit the sample capacity whole.
@@ -133,6 +132,7 @@ class FastPipeline final : public FieldPipeline {
   std::optional<uint32_t> renderPhoto_;      // RenderSettings::appearancePhoto
   gpu::Buffer dDir_;                         // training with it: dL/d(direction input) per backward row
   gpu::Buffer dPosition_;                    // with it: dL/dp per backward row (vec4)
+  gpu::Buffer raySums_;                      // training with either: a ray's rows summed before the per-photo sums
 
   // per ray
   gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_;

@@ -28,10 +28,10 @@ struct AppearanceRows {
 
 // What the gradient reads of a trained batch: `rays` rays' pixel ids, ray r's rows of dDir being
 // [rowOffsets[r], rowOffsets[r + 1]) (stride and columnOffset as AppearanceRows), rayCount a uint
-// on the device (the rays that trained).
+// on the device (the rays that trained). raySums: scratch of dims floats per ray.
 struct AppearanceGradientInputs {
   uint32_t rays = 0;
-  gpu::BufferRange pixelIds, rowOffsets, dDir, rayCount;
+  gpu::BufferRange pixelIds, rowOffsets, dDir, rayCount, raySums;
   uint32_t stride = 0, columnOffset = 0;
 };
 
@@ -52,9 +52,9 @@ class AppearanceEmbedding {
  private:
   Context& ctx_;
   uint32_t dims_;
-  gpu::Kernel rows_, gradient_, mean_;
+  gpu::Kernel rows_, raySums_, gradient_, mean_;
   gpu::LimitedDispatch limited_;
-  uint32_t maxGroups_;  // one workgroup per photo
+  uint32_t maxGroups_;  // of the per-photo sums' dispatch
 };
 
 }  // namespace vknerf::nerf

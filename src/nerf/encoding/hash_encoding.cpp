@@ -164,7 +164,8 @@ void HashEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows, co
             });
 }
 
-void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads) {
+void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads,
+                                  const std::optional<PositionGradientTarget>& position) {
   const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("HashEncoding::recordBackward: row limit binding holds no uint");
   if (mode_ == HashBackwardMode::SortReduce) {
@@ -175,19 +176,47 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, c
                 const gpu::LimitedRows L = rowLimit ? gpu::LimitedRows{*rowLimit, c * chunkRows} : limited_.uncut();
                 recordSortReduce(rec, in, dF, p, grads, L);
               });
+    if (position) recordPositionGradient(rec, rows, position->params, position->dPositions);
     return;
   }
   if (!ctx_.floatAtomics())
     throw Error("HashEncoding::recordBackward: the device lacks float atomics (VK_EXT_shader_atomic_float "
                 "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs (HashBackwardMode::SortReduce "
                 "does not)");
+  if (position) {
+    checkPositionGradient(rows, position->params, position->dPositions, "recordBackward");
+    if (!backwardWithPosition_)
+      backwardWithPosition_.emplace(ctx_, gpu::KernelDesc{gpu::shaders::encode_hash_backward_position,
+                                                          {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
+                                                           gpu::Binding::Storage, gpu::Binding::TexelRgba32f,
+                                                           gpu::Binding::Storage, gpu::Binding::Storage},
+                                                          sizeof(Push), backwardSpec(config_, mode_)});
+  }
   forChunks(rows, grads, "recordBackward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, Push p, uint32_t groups, uint32_t c,
                 uint32_t chunkRows) {
               if (c == 0) limitedBackward_.begin(rec, rowLimit, rows.count, chunkRows, {kLocal});
-              gpu::dispatchLimited(rec, backward_, {in, dF, exactly(grads)}, p, limitedBackward_.rows(c, 0), groups,
-                                   "encode_hash_backward");
+              if (!position) {
+                gpu::dispatchLimited(rec, backward_, {in, dF, exactly(grads)}, p, limitedBackward_.rows(c, 0), groups,
+                                     "encode_hash_backward");
+                return;
+              }
+              const gpu::BufferRange out = gpu::rowsOf(position->dPositions, 16, c * chunkRows, p.count);
+              gpu::dispatchLimited(rec, *backwardWithPosition_, {in, dF, exactly(grads), exactly(position->params), out},
+                                   p, limitedBackward_.rows(c, 0), groups, "encode_hash_backward_position");
             });
+}
+
+void HashEncoding::checkPositionGradient(const EncodedRows& rows, const gpu::BufferRange& params,
+                                         const gpu::BufferRange& dPositions, const char* what) const {
+  const std::string name = std::string("HashEncoding::") + what + ": ";
+  if (params.offset % ctx_.properties().limits.minTexelBufferOffsetAlignment)
+    throw Error(name + "parameter offset " + std::to_string(params.offset) +
+                " is not a multiple of minTexelBufferOffsetAlignment");
+  if (gpu::boundBytes(params) < VkDeviceSize(parameterCount()) * 4)
+    throw Error(name + "parameter buffer holds fewer than " + std::to_string(parameterCount()) + " floats");
+  if (gpu::boundBytes(dPositions) < VkDeviceSize(rows.count) * 16)
+    throw Error(name + "the position gradient holds fewer than " + std::to_string(rows.count) + " vec4s");
 }
 
 void HashEncoding::recordPositionGradient(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params,
@@ -195,12 +224,7 @@ void HashEncoding::recordPositionGradient(gpu::Recorder& rec, const EncodedRows&
   const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4)
     throw Error("HashEncoding::recordPositionGradient: row limit binding holds no uint");
-  if (params.offset % ctx_.properties().limits.minTexelBufferOffsetAlignment)
-    throw Error("HashEncoding::recordPositionGradient: parameter offset " + std::to_string(params.offset) +
-                " is not a multiple of minTexelBufferOffsetAlignment");
-  if (gpu::boundBytes(dPositions) < VkDeviceSize(rows.count) * 16)
-    throw Error("HashEncoding::recordPositionGradient: the position gradient holds fewer than " +
-                std::to_string(rows.count) + " vec4s");
+  checkPositionGradient(rows, params, dPositions, "recordPositionGradient");
   if (!positionGradient_)
     positionGradient_.emplace(ctx_, gpu::KernelDesc{gpu::shaders::encode_hash_position_gradient,
                                                     {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,

@@ -45,6 +45,11 @@ enum class HashBackwardMode : uint32_t {
   SortReduce = 2,
 };
 
+// Where recordBackward also writes the position gradient (recordPositionGradient's arguments).
+struct PositionGradientTarget {
+  gpu::BufferRange params, dPositions;
+};
+
 class HashEncoding {
  public:
   // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 2..24, N_min >= 1, b >= 1, and the whole table
@@ -76,7 +81,10 @@ class HashEncoding {
   // most sortSlotBudget() contributions (levels x 8 corners x samples) through scratch buffers this
   // object owns, grown on demand. Grown buffers are kept, not freed, so every recording stays valid
   // while this object lives. The rows at and past rows.rowLimit add nothing to grads.
-  void recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads);
+  // With `position`, also recordPositionGradient(rows, position->params, position->dPositions): in
+  // the same pass over the corners with float atomics (Atomic, SubgroupMerged), after it otherwise.
+  void recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads,
+                      const std::optional<PositionGradientTarget>& position = std::nullopt);
   // dPositions (vec4 per row, w = 0) = d(sum dFeatures . features) / d position, the position in
   // [-1, 1]^3 as rows.inputs hold it (0 along an axis where it lies outside); rows as recordBackward
   // reads them, params as recordForward. Rows past rows.rowLimit are left untouched. The kernel is
@@ -87,6 +95,8 @@ class HashEncoding {
  private:
   using Push = glsl::HashPush;
   gpu::BufferRange exactly(const gpu::BufferRange& table) const;
+  void checkPositionGradient(const EncodedRows& rows, const gpu::BufferRange& params,
+                             const gpu::BufferRange& dPositions, const char* what) const;
   template <class Fn>
   void forChunks(const EncodedRows& rows, const gpu::BufferRange& table, const char* what, Fn&& fn);
 
@@ -109,7 +119,7 @@ class HashEncoding {
   std::unique_ptr<gpu::PrefixSum> scan_;
   std::vector<gpu::Buffer> retired_;  // outgrown scratch: earlier recordings may still use it
   std::vector<std::unique_ptr<gpu::PrefixSum>> retiredScans_;
-  std::optional<gpu::Kernel> positionGradient_;
+  std::optional<gpu::Kernel> positionGradient_, backwardWithPosition_;  // built by their first use
   gpu::LimitedDispatch limited_, limitedBackward_, limitedPosition_;  // workgroup counts under a row limit
 };
 

@@ -119,7 +119,11 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, 
   if (s.kb == 0) modeB = GradMode::Skip;
   if (count == 0 || (modeA == GradMode::Skip && modeB == GradMode::Skip)) return;
   if (modeB == GradMode::StoreReluMasked) throw Error("MLP: input B is never ReLU-masked");
-  auto key = std::make_pair(modeA, modeB);
+  const uint32_t firstB = modeB == GradMode::Skip ? 0 : grads.firstB;
+  if (firstB % 4 || firstB > s.kb4())
+    throw Error("MLP: the first B column to compute, " + std::to_string(firstB) + ", is not a multiple of 4 within " +
+                std::to_string(s.kb4()));
+  auto key = std::make_tuple(modeA, modeB, firstB);
   auto it = dx_.find(key);
   if (it == dx_.end()) {
     gpu::KernelDesc d{gpu::shaders::mlp_dense_dx,
@@ -134,7 +138,8 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, 
                        {DxSpec::R, t_.dxRows},
                        {DxSpec::KBLK, blockFor(s.ka4(), t_.dxBlock)},
                        {DxSpec::MODE_A, uint32_t(modeA)},
-                       {DxSpec::MODE_B, uint32_t(modeB)}}};
+                       {DxSpec::MODE_B, uint32_t(modeB)},
+                       {DxSpec::KB_FIRST, firstB}}};
     it = dx_.emplace(key, gpu::Kernel(ctx_, std::move(d))).first;
   }
   const Mat& aa = modeA == GradMode::StoreReluMasked ? a : dz;

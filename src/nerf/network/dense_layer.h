@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include "gpu/kernel.h"
@@ -76,6 +77,7 @@ struct InputGradients {
   Mat da;
   GradMode modeB = GradMode::Skip;
   Mat db;
+  uint32_t firstB = 0;  // B's columns before it (a multiple of 4) are neither computed nor written
 };
 
 class DenseLayer {
@@ -111,7 +113,7 @@ class DenseLayer {
   ref::DenseShape shape_;
   MlpTuning t_;
   std::unique_ptr<gpu::Kernel> forward_;
-  std::map<std::pair<GradMode, GradMode>, gpu::Kernel> dx_;
+  std::map<std::tuple<GradMode, GradMode, uint32_t>, gpu::Kernel> dx_;  // by (modeA, modeB, firstB)
   std::vector<std::unique_ptr<DwPart>> dwA_, dwB_, dwBias_;
 };
 

@@ -299,8 +299,9 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
     if (gather) layerRows.gather = *gather;
     layers_[D + 2].recordBackwardWeights(rec, layerRows.as("nerf head dW"), C, C, dzh, grads);
     layers_[D + 1].recordBackwardWeights(rec, layerRows.as("nerf colour dW"), F, d, dC, grads);
-    layers_[D + 1].recordBackwardInput(rec, layerRows.as("nerf colour dX"), params, dC, F,
-                                       {GradMode::Store, dF, dDir ? GradMode::Store : GradMode::Skip, dD});
+    layers_[D + 1].recordBackwardInput(
+        rec, layerRows.as("nerf colour dX"), params, dC, F,
+        {GradMode::Store, dF, dDir ? GradMode::Store : GradMode::Skip, dD, gradients.dDirFirst});
     layers_[D].recordBackwardWeights(rec, layerRows.as("nerf feature+sigma dW"), H(D - 1), H(D - 1), dF, grads);
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
     layers_[D].recordBackwardInput(rec, layerRows.as("nerf feature+sigma dX"), params, dF, H(D - 1),

@@ -53,6 +53,7 @@ struct NerfRows {
 struct NerfGradients {
   gpu::BufferRange dOut, grads;
   std::optional<gpu::BufferRange> dPos, rowGather, dDir;
+  uint32_t dDirFirst = 0;  // dDir's columns before it (a multiple of 4) are neither computed nor written
 };
 
 class NerfMlp {

@@ -1,7 +1,10 @@
 // encode_hash_position_gradient.comp (HashEncoding::recordPositionGradient: dL/dp for camera
-// refinement) against central differences of the CPU reference in double (src/reference/encoding/hash_encoding.h).
+// refinement) against central differences of the CPU reference in double (src/reference/encoding/hash_encoding.h),
+// and the same gradient from the table's backward pass (encode_hash_backward_position.comp).
 #include <cmath>
+#include <ostream>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -47,7 +50,15 @@ std::vector<float> interiorPositions(const HashGridConfig& c, uint32_t count, ui
   return v;
 }
 
-TEST_F(HashPositionGradient, MatchesFiniteDifferencesOfTheReference) {
+// Both ways of computing it: on its own, or in the table's backward pass (whose table gradient must
+// then be the plain backward's: checked in FromTheBackwardPassLeavesTheTableGradient).
+enum class Way { Alone, InBackward };
+const char* nameOf(Way w) { return w == Way::Alone ? "Alone" : "InBackward"; }
+void PrintTo(Way w, std::ostream* os) { *os << nameOf(w); }
+
+class HashPositionGradientWays : public HashPositionGradient, public testing::WithParamInterface<Way> {};
+
+TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesOfTheReference) {
   for (const HashGridConfig& c : kConfigs) {
     nerf::HashEncoding enc(ctx(), c);
     const uint32_t n = 300, D = enc.outputDims(), stride = enc.paddedDims() + 4;
@@ -62,7 +73,11 @@ TEST_F(HashPositionGradient, MatchesFiniteDifferencesOfTheReference) {
     const auto pos = interiorPositions(c, n, 7);
     auto pb = gpu::Buffer::of(ctx(), pos), tb = gpu::Buffer::of(ctx(), table), db = gpu::Buffer::of(ctx(), dF);
     auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * 4, 12345.0f));
-    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { enc.recordPositionGradient(rec, {n, pb, db, stride, 0}, tb, out); });
+    auto grads = gpu::Buffer::zeros(ctx(), enc.parameterCount() * 4);
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      if (GetParam() == Way::Alone) enc.recordPositionGradient(rec, {n, pb, db, stride, 0}, tb, out);
+      else enc.recordBackward(rec, {n, pb, db, stride, 0}, grads, nerf::PositionGradientTarget{tb, out});
+    });
     const auto got = out.download<float>();
 
     const std::vector<double> tableD(table.begin(), table.end());
@@ -94,7 +109,7 @@ TEST_F(HashPositionGradient, MatchesFiniteDifferencesOfTheReference) {
   }
 }
 
-TEST_F(HashPositionGradient, RowLimitLeavesLaterRowsUntouched) {
+TEST_P(HashPositionGradientWays, RowLimitLeavesLaterRowsUntouched) {
   const HashGridConfig& c = kConfigs[0];
   nerf::HashEncoding enc(ctx(), c);
   const uint32_t n = 130, stride = enc.paddedDims();
@@ -103,11 +118,58 @@ TEST_F(HashPositionGradient, RowLimitLeavesLaterRowsUntouched) {
   auto db = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * stride, 1.0f));
   auto limit = gpu::Buffer::of(ctx(), std::vector<uint32_t>{70});
   auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * 4, 12345.0f));
+  auto grads = gpu::Buffer::zeros(ctx(), enc.parameterCount() * 4);
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    enc.recordPositionGradient(rec, {n, pb, db, stride, 0, gpu::BufferRange(limit)}, tb, out);
+    const nerf::EncodedRows rows{n, pb, db, stride, 0, gpu::BufferRange(limit)};
+    if (GetParam() == Way::Alone) enc.recordPositionGradient(rec, rows, tb, out);
+    else enc.recordBackward(rec, rows, grads, nerf::PositionGradientTarget{tb, out});
   });
   const auto got = out.download<float>();
   for (uint32_t r = 0; r < n; ++r) EXPECT_EQ(got[4 * r + 3] == 12345.0f, r >= 70) << "row " << r;
+}
+
+INSTANTIATE_TEST_SUITE_P(Ways, HashPositionGradientWays, testing::Values(Way::Alone, Way::InBackward),
+                         [](const testing::TestParamInfo<Way>& info) { return std::string(nameOf(info.param)); });
+
+// The backward that also writes dL/dp adds the same table gradient as the plain one, and the same
+// dL/dp as the kernel alone, in every backward mode. The table gradient sums each entry's terms
+// with float atomics in an order neither run fixes: a relative 1e-5 of the entry's sum of
+// magnitudes bounds the difference (a few dozen terms an entry here, 2^-24 each), which a term
+// missing or doubled exceeds. dL/dp is each row's own fixed sequence of operations: bit for bit.
+TEST_F(HashPositionGradient, FromTheBackwardPassLeavesTheTableGradient) {
+  const HashGridConfig& c = kConfigs[0];
+  for (const auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged,
+                          nerf::HashBackwardMode::SortReduce}) {
+    SCOPED_TRACE(testing::Message() << "mode " << uint32_t(mode));
+    nerf::HashEncoding enc(ctx(), c, mode);
+    const uint32_t n = 200, stride = enc.paddedDims();
+    std::mt19937 gen(3);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<float> table(enc.parameterCount()), dF(size_t(n) * stride);
+    for (auto& x : table) x = u(gen);
+    for (auto& x : dF) x = u(gen);
+    std::vector<float> absDF(dF.size());
+    for (size_t i = 0; i < dF.size(); ++i) absDF[i] = std::fabs(dF[i]);
+    const auto pos = interiorPositions(c, n, 11);
+    auto pb = gpu::Buffer::of(ctx(), pos), tb = gpu::Buffer::of(ctx(), table), db = gpu::Buffer::of(ctx(), dF),
+         absDb = gpu::Buffer::of(ctx(), absDF);
+    auto run = [&](const gpu::Buffer& dFeatures, bool fused, std::vector<float>* dP) {
+      auto grads = gpu::Buffer::zeros(ctx(), enc.parameterCount() * 4);
+      auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * 4, 12345.0f));
+      test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+        const nerf::EncodedRows rows{n, pb, dFeatures, stride, 0};
+        if (fused) enc.recordBackward(rec, rows, grads, nerf::PositionGradientTarget{tb, out});
+        else enc.recordBackward(rec, rows, grads), enc.recordPositionGradient(rec, rows, tb, out);
+      });
+      if (dP) *dP = out.download<float>();
+      return grads.download<float>(enc.parameterCount());
+    };
+    std::vector<float> dPPlain, dPFused;
+    const auto plain = run(db, false, &dPPlain), fused = run(db, true, &dPFused), scale = run(absDb, false, nullptr);
+    for (size_t i = 0; i < plain.size(); ++i)
+      ASSERT_TRUE(test::near(fused[i], plain[i], 0, 1e-5 * scale[i] + 1e-30)) << "entry " << i;
+    ASSERT_EQ(dPFused, dPPlain);
+  }
 }
 
 }  // namespace

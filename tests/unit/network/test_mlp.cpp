@@ -44,7 +44,10 @@ struct NerfCase {
   float inputScale = 1.0f, paramScale = 1.0f;
   uint32_t chunkRows = 0;  // 0: device default
   bool backward = true;
+  uint32_t dDirFirst = 0;  // dDir's columns before it are not to be written
 };
+
+constexpr float kUnwritten = -7.0f;  // what the kernels find in their outputs, where nothing is to be written
 
 struct NerfData {
   std::vector<float> params, pos, dir, dOut;
@@ -67,8 +70,8 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
   auto dOut = gpu::Buffer::of(ctx, d.dOut.empty() ? std::vector<float>(4) : d.dOut);
   size_t outFloats = std::max<size_t>(size_t(c.count) * 4, 4);
   gpu::Buffer out(ctx, outFloats * 4), grads(ctx, d.params.size() * 4), dPos(ctx, std::max<size_t>(d.pos.size(), 4) * 4);
-  gpu::Buffer dDir(ctx, std::max<size_t>(d.dir.size(), 4) * 4);
-  std::vector<float> sentinel(outFloats, -7.0f);
+  auto dDir = gpu::Buffer::of(ctx, std::vector<float>(std::max<size_t>(d.dir.size(), 4), kUnwritten));
+  std::vector<float> sentinel(outFloats, kUnwritten);
   out.upload(sentinel);
   grads.zero();
   nerf::NerfMlp::Workspace ws(ctx, mlp, c.count);
@@ -76,7 +79,7 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
     const nerf::NerfRows rows{c.count, pos, dir, out};
     mlp.recordForward(rec, rows, params, &ws);
     nerf::NerfGradients gradients{dOut, grads, gpu::BufferRange(dPos)};
-    gradients.dDir = gpu::BufferRange(dDir);
+    gradients.dDir = gpu::BufferRange(dDir), gradients.dDirFirst = c.dDirFirst;
     if (c.backward) mlp.recordBackward(rec, rows, params, gradients, ws);
   });
   return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size()),
@@ -144,9 +147,13 @@ void checkNerf(Context& ctx, const NerfCase& c) {
   // dPos is per sample (no sum over the batch): the forward-style tolerance, scaled to its magnitude.
   expectNear(gpu.dPos, ref.dPos, kGradRel, kGradAbsScale * maxAbs(ref.dPos), "dPos");
   // dDir (what an appearance vector beside the direction trains from) is per sample too, through
-  // the head and the colour layer only: the same tolerance. Its padding columns are written 0.
+  // the head and the colour layer only: the same tolerance. Its padding columns are written 0; the
+  // columns before dDirFirst are left as they were.
   ASSERT_GT(maxAbs(ref.dDir), 0.0);
-  expectNear(gpu.dDir, ref.dDir, kGradRel, kGradAbsScale * maxAbs(ref.dDir), "dDir");
+  const double dDirAbs = kGradAbsScale * maxAbs(ref.dDir);
+  for (size_t i = 0; i < ref.dDir.size(); ++i)
+    if (i % mlp.dirStride() < c.dDirFirst) ref.dDir[i] = kUnwritten;
+  expectNear(gpu.dDir, ref.dDir, kGradRel, dDirAbs, "dDir");
 }
 
 nerf::MlpConfig smallNerf(DensityActivation density = DensityActivation::Relu) {
@@ -166,6 +173,14 @@ class MlpDense : public test::GpuTest {};
 
 // 300 rows: not a multiple of any workgroup size, exercising the clamped tail rows.
 TEST_F(MlpNerf, ForwardAndBackwardMatchReference) { checkNerf(ctx(), {smallNerf(), 300}); }
+
+// The direction input's gradient from a column on (an appearance vector's, after SH(d)'s).
+TEST_F(MlpNerf, DirectionGradientFromAColumnOn) {
+  NerfCase c{smallNerf(), 200};
+  c.cfg.dirDims = 12;
+  c.dDirFirst = 4;
+  checkNerf(ctx(), c);
+}
 
 TEST_F(MlpNerf, TruncExpAndSoftplusDensities) {
   checkNerf(ctx(), {smallNerf(DensityActivation::TruncExp), 70});

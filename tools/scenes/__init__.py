@@ -7,5 +7,5 @@ python3 steps after them and standalone scenes, each `python3 -m tools.scenes.<n
 warp_capture, llff_capture, check_capture, check_scene, make_unbounded_scene, upscale_scene; for camera
 refinement, perturb_poses (training poses off by known amounts) and pose_error (scores poses against the
 true ones), tested by test_pose_tools (ctest scene_pose_tools).
-Shared parts: blender_parts (Blender only), lens, warp, colmap_model, transforms_json, poses.
+Shared parts: blender_parts (Blender only), lens, warp, colmap_model, transforms_json, poses, png_file.
 """

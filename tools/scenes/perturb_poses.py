@@ -15,18 +15,19 @@ OUT must be new or empty, or one this tool wrote before (its .perturb_poses.json
   python3 -m tools.scenes.pose_error /tmp/pp_test/transforms_train_true.json /tmp/pp_test/transforms_train.json
 """
 import argparse
-import json
 import math
 import os
 import shutil
 
 import numpy as np
 
-from .poses import IMAGE_EXTENSIONS, fail, frame_poses, read_json, scene_centre
+from .poses import frame_poses, scene_centre
+from .scene_copy import (SPLITS, check_link_names, image_links, prepare_out, read_splits, refuse_scene_folder,
+                         write_marker)
 from .transforms_json import write_transforms
 
 MARKER = ".perturb_poses.json"
-SPLITS = ("train", "val", "test")
+TOOL = "perturb_poses"
 
 
 def rotation(axis, radians):
@@ -42,51 +43,6 @@ def unit(rng):
             return v / np.linalg.norm(v)
 
 
-def image_links(scene, path, meta):
-    """{name in OUT: absolute path in the scene}: what makes every frame's image reachable from OUT. The
-    loader resolves file_path against the json's folder, as it is or with .png, .jpg, .jpeg."""
-    links = {}
-    for i, fr in enumerate(meta["frames"]):
-        name = fr["file_path"]
-        base = os.path.join(scene, name)
-        found = next((p for p in [base] + [base + e for x in IMAGE_EXTENSIONS for e in (x, x.upper())]
-                      if os.path.isfile(p)), None)
-        if found is None:
-            fail(path, f"frames[{i}].file_path", f"names no image: {base} (also with .png, .jpg, .jpeg)")
-        if os.path.isabs(name):
-            continue  # reachable from anywhere
-        rel, parts = os.path.normpath(name), [p for p in name.split("/") if p not in ("", ".")]
-        if rel == ".." or rel.startswith("../") or parts[0] == "..":
-            fail(path, f"frames[{i}].file_path", f"{name} leaves the scene folder: a link in OUT cannot reach it")
-        # A folder of images is linked whole (the path's first folder as written: the loader does not
-        # normalise "sub/../x"); an image beside the json is linked as the file found.
-        top = parts[0] if len(parts) > 1 else os.path.relpath(found, scene)
-        links[top] = os.path.abspath(os.path.join(scene, top))
-    return links
-
-
-def prepare_out(out):
-    """Empties the entries an earlier run listed in OUT's marker; refuses any other non-empty OUT."""
-    if os.path.exists(out) and not os.path.isdir(out):
-        raise SystemExit(f"{out}: exists and is not a folder")
-    os.makedirs(out, exist_ok=True)
-    entries = os.listdir(out)
-    if not entries:
-        return
-    marker = os.path.join(out, MARKER)
-    if not os.path.isfile(marker):
-        raise SystemExit(f"{out}: not empty and not written by perturb_poses (no {MARKER}); "
-                         "name a new folder or empty this one")
-    with open(marker) as f:
-        made = json.load(f).get("entries", [])
-    for name in made + [MARKER]:
-        p = os.path.join(out, name)
-        if os.path.islink(p) or os.path.isfile(p):
-            os.unlink(p)
-        elif os.path.exists(p):
-            raise SystemExit(f"{p}: listed in {MARKER} but is a folder, not a link or file: remove it by hand")
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scene", help="a folder with transforms_train.json, transforms_test.json (and _val)")
@@ -99,15 +55,9 @@ def main():
     a = ap.parse_args()
     if not (math.isfinite(a.degrees) and math.isfinite(a.shift) and a.shift >= 0):
         raise SystemExit("--degrees must be finite and --shift finite and not negative")
-    if os.path.exists(a.out) and os.path.realpath(a.out) == os.path.realpath(a.scene):
-        raise SystemExit(f"{a.out}: is the scene folder itself; name a new folder")
+    refuse_scene_folder(a.scene, a.out)
 
-    metas = {}
-    for split in SPLITS:
-        p = os.path.join(a.scene, f"transforms_{split}.json")
-        if os.path.exists(p) or split == a.split:
-            metas[split] = read_json(p)
-            frame_poses(p, metas[split])  # every split's matrices checked before anything is written
+    metas = read_splits(a.scene, a.split)  # every split's matrices checked before anything is written
     src = os.path.join(a.scene, f"transforms_{a.split}.json")
     meta = metas[a.split]
     poses = frame_poses(src, meta)
@@ -118,9 +68,7 @@ def main():
     for split, m in metas.items():
         links.update(image_links(a.scene, os.path.join(a.scene, f"transforms_{split}.json"), m))
     outputs = [f"transforms_{s}.json" for s in metas] + [f"transforms_{a.split}_true.json"]
-    for name in links:
-        if name in outputs or name == MARKER:
-            raise SystemExit(f"{a.scene}: the image path {name} has the name of a file perturb_poses writes")
+    check_link_names(a.scene, links, outputs, MARKER, TOOL)
 
     rng = np.random.default_rng(a.seed)
     frames = []
@@ -133,7 +81,7 @@ def main():
         new["transform_matrix"] = [[float(v) for v in row] for row in out_m[:3]] + [fr["transform_matrix"][3]]
         frames.append(new)
 
-    prepare_out(a.out)
+    prepare_out(a.out, MARKER, TOOL)
     made = []
     for name, target in sorted(links.items()):
         os.symlink(target, os.path.join(a.out, name))
@@ -147,11 +95,8 @@ def main():
         else:
             shutil.copyfile(os.path.join(a.scene, name), os.path.join(a.out, name))
         made.append(name)
-    with open(os.path.join(a.out, MARKER), "w") as f:
-        json.dump({"made_by": "python3 -m tools.scenes.perturb_poses", "scene": os.path.abspath(a.scene),
-                   "split": a.split, "degrees": a.degrees, "shift": a.shift, "seed": a.seed, "entries": made},
-                  f, indent=2)
-        f.write("\n")
+    write_marker(a.out, MARKER, TOOL, a.scene,
+                 {"split": a.split, "degrees": a.degrees, "shift": a.shift, "seed": a.seed}, made)
     print(f"{a.out}: transforms_{a.split}.json with its {len(frames)} cameras turned {a.degrees:g} deg and moved "
           f"{100 * a.shift:g}% of their distance to the centre (seed {a.seed}); transforms_{a.split}_true.json the "
           f"original; {', '.join(f'transforms_{s}.json' for s in metas if s != a.split) or 'no other split'} copied; "

@@ -1,66 +1,38 @@
 """Writes a large copy of a nerf_synthetic-style scene for testing the memory path of big datasets:
 every image enlarged by an integer factor (pixel replication), the transforms files copied (their
 camera_angle_x holds for any resolution), train frames repeated until there are --frames of them.
-Python's standard library only (8-bit RGBA or RGB PNGs, not interlaced).
+Python's standard library only, no numpy (PNGs through png_file: 8-bit grey or RGB, with or without alpha,
+not interlaced); every copy is written as RGBA.
 
   python3 -m tools.scenes.upscale_scene assets/tabletop /tmp/tabletop800 --factor 8 --frames 100
 """
 import argparse
 import json
 import os
-import struct
-import zlib
+
+from . import png_file
 
 
-def read_png(path):
-    data = open(path, "rb").read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise SystemExit(f"{path}: not a PNG")
-    pos, idat, width = 8, b"", 0
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            width, height, depth, colour, _, _, interlace = struct.unpack(">IIBBBBB", body)
-            if depth != 8 or colour not in (2, 6) or interlace:
-                raise SystemExit(f"{path}: only 8-bit RGB/RGBA PNGs without interlacing")
-            channels = 4 if colour == 6 else 3
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    raw, stride, rows, prev = zlib.decompress(idat), width * channels, [], bytearray(width * channels)
-    for y in range(height):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - channels] if i >= channels else 0
-            b, c = prev[i], prev[i - channels] if i >= channels else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    if channels == 3:
-        rows = [b"".join(r[i:i + 3] + b"\xff" for i in range(0, len(r), 3)) for r in rows]
-    return width, height, rows
-
-
-def write_png(path, width, height, rows):
-    def chunk(kind, body):
-        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
-    raw = b"".join(b"\x00" + r for r in rows)
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
-                chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+def rgba_rows(rows, channels):
+    # One layout to enlarge and write: RGB gets an opaque alpha, by slice assignment rather than per pixel.
+    if channels == 4:
+        return rows
+    out = []
+    for r in rows:
+        line = bytearray(b"\xff" * (len(r) // 3 * 4))
+        for k in range(3):
+            line[k::4] = r[k::3]
+        out.append(bytes(line))
+    return out
 
 
 def enlarge(src, dst, factor):
-    w, h, rows = read_png(src)
-    big = [b"".join(r[i:i + 4] * factor for i in range(0, len(r), 4)) for r in rows]
-    write_png(dst, w * factor, h * factor, [r for r in big for _ in range(factor)])
+    try:
+        w, h, channels, rows = png_file.read(src)
+    except png_file.PngError as e:
+        raise SystemExit(str(e)) from None
+    big = [b"".join(r[i:i + 4] * factor for i in range(0, len(r), 4)) for r in rgba_rows(rows, channels)]
+    png_file.write(dst, w * factor, h * factor, 4, [r for r in big for _ in range(factor)])
 
 
 def main():

@@ -14,6 +14,7 @@
 
 #include "io/checkpoint/checkpoint.h"
 #include "lib/camera_frames.h"
+#include "lib/trained_poses.h"
 #include "support/cli_run.h"
 #include "support/dataset_files.h"
 #include "support/error_message.h"
@@ -131,6 +132,27 @@ TEST(CameraFrames, FramesStateTheirImagesSizeAndPathFromTheOutput) {
 class TrainedCameras : public test::GpuTest {};
 
 // The Trainer's model gives what save() records, and the checkpoint gives it back.
+// vknerf eval with camera refinement: a view whose image a trained camera names takes that camera's
+// pose, and only its pose (the evaluation's intrinsics may be another --downscale's).
+TEST(TrainedPoses, ViewsOfTrainedPhotosTakeTheirPosesOnly) {
+  Camera given;
+  given.fx = given.fy = 50, given.cx = 20, given.cy = 15, given.width = 40, given.height = 30;
+  std::vector<Camera> cameras(3, given);
+  Camera refined = given;
+  refined.fx = 100, refined.width = 80;  // trained at another size: not taken
+  refined.c2w[3] = 0.25f, refined.c2w[7] = -0.5f;
+  Camera other = given;
+  other.c2w[11] = 9.0f;
+  const auto used = nerf::useTrainedPoses(cameras, {"a.png", "b.png", "c.png"},
+                                          {{"b.png", refined}, {"x.png", other}, {"", other}});
+  EXPECT_EQ(used, 1u);
+  EXPECT_EQ(cameras[1].c2w, refined.c2w);
+  EXPECT_EQ(cameras[1].fx, given.fx);
+  EXPECT_EQ(cameras[1].width, given.width);
+  EXPECT_EQ(cameras[0].c2w, given.c2w);
+  EXPECT_EQ(cameras[2].c2w, given.c2w);
+}
+
 TEST_F(TrainedCameras, TrainerRecordsTheDatasetsCamerasAndNames) {
   const Dataset& data = test::quarterSizeSampleScene();
   Trainer trainer(test::sharedContext(), data, test::tinyVanillaConfig());

@@ -18,6 +18,7 @@
 #include "lib/csv.h"
 #include "lib/metrics.h"
 #include "lib/render_output.h"
+#include "lib/trained_poses.h"
 #include "vknerf/dataset.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -86,6 +87,13 @@ int run(const Options& o, const Globals& g) {
   dopt.downscale = o.downscale;
   dopt.progress = progressPrinter("decoding images");
   Dataset data = Dataset::load(o.scene, dopt);
+  // Training views where the model learned they were: only those names the checkpoint recorded.
+  if (model.config().isFast() && model.config().fastModel().refineCameras) {
+    const size_t refined = nerf::useTrainedPoses(data.cameras, data.names, model.trainingCameras());
+    if (refined)
+      std::printf("%zu of %zu views are training photos: rendered at the poses the model refined\n", refined,
+                  data.cameras.size());
+  }
   size_t n = data.cameras.size();
   if (o.limit && n > o.limit) n = o.limit;
   nlohmann::json images = nlohmann::json::array();

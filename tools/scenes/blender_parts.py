@@ -1,11 +1,16 @@
-# Blender building blocks shared by make_scene.py, make_capture.py (and its wall_scene.py) and
-# make_ffwd_capture.py: materials, the tabletop objects, lights, Cycles settings and PNG clean-up.
+# Blender building blocks shared by make_scene.py, make_detail_object.py, make_capture.py (and its
+# wall_scene.py) and make_ffwd_capture.py: materials, the tabletop objects, lights, Cycles settings, PNG
+# clean-up, and the nerf_synthetic-style cameras around an object at the origin with their transforms JSON.
 # Imported inside Blender (needs bpy), never by python3.
 import math
+import os
 import struct
 
 import _cycles  # Blender's Cycles module: tells which optional features this build has
 import bpy
+from mathutils import Matrix, Vector
+
+from .transforms_json import write_transforms
 
 # Top of the plate; everything stands on it, so content spans z in [-0.5, 0.7].
 FLOOR = -0.4
@@ -26,15 +31,16 @@ def principled(name, color=None, metallic=0.0, roughness=0.5):
     return mat, bsdf
 
 
-def checker_material():
-    mat, bsdf = principled("plate_checker", roughness=0.6)
+def checker_material(name="plate_checker", color1=(0.85, 0.82, 0.72), color2=(0.05, 0.22, 0.25), scale=5.0):
+    # Defaults: the tabletop's plate, cream and dark teal.
+    mat, bsdf = principled(name, roughness=0.6)
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     coord = nodes.new("ShaderNodeTexCoord")
     checker = nodes.new("ShaderNodeTexChecker")
-    checker.inputs["Color1"].default_value = (0.85, 0.82, 0.72, 1.0)  # cream
-    checker.inputs["Color2"].default_value = (0.05, 0.22, 0.25, 1.0)  # dark teal
+    checker.inputs["Color1"].default_value = (*color1, 1.0)
+    checker.inputs["Color2"].default_value = (*color2, 1.0)
     # Object coordinates are in scene units: scale 5 gives 0.2-unit squares, ~10 across the disc, ~6 px at 100x100.
-    checker.inputs["Scale"].default_value = 5.0
+    checker.inputs["Scale"].default_value = scale
     links.new(coord.outputs["Object"], checker.inputs["Vector"])
     links.new(checker.outputs["Color"], bsdf.inputs["Base Color"])
     return mat
@@ -80,6 +86,11 @@ def brick_material(name, color1, color2, mortar, scale, variation_scale):
     return mat
 
 
+def gold_material():
+    # The checkers' probe colour (check_scene.is_gold): pale yellow-orange metal.
+    return principled("gold", color=(1.0, 0.71, 0.29), metallic=1.0, roughness=0.12)[0]
+
+
 def noise_material():
     # Brick red to orange.
     return noise_ramp_material("cube_noise", 6.0, 4.0, (0.55, 0.03, 0.02), (1.0, 0.55, 0.08))[0]
@@ -107,8 +118,7 @@ def build_tabletop():
     add(mesh.primitive_cylinder_add, checker_material(), "plate",
         vertices=96, radius=1.05, depth=0.1, location=(0, 0, FLOOR - 0.05))
 
-    gold, _ = principled("gold", color=(1.0, 0.71, 0.29), metallic=1.0, roughness=0.12)
-    sphere = add(mesh.primitive_uv_sphere_add, gold, "glossy_sphere",
+    sphere = add(mesh.primitive_uv_sphere_add, gold_material(), "glossy_sphere",
                  segments=64, ring_count=32, radius=0.42, location=GOLD_SPHERE_CENTRE)
     smooth(sphere)
 
@@ -203,3 +213,70 @@ def render_still(path):
     bpy.context.scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
     strip_png_text(path)
+
+
+# ---------------------------------------------------------------- an object at the origin, nerf_synthetic style
+
+def content_aabb(pad=0.05):
+    lo, hi = Vector((1e9,) * 3), Vector((-1e9,) * 3)
+    for obj in bpy.context.scene.objects:
+        if obj.type != "MESH":
+            continue
+        for corner in obj.bound_box:
+            p = obj.matrix_world @ Vector(corner)
+            lo = Vector(map(min, lo, p))
+            hi = Vector(map(max, hi, p))
+    # Pad, then round outwards to 0.05 so the numbers in the JSON are short and still enclose everything.
+    # (The 1e-6 keeps float noise in e.g. 0.75 * 20 from bumping a bound by a whole step.)
+    lo = [math.floor((v - pad) * 20 + 1e-6) / 20 for v in lo]
+    hi = [math.ceil((v + pad) * 20 - 1e-6) / 20 for v in hi]
+    assert all(-1.5 <= v <= 1.5 for v in lo + hi), (lo, hi)
+    return [lo, hi]
+
+
+def add_nerf_synthetic_camera():
+    cam = add_camera()
+    cam.data.lens_unit = "FOV"
+    cam.data.sensor_fit = "HORIZONTAL"
+    cam.data.angle = 0.6911112070083618  # nerf_synthetic's camera_angle_x (a 50 mm lens on a 36 mm sensor)
+    return cam
+
+
+def camera_positions(rng, count, radius, avoid=(), min_angle_deg=5.0, z_min=-0.25, z_max=0.95):
+    # Uniform on the spherical zone z/r in [z_min, z_max]: by default the upper hemisphere plus ~15 degrees
+    # below the equator (which sees the tabletop plate's underside), stopping short of the pole where "up"
+    # degenerates. Draws closer than min_angle_deg to a camera in `avoid` are redrawn, so held-out views are
+    # new ones (check_scene insists on it).
+    min_dist = 2.0 * radius * math.sin(math.radians(min_angle_deg) / 2.0)
+    out = []
+    while len(out) < count:
+        z = rng.uniform(z_min, z_max)
+        phi = rng.uniform(0.0, 2.0 * math.pi)
+        s = math.sqrt(1.0 - z * z)
+        p = Vector((radius * s * math.cos(phi), radius * s * math.sin(phi), radius * z))
+        if all((p - q).length >= min_dist for q in avoid):
+            out.append(p)
+    return out
+
+
+def look_at_origin(position):
+    # Camera looks down its local -Z with local +Y towards world +Z: Blender's (= OpenGL's) convention.
+    rot = (-position).to_track_quat("-Z", "Y").to_matrix().to_4x4()
+    return Matrix.Translation(position) @ rot
+
+
+def render_split(cam, out, split, positions, aabb):
+    # Renders out/split/r_<i>.png from each position and writes out/transforms_<split>.json.
+    os.makedirs(os.path.join(out, split), exist_ok=True)
+    frames = []
+    for i, pos in enumerate(positions):
+        cam.matrix_world = look_at_origin(pos)
+        render_still(os.path.abspath(os.path.join(out, split, f"r_{i}.png")))
+        m = cam.matrix_world
+        frames.append({
+            "file_path": f"./{split}/r_{i}",
+            "transform_matrix": [[round(m[r][c], 8) for c in range(4)] for r in range(4)],
+        })
+    # Same keys as nerf_synthetic plus "aabb".
+    write_transforms(os.path.join(out, f"transforms_{split}.json"),
+                     {"camera_angle_x": cam.data.angle_x, "aabb": aabb}, frames)

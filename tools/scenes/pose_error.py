@@ -1,5 +1,7 @@
 """Scores camera poses against the true ones, to measure camera refinement: for the frames of two
-transforms*.json matched by file_path ("./train/r_0", "train/r_0" and "train/r_0.png" match), the rotation
+transforms*.json matched by the photo their file_path names from each file's folder ("./train/r_0",
+"train/r_0" and "train/r_0.png" match, and so does the absolute path that `vknerf export cameras` writes
+where training named its photos so), the rotation
 error (the angle of R_est R_true^T, degrees) and the translation error (the distance between the camera
 centres as a percentage of the true camera's distance to the scene centre). No alignment: both files must be
 in the same world frame. The scene centre is TRUE.json's aabb centre, else the point closest to its optical
@@ -11,6 +13,7 @@ field on bad input.
 import argparse
 import json
 import math
+import os
 
 import numpy as np
 
@@ -18,9 +21,12 @@ from .poses import fail, frame_key, frame_poses, read_json, rotation_deg, scene_
 
 
 def keyed(path, poses):
+    # Photos as paths from the file's folder, as the loader resolves file_path: two files in different
+    # folders (or one naming its photos by absolute path) still match frame for frame.
+    folder = os.path.dirname(os.path.abspath(path))
     out, first = {}, {}
     for i, (name, m) in enumerate(poses):
-        k = frame_key(name)
+        k = frame_key(os.path.join(folder, name.strip()))
         if k in out:
             fail(path, f"frames[{i}].file_path", f"{name} names the photo of frames[{first[k]}] again")
         out[k], first[k] = m, i

@@ -86,6 +86,22 @@ class PoseToolsTest(unittest.TestCase):
         self.assertLess(same["rotation_deg"]["max"], 1e-6)
         self.assertEqual(same["translation_pct"]["max"], 0)
 
+    def test_frames_match_by_the_photo_they_name_from_each_files_folder(self):
+        # `vknerf export cameras` writes elsewhere, naming photos by absolute path or from its folder.
+        with open(os.path.join(self.out, "transforms_train.json")) as f:
+            meta = json.load(f)
+        elsewhere = os.path.join(self.tmp, "exported")
+        os.makedirs(elsewhere, exist_ok=True)
+        for i, fr in enumerate(meta["frames"]):
+            photo = os.path.join(self.out, fr["file_path"]) + ".png"
+            fr["file_path"] = photo if i % 2 else os.path.relpath(photo, elsewhere)
+        estimate = os.path.join(elsewhere, "transforms.json")
+        with open(estimate, "w") as f:
+            json.dump(meta, f)
+        e = self.errors(os.path.join(self.out, "transforms_train_true.json"), estimate)
+        self.assertEqual(e["frames_matched"], 100)
+        self.assertAlmostEqual(e["rotation_deg"]["max"], 1.0, delta=1e-4)
+
     def test_the_rest_of_the_scene_is_unchanged_and_reachable(self):
         self.assertTrue(filecmp.cmp(os.path.join(SCENE, "transforms_test.json"),
                                     os.path.join(self.out, "transforms_test.json"), shallow=False))

@@ -61,6 +61,22 @@ void interruptSavesALoadableCheckpoint(const std::string& signal, int expectedCo
   EXPECT_TRUE(std::filesystem::exists(out + "/depth_0000.pfm"));
 }
 
+// --profile over several steps: the medians are over the last K, a kernel that only some of them
+// ran (the occupancy update, every 16th step: step 16 is the 17th) says in how many.
+TEST(Cli, ProfileOverTheLastStepsNamesWhatSomeStepsRan) {
+  auto model = temp("profiled.vknerf");
+  auto r = runCli("train " + scene() + " -o " + model + " --config fast --downscale 4 --steps 17 --profile --profile-steps 3");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("the last 3 steps, each figure its median over them"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("    rays "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(in 1 of 3 steps)"), std::string::npos) << r.output;
+  auto one = runCli("train " + scene() + " -o " + model + " --config fast --downscale 4 --steps 2 --profile");
+  ASSERT_EQ(one.code, 0) << one.output;
+  EXPECT_NE(one.output.find("the last step: "), std::string::npos) << one.output;
+  EXPECT_EQ(one.output.find("(in "), std::string::npos) << one.output;
+  EXPECT_EQ(runCli("train " + scene() + " -o " + model + " --steps 2 --profile --profile-steps 0").code, 2);
+}
+
 TEST(Cli, InterruptSavesALoadableCheckpoint) { interruptSavesALoadableCheckpoint("INT", 130); }
 TEST(Cli, TerminateSavesALoadableCheckpoint) { interruptSavesALoadableCheckpoint("TERM", 143); }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <optional>
 
@@ -45,6 +46,7 @@ struct Options {
   uint32_t steps = 0, downscale = 1, logEvery = 50, saveEvery = 1000;
   double seconds = 0;
   bool resume = false, profile = false;
+  uint32_t profileSteps = 1;
   bool configGiven = false;  // its default is also a valid value
   std::shared_ptr<const ConfigFlags> configFlags;  // --rays ... --seed: the fields they set
 };
@@ -190,10 +192,15 @@ int train(const Options& o, const Globals& g) {
            (ctx->compileStats().seconds - compiledBefore);
   };
   StepStats st;
+  std::deque<StepProfile> profiles;  // --profile: the last --profile-steps steps'
   double lastPsnr = -1;  // none measured yet: the loss is read every --log-every steps
   while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !stopSignal) {
     bool report = (trainer.steps() + 1) % o.logEvery == 0 || trainer.steps() + 1 == last;
     st = trainer.step(report);
+    if (o.profile) {
+      profiles.push_back(trainer.lastStepProfile());
+      if (profiles.size() > o.profileSteps) profiles.pop_front();
+    }
     if (st.hasLoss) lastPsnr = st.psnr;
     if (report) {
       double s = elapsed(), done = double(trainer.steps() - first);
@@ -218,7 +225,7 @@ int train(const Options& o, const Globals& g) {
   std::printf("memory: host peak %.1f MiB; device %.1f MiB (model %.1f MiB + training images %.1f MiB in %u buffers)\n",
               hostPeakMiB(), trainer.statistics().deviceMiB + trainer.trainingPixelsDeviceMiB(),
               trainer.statistics().deviceMiB, trainer.trainingPixelsDeviceMiB(), trainer.trainingPixelBindings());
-  if (o.profile) printStepProfile(trainer.lastStepProfile());
+  if (o.profile && !profiles.empty()) printStepProfile({profiles.begin(), profiles.end()});
   trainer.save(o.output);
   const CompileStats compiled = ctx->compileStats();
   std::printf("kernels: %.1f s compiling (%u pipelines, %u compiled ahead), not counted in the training time\n",
@@ -244,6 +251,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
                      app.add_flag("--profile", o->profile, "Print where the last step's time went: each submission's kernels, the host time between them");
+                     app.add_option("--profile-steps", o->profileSteps, "With --profile: over the last K steps, each figure its median over them (steadier on a busy machine)")->check(CLI::Range(1u, 100000u));
                      app.add_option("--summary", o->summary, "Also write the run's numbers as JSON: steps, seconds, samples per ray (mean over all steps), device and host MiB, last train PSNR");
                      app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config is kept; flags must agree with it)");
                      return [o, &g, &app] {

@@ -1,4 +1,4 @@
-// The push constants of appearance_ray_sums.comp and appearance_gradient.comp; on the host,
+// The push constants of appearance_gradient.comp; on the host,
 // vknerf::glsl::AppearanceGradientPush.
 #ifndef VKNERF_ENCODING_APPEARANCE_GRADIENT_SHARED_H
 #define VKNERF_ENCODING_APPEARANCE_GRADIENT_SHARED_H

@@ -1,4 +1,4 @@
-// The push constants of camera_ray_sums.comp and camera_gradient.comp; on the host,
+// The push constants of camera_gradient.comp; on the host,
 // vknerf::glsl::CameraGradientPush.
 #ifndef VKNERF_RAYS_CAMERA_GRADIENT_SHARED_H
 #define VKNERF_RAYS_CAMERA_GRADIENT_SHARED_H

@@ -1,9 +1,11 @@
 #version 450
 // Ray generation: one ray per invocation, for a whole image (render) or for random pixels drawn
-// across all training images (training). Writes (o, t_near), (d, t_far) and the (camera, pixel) id.
+// across all training images (training: each ray's camera at random, or the batch in runs of one
+// camera each, rays/camera_runs.glsl). Writes (o, t_near), (d, t_far) and the (camera, pixel) id.
 #extension GL_GOOGLE_include_directive : require
 #include "rays/camera.glsl"
 #include "common/rng.glsl"
+#include "rays/camera_runs.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -21,7 +23,8 @@ void main() {
     cam = pc.camera;
     pixel = pc.first + i;
   } else {
-    cam = rngUint(pc.first, i, 0u) % pc.camera;
+    cam = pc.mode == 1u ? rngUint(pc.first, i, 0u) % pc.camera
+                        : (cameraRunOfRay(i, pc.count, pc.camera) + rngUint(pc.first, 0u, 2u) % pc.camera) % pc.camera;
     uvec4 s = cameras[cam].size;
     pixel = rngUint(pc.first, i, 1u) % (s.x * s.y);
   }

@@ -23,9 +23,10 @@ uint32_t checkedCapacity(Context& ctx, uint32_t capacity) {
 }
 }  // namespace
 
-RayBatch::RayBatch(Context& ctx, uint32_t capacity, float nearPlane)
+RayBatch::RayBatch(Context& ctx, uint32_t capacity, float nearPlane, bool inCameraRuns)
     : capacity_(checkedCapacity(ctx, capacity)),
       nearPlane_(nearPlane),
+      inCameraRuns_(inCameraRuns),
       generation_(ctx),
       backgrounds_(ctx),
       // Zeroed: a recorded render evaluates the field over whole buffers, never over garbage.
@@ -35,7 +36,7 @@ RayBatch::RayBatch(Context& ctx, uint32_t capacity, float nearPlane)
 
 void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count,
                               const Aabb& box, const TrainConfig& config) {
-  generation_.recordRandom(rec, *data.cameras, {data.numCameras, seed, count}, {box, nearPlane_}, {rays_, pixelIds_});
+  generation_.recordRandom(rec, *data.cameras, {data.numCameras, seed, count, inCameraRuns_}, {box, nearPlane_}, {rays_, pixelIds_});
   if (config.randomBackground)
     backgrounds_.recordRandom(rec, background_, count, seed);
   else

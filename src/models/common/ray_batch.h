@@ -20,7 +20,9 @@ uint32_t stepSeed(const TrainConfig& config, uint32_t step);
 class RayBatch {
  public:
   // Rays start `nearPlane` in front of their camera (or at the scene box, whichever is further).
-  RayBatch(Context& ctx, uint32_t capacity, float nearPlane = kNearPlane);
+  // inCameraRuns: training batches come in runs of one camera each (RayGeneration::RandomPixels),
+  // for a model that sums gradients per training camera.
+  RayBatch(Context& ctx, uint32_t capacity, float nearPlane = kNearPlane, bool inCameraRuns = false);
 
   // `count` rays through random training pixels (seed: stepSeed), with random backgrounds when
   // config.randomBackground, else config.background. A transparent pixel's target is then a random
@@ -46,6 +48,7 @@ class RayBatch {
  private:
   uint32_t capacity_;
   float nearPlane_;
+  bool inCameraRuns_;
   RayGeneration generation_;
   BackgroundColors backgrounds_;
   gpu::Buffer rays_, pixelIds_, background_;

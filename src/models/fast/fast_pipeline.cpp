@@ -124,7 +124,9 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
              training ? std::optional(tableAdamOf(config)) : std::nullopt),
       network_(ctx, "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),
       grid_(ctx, model_.gridResolution, model_.cascades),
-      rays_(ctx, rayCapacity_, model_.nearDistance > 0 ? model_.nearDistance : kNearPlane),
+      // The per-photo gradients (camera refinement, appearance) are summed over each photo's run of rays.
+      rays_(ctx, rayCapacity_, model_.nearDistance > 0 ? model_.nearDistance : kNearPlane,
+            model_.refineCameras || model_.appearanceDims > 0),
       marcher_(ctx, rayCapacity_),
       points_(ctx),
       compositor_(ctx),
@@ -300,6 +302,10 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
     cameras_->recordApply(rec, *data.cameras);
     cameras.cameras = &cameras_->cameras();
   }
+  // The per-photo sums find a photo's rays by the runs the batch was drawn in over data.numCameras.
+  if (appearance_ && data.numCameras != appearance_->numPhotos())
+    throw Error("fast model: " + std::to_string(data.numCameras) + " training photos, but the appearance embedding was set up for " +
+                std::to_string(appearance_->numPhotos()));
   const RaySpan batch = recordTrainingBatch(rec, cameras, seed, raysNext_);
   const CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
   recordTrainingBackward(rec, batch, composite);
@@ -371,7 +377,7 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
   const gpu::Buffer& rowOffsets = gatherBackward_ ? kept_->offsets() : marched_.offsets;
   if (appearance_)
-    appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dDir_, wholeRayCount(), raySums_,
+    appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dDir_, wholeRayCount(),
                                       mlp_.dirStride(), sh_.paddedDims()});
   const EncodedRows encoded{sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit};
   // Camera refinement: the table's backward also gives dL/dp (from the table before its optimizer
@@ -386,7 +392,7 @@ void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch
   // The learned far field's colour also depends on the direction; that part is left out (its
   // gradient is small and blurred: a colour per direction at infinity).
   cameras_->recordGradient(rec, {batch, rays_.pixelIds(), marched_.offsets, rowOffsets, marched_.samples, dPosition_,
-                                 wholeRayCount(), raySums_, box_});
+                                 wholeRayCount(), box_});
 }
 
 void FastPipeline::setTrainingCameras(uint32_t count) {
@@ -398,11 +404,6 @@ void FastPipeline::setTrainingCameras(uint32_t count) {
       dDir_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(sampleCapacity_) * mlp_.dirStride() * 4,
                                  "the samples' direction-input gradients");
   }
-  // Scratch of the per-photo gradients (appearance, then cameras: one after the other), a ray's
-  // rows summed: the larger of an appearance vector and the cameras' 8 floats a ray.
-  if (training_ && (model_.appearanceDims || model_.refineCameras))
-    raySums_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(rayCapacity_) * std::max(model_.appearanceDims, 8u) * 4,
-                                  "the rays' sums of per-photo gradients");
   if (!training_ || !model_.refineCameras) return;
   CameraRefinementSettings settings;
   settings.adam = adamConfigOf(config_, model_.cameraLearningRate / config_.learningRate);

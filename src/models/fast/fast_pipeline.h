@@ -132,7 +132,6 @@ class FastPipeline final : public FieldPipeline {
   std::optional<uint32_t> renderPhoto_;      // RenderSettings::appearancePhoto
   gpu::Buffer dDir_;                         // training with it: dL/d(direction input) per backward row
   gpu::Buffer dPosition_;                    // with it: dL/dp per backward row (vec4)
-  gpu::Buffer raySums_;                      // training with either: a ray's rows summed before the per-photo sums
 
   // per ray
   gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_;

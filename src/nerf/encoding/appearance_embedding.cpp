@@ -1,5 +1,6 @@
 #include "nerf/encoding/appearance_embedding.h"
 
+#include <algorithm>
 #include <string>
 
 #include "encoding/appearance_gradient_shared.h"
@@ -12,6 +13,7 @@
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
+static_assert(AppearanceEmbedding::kMaxDims == 4 * PER_CAMERA_SLOTS, "a photo's sum is at most the scratch's vec4 slots");
 
 uint32_t checkedDims(uint32_t dims) {
   if (dims == 0 || dims % 4 || dims > AppearanceEmbedding::kMaxDims)
@@ -26,9 +28,7 @@ AppearanceEmbedding::AppearanceEmbedding(Context& ctx, uint32_t dims)
       dims_(checkedDims(dims)),
       rows_(ctx, {gpu::shaders::appearance_rows, std::vector<gpu::Binding>(5, gpu::Binding::Storage),
                   sizeof(glsl::AppearanceRowsPush), {}}),
-      raySums_(ctx, {gpu::shaders::appearance_ray_sums, std::vector<gpu::Binding>(4, gpu::Binding::Storage),
-                     sizeof(glsl::AppearanceGradientPush), {}}),
-      gradient_(ctx, {gpu::shaders::appearance_gradient, std::vector<gpu::Binding>(4, gpu::Binding::Storage),
+      gradient_(ctx, {gpu::shaders::appearance_gradient, std::vector<gpu::Binding>(5, gpu::Binding::Storage),
                       sizeof(glsl::AppearanceGradientPush), {}}),
       mean_(ctx, {gpu::shaders::appearance_mean, std::vector<gpu::Binding>(2, gpu::Binding::Storage),
                   sizeof(glsl::AppearanceMeanPush), {}}),
@@ -62,18 +62,12 @@ void AppearanceEmbedding::recordGradient(gpu::Recorder& rec, const AppearanceGra
   gpu::requireBytes("AppearanceEmbedding", "pixel ids", in.pixelIds, uint64_t(in.rays) * kPixelIdBytes);
   gpu::requireBytes("AppearanceEmbedding", "row offsets", in.rowOffsets, (uint64_t(in.rays) + 1) * 4);
   gpu::requireBytes("AppearanceEmbedding", "ray count", in.rayCount, 4);
-  gpu::requireBytes("AppearanceEmbedding", "ray sums", in.raySums, uint64_t(in.rays) * dims_ * 4);
   gpu::requireBytes("AppearanceEmbedding", "gradients", grads, uint64_t(numPhotos) * dims_ * 4);
-  const uint32_t groups = gpu::groupsFor(numPhotos, PER_CAMERA_SLOTS / (dims_ / 4));  // gpu/per_camera_sum.glsl
-  if (groups > maxGroups_)
-    throw Error("AppearanceEmbedding: " + std::to_string(numPhotos) + " photos, more workgroups than one dispatch holds");
   if (numPhotos == 0) return;
   glsl::AppearanceGradientPush p{numPhotos, in.rays, in.stride / 4, in.columnOffset / 4, dims_ / 4};
-  // Each ray's rows first, then the photos' rays (shaders/encoding/appearance_ray_sums.comp).
-  if (in.rays > 0)
-    rec.dispatch(raySums_, {in.rowOffsets, in.dDir, in.raySums, in.rayCount}, p, gpu::groupsFor(in.rays, kLocal), 1, 1,
-                 "appearance_ray_sums");
-  rec.dispatch(gradient_, {in.pixelIds, in.raySums, grads, in.rayCount}, p, groups, 1, 1, "appearance_gradient");
+  // gpu/per_camera_sum.glsl: a workgroup a photo at a time, as many as one dispatch holds.
+  rec.dispatch(gradient_, {in.pixelIds, in.rowOffsets, in.dDir, grads, in.rayCount}, p, std::min(numPhotos, maxGroups_), 1,
+               1, "appearance_gradient");
 }
 
 void AppearanceEmbedding::recordMean(gpu::Recorder& rec, uint32_t numPhotos, const gpu::BufferRange& table,

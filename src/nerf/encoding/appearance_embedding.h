@@ -26,12 +26,13 @@ struct AppearanceRows {
   uint32_t fixedRow = 0;  // with neither: every row gets this row of the table
 };
 
-// What the gradient reads of a trained batch: `rays` rays' pixel ids, ray r's rows of dDir being
-// [rowOffsets[r], rowOffsets[r + 1]) (stride and columnOffset as AppearanceRows), rayCount a uint
-// on the device (the rays that trained). raySums: scratch of dims floats per ray.
+// What the gradient reads of a trained batch: `rays` rays' pixel ids, the rays in runs of one photo
+// each (RayGeneration::RandomPixels::inCameraRuns, over the numPhotos the gradient is for), ray r's
+// rows of dDir being [rowOffsets[r], rowOffsets[r + 1]) (stride and columnOffset as
+// AppearanceRows), rayCount a uint on the device (the rays that trained).
 struct AppearanceGradientInputs {
   uint32_t rays = 0;
-  gpu::BufferRange pixelIds, rowOffsets, dDir, rayCount, raySums;
+  gpu::BufferRange pixelIds, rowOffsets, dDir, rayCount;
   uint32_t stride = 0, columnOffset = 0;
 };
 
@@ -52,7 +53,7 @@ class AppearanceEmbedding {
  private:
   Context& ctx_;
   uint32_t dims_;
-  gpu::Kernel rows_, raySums_, gradient_, mean_;
+  gpu::Kernel rows_, gradient_, mean_;
   gpu::LimitedDispatch limited_;
   uint32_t maxGroups_;  // of the per-photo sums' dispatch
 };

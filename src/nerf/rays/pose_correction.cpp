@@ -1,8 +1,8 @@
 #include "nerf/rays/pose_correction.h"
 
+#include <algorithm>
 #include <string>
 
-#include "gpu/per_camera_sum_shared.h"
 #include "nerf/sampling/sample_layout.h"
 #include "rays/camera_correct_shared.h"
 #include "rays/camera_gradient_shared.h"
@@ -11,15 +11,12 @@
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
-constexpr uint64_t kRaySumBytes = 32;  // camera_ray_sums.comp: 2 vec4 per ray
 }  // namespace
 
 PoseCorrection::PoseCorrection(Context& ctx)
     : apply_(ctx, {gpu::shaders::camera_correct, std::vector<gpu::Binding>(3, gpu::Binding::Storage),
                    sizeof(glsl::CameraCorrectPush), {}}),
-      raySums_(ctx, {gpu::shaders::camera_ray_sums, std::vector<gpu::Binding>(7, gpu::Binding::Storage),
-                     sizeof(glsl::CameraGradientPush), {}}),
-      gradient_(ctx, {gpu::shaders::camera_gradient, std::vector<gpu::Binding>(5, gpu::Binding::Storage),
+      gradient_(ctx, {gpu::shaders::camera_gradient, std::vector<gpu::Binding>(9, gpu::Binding::Storage),
                       sizeof(glsl::CameraGradientPush), {}}),
       maxGroups_(ctx.properties().limits.maxComputeWorkGroupCount[0]) {}
 
@@ -41,27 +38,19 @@ void PoseCorrection::recordGradient(gpu::Recorder& rec, const PoseGradientInputs
   gpu::requireBytes("PoseCorrection", "marched offsets", in.marchedOffsets, (uint64_t(R) + 1) * 4);
   gpu::requireBytes("PoseCorrection", "row offsets", in.rowOffsets, (uint64_t(R) + 1) * 4);
   gpu::requireBytes("PoseCorrection", "ray count", in.rayCount, 4);
-  gpu::requireBytes("PoseCorrection", "ray sums", in.raySums, uint64_t(R) * kRaySumBytes);
   gpu::requireBytes("PoseCorrection", "corrections", corrections, uint64_t(numCameras) * kCorrectionFloats * 4);
   gpu::requireBytes("PoseCorrection", "gradients", grads, uint64_t(numCameras) * kCorrectionFloats * 4);
-  // gpu/per_camera_sum.glsl: a workgroup sums as many cameras as its scratch holds, 2 vec4 each.
-  const uint32_t groups = gpu::groupsFor(numCameras, PER_CAMERA_SLOTS / 2);
-  if (groups > maxGroups_)
-    throw Error("PoseCorrection: " + std::to_string(numCameras) + " cameras, more workgroups than one dispatch holds");
   if (numCameras == 0) return;
   glsl::CameraGradientPush p{};
   for (int k = 0; k < 3; ++k) p.positionScale[k] = 2.0f / (in.box.max[k] - in.box.min[k]);
   p.numCameras = numCameras;
   p.maxRays = R;
   p.penalty = penalty;
-  // Each ray's samples first, then the cameras' rays (shaders/rays/camera_ray_sums.comp).
-  if (R > 0)
-    rec.dispatch(raySums_,
-                 {in.rays.range, in.marchedOffsets, in.rowOffsets, in.samples, in.positionGradient, in.raySums,
-                  in.rayCount},
-                 p, gpu::groupsFor(R, kLocal), 1, 1, "camera_ray_sums");
-  rec.dispatch(gradient_, {in.pixelIds, in.raySums, corrections, grads, in.rayCount}, p, groups, 1, 1,
-               "camera_gradient");
+  // gpu/per_camera_sum.glsl: a workgroup a camera at a time, as many as one dispatch holds.
+  rec.dispatch(gradient_,
+               {in.pixelIds, in.rays.range, in.marchedOffsets, in.rowOffsets, in.samples, in.positionGradient, corrections,
+                grads, in.rayCount},
+               p, std::min(numCameras, maxGroups_), 1, 1, "camera_gradient");
 }
 
 }  // namespace vknerf::nerf

@@ -2,7 +2,7 @@
 // Camera refinement's kernels (stage 1, rays): the training cameras with their learned pose
 // corrections applied before rays are made (shaders/rays/camera_correct.comp), and the gradient of
 // the loss with respect to those corrections from the samples' position gradients
-// (shaders/rays/camera_ray_sums.comp, then shaders/rays/camera_gradient.comp). A correction is 6 floats per camera, (w, tau): the pose
+// (shaders/rays/camera_gradient.comp). A correction is 6 floats per camera, (w, tau): the pose
 // [R | c] becomes [exp(w) R | c + tau] (src/reference/rays/pose_correction.h).
 #include <cstdint>
 
@@ -15,15 +15,15 @@ namespace vknerf::nerf {
 
 constexpr uint32_t kCorrectionFloats = 6;
 
-// What the gradient reads of a trained batch, as one value: its rays and their camera ids, the
-// march's packed offsets and samples (t), and dL/dp per row of the backward pass (vec4, p the
-// position in the scene box mapped onto [-1, 1]^3), ray r's rows being [rowOffsets[r],
-// rowOffsets[r + 1]), its first samples in order (all of them, or those kept before early
-// termination). rayCount: a uint on the device, the rays of the batch that trained. raySums:
-// scratch of 2 vec4 per ray.
+// What the gradient reads of a trained batch, as one value: its rays, in runs of one camera each
+// (RayGeneration::RandomPixels::inCameraRuns, over the numCameras the gradient is for), and their
+// camera ids, the march's packed offsets and samples (t), and dL/dp per row of the backward pass
+// (vec4, p the position in the scene box mapped onto [-1, 1]^3), ray r's rows being
+// [rowOffsets[r], rowOffsets[r + 1]), its first samples in order (all of them, or those kept
+// before early termination). rayCount: a uint on the device, the rays of the batch that trained.
 struct PoseGradientInputs {
   RaySpan rays;
-  gpu::BufferRange pixelIds, marchedOffsets, rowOffsets, samples, positionGradient, rayCount, raySums;
+  gpu::BufferRange pixelIds, marchedOffsets, rowOffsets, samples, positionGradient, rayCount;
   Aabb box;  // the box mapped onto [-1, 1]^3
 };
 
@@ -38,7 +38,7 @@ class PoseCorrection {
                       const gpu::BufferRange& corrections, const gpu::BufferRange& grads);
 
  private:
-  gpu::Kernel apply_, raySums_, gradient_;
+  gpu::Kernel apply_, gradient_;
   uint32_t maxGroups_;  // of the per-camera sums' dispatch
 };
 

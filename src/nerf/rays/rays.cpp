@@ -50,7 +50,7 @@ void RayGeneration::recordImage(gpu::Recorder& rec, const gpu::BufferRange& came
 
 void RayGeneration::recordRandom(gpu::Recorder& rec, const gpu::BufferRange& cameras, const RandomPixels& pixels,
                                  const RayClip& clip, const RayOutputs& out) {
-  record(rec, cameras, {1, pixels.numCameras, pixels.seed, pixels.count}, clip, out);
+  record(rec, cameras, {pixels.inCameraRuns ? 2u : 1u, pixels.numCameras, pixels.seed, pixels.count}, clip, out);
 }
 
 }  // namespace vknerf::nerf

@@ -60,9 +60,13 @@ class RayGeneration {
   struct ImagePixels {
     uint32_t camera = 0, firstPixel = 0, count = 0;
   };
-  // `count` random pixels of random cameras among the first numCameras (uniform over cameras, then pixels).
+  // `count` random pixels of random cameras among the first numCameras (uniform over cameras, then
+  // pixels). inCameraRuns: the rays come in runs of one camera each (src/reference/rays/camera_runs.h;
+  // each ray's camera still uniform), which the per-camera sums of camera refinement and the
+  // appearance embedding need (shaders/gpu/per_camera_sum.glsl); otherwise each ray's camera is drawn alone.
   struct RandomPixels {
     uint32_t numCameras = 0, seed = 0, count = 0;
+    bool inCameraRuns = false;
   };
   // A ray through each of `pixels`.
   void recordImage(gpu::Recorder& rec, const gpu::BufferRange& cameras, const ImagePixels& pixels,
@@ -71,8 +75,8 @@ class RayGeneration {
                     const RayClip& clip, const RayOutputs& out);
 
  private:
-  // The kernel's pixel choice: mode 0 (an image: a = camera, b = first pixel) or 1 (random: a =
-  // numCameras, b = seed), `count` rays.
+  // The kernel's pixel choice: mode 0 (an image: a = camera, b = first pixel), 1 (random: a =
+  // numCameras, b = seed) or 2 (random, in camera runs), `count` rays.
   struct Pixels {
     uint32_t mode, a, b, count;
   };

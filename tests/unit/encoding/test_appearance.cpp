@@ -1,6 +1,7 @@
 // The appearance embedding's kernels (nerf/encoding/appearance_embedding.h: appearance_rows.comp,
 // appearance_gradient.comp, appearance_mean.comp) against the CPU reference
 // (src/reference/encoding/appearance.h).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -10,6 +11,7 @@
 #include "gpu/recorder.h"
 #include "nerf/encoding/appearance_embedding.h"
 #include "reference/encoding/appearance.h"
+#include "reference/rays/camera_runs.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "vknerf/error.h"
@@ -38,16 +40,17 @@ struct Batch {
   std::vector<uint32_t> rayPhoto, pixelIds, sampleRay, rowOffsets;
 };
 
-Batch randomBatch(uint32_t seed) {
+// `rays` rays in runs of one photo each, as a training batch comes (ref::groupedCamera).
+Batch randomBatch(uint32_t seed, uint32_t rays = kRays) {
   std::mt19937 gen(seed);
   Batch b;
-  for (uint32_t r = 0; r < kRays; ++r) {
-    b.rayPhoto.push_back(gen() % kPhotos);
+  for (uint32_t r = 0; r < rays; ++r) {
+    b.rayPhoto.push_back(ref::groupedCamera(seed, r, rays, kPhotos));
     b.pixelIds.insert(b.pixelIds.end(), {b.rayPhoto.back(), uint32_t(gen() % 1000)});
   }
   // Rays of 0..8 rows each, packed in order (as the march and KeptRows write them).
   b.rowOffsets.push_back(0);
-  for (uint32_t r = 0; r < kRays; ++r) b.rowOffsets.push_back(b.rowOffsets.back() + gen() % 9);
+  for (uint32_t r = 0; r < rays; ++r) b.rowOffsets.push_back(b.rowOffsets.back() + gen() % 9);
   for (uint32_t q = 0; q < kRows; ++q) b.sampleRay.push_back(gen() % kRays);
   return b;
 }
@@ -111,48 +114,50 @@ TEST_F(Appearance, RenderRowsGetAChosenPhotosVectorOrTheMean) {
 }
 
 // The per-photo sum of dL/d(vector columns) over the rows of the photo's rays, cut to the device's
-// ray count. Each entry sums up to a few dozen floats in a fixed order (a ray's rows, then a lane's
-// rays in turn, then a tree over the lanes): the float error is below n * 2^-24 * sum|terms| with
-// n <= 64 + 64 + 6, so the absolute tolerance is 1e-5 * sum|terms| (the reference's sum of
-// magnitudes, entry by entry),
-// which any missing or doubled row (at least one whole term) exceeds. Two runs agree bit for bit.
+// ray count, over a batch in runs of one photo each. Each entry sums up to a few dozen floats in a
+// fixed order (a lane's rows in turn, then a tree over the lanes): the float error is below
+// n * 2^-24 * sum|terms| with n below 64 + 3 (a photo's rows here, then the tree's levels), so the absolute tolerance is 1e-5 * sum|terms| (the
+// reference's sum of magnitudes, entry by entry), which any missing or doubled row (at least one
+// whole term) exceeds. Two runs agree bit for bit.
 TEST_F(Appearance, GradientSumsEachPhotosRowsDeterministically) {
-  // A few dims (12: 5 photos a workgroup, a slot unused), and the most the configuration allows
-  // (every vec4 slot of the kernel's shared sums, one photo a workgroup).
-  for (const uint32_t dims : {8u, 12u, 64u}) {
-    SCOPED_TRACE(testing::Message() << dims << " dims");
-    const uint32_t kDims = dims, kStride = 16 + dims + 4;  // [SH 16 | vector | 4 unused]
-    nerf::AppearanceEmbedding emb(ctx(), kDims);
-    const Batch b = randomBatch(4);
-    const uint32_t trained = 150;  // the device's ray count: the rays past it add nothing
-    const uint32_t rows = b.rowOffsets.back();
-    const auto dDir = uniform(size_t(rows) * kStride, 5);
-    auto ids = gpu::Buffer::of(ctx(), b.pixelIds), offsets = gpu::Buffer::of(ctx(), b.rowOffsets);
-    auto dDirBuf = gpu::Buffer::of(ctx(), dDir);
-    auto count = gpu::Buffer::of(ctx(), std::vector<uint32_t>{trained, 0, 0, 0});
-    auto scratch = gpu::Buffer::zeros(ctx(), VkDeviceSize(kRays) * kDims * 4);
-    auto run = [&] {
-      auto grads = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kPhotos) * kDims, kSentinel));
-      test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-        emb.recordGradient(rec, {kRays, ids, offsets, dDirBuf, gpu::BufferRange(count, 0, 4), scratch, kStride, kOffset},
-                           kPhotos,
-                           grads);
-      });
-      return grads.download<float>(size_t(kPhotos) * kDims);
-    };
-    const auto got = run(), again = run();
-    const auto want = ref::appearanceGradient(dDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
-    std::vector<float> absDir(dDir.size());
-    for (size_t i = 0; i < dDir.size(); ++i) absDir[i] = std::fabs(dDir[i]);
-    const auto scale = ref::appearanceGradient(absDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
-    int nonzero = 0;
-    for (size_t i = 0; i < want.size(); ++i) {
-      EXPECT_TRUE(test::near(got[i], want[i], 0.0, 1e-5 * scale[i] + 1e-30)) << "photo " << i / kDims << " entry " << i % kDims;
-      nonzero += want[i] != 0.0;
+  // A few dims (12: a vec4 count that is not a power of two), and the most the configuration
+  // allows (every vec4 slot of the kernel's shared sums). More rays than photos (each photo a run
+  // of 2 or 3), and fewer (runs of one ray: 20 photos have none, and a zero gradient).
+  for (const uint32_t dims : {8u, 12u, 64u})
+    for (const uint32_t rays : {kRays, 50u}) {
+      SCOPED_TRACE(testing::Message() << dims << " dims, " << rays << " rays");
+      const uint32_t kDims = dims, kStride = 16 + dims + 4;  // [SH 16 | vector | 4 unused]
+      nerf::AppearanceEmbedding emb(ctx(), kDims);
+      const Batch b = randomBatch(4, rays);
+      const uint32_t trained = rays * 3 / 4;  // the device's ray count: the rays past it add nothing
+      const uint32_t rows = b.rowOffsets.back();
+      const auto dDir = uniform(size_t(rows) * kStride, 5);
+      auto ids = gpu::Buffer::of(ctx(), b.pixelIds), offsets = gpu::Buffer::of(ctx(), b.rowOffsets);
+      auto dDirBuf = gpu::Buffer::of(ctx(), dDir);
+      auto count = gpu::Buffer::of(ctx(), std::vector<uint32_t>{trained, 0, 0, 0});
+      auto run = [&] {
+        auto grads = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kPhotos) * kDims, kSentinel));
+        test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+          emb.recordGradient(rec, {rays, ids, offsets, dDirBuf, gpu::BufferRange(count, 0, 4), kStride, kOffset}, kPhotos,
+                             grads);
+        });
+        return grads.download<float>(size_t(kPhotos) * kDims);
+      };
+      const auto got = run(), again = run();
+      const auto want = ref::appearanceGradient(dDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
+      std::vector<float> absDir(dDir.size());
+      for (size_t i = 0; i < dDir.size(); ++i) absDir[i] = std::fabs(dDir[i]);
+      const auto scale =
+          ref::appearanceGradient(absDir, kDims, kStride, kOffset, b.rayPhoto, b.rowOffsets, trained, kPhotos);
+      int nonzero = 0;
+      for (size_t i = 0; i < want.size(); ++i) {
+        EXPECT_TRUE(test::near(got[i], want[i], 0.0, 1e-5 * scale[i] + 1e-30))
+            << "photo " << i / kDims << " entry " << i % kDims;
+        nonzero += want[i] != 0.0;
+      }
+      EXPECT_GT(nonzero, int(want.size()) * int(trained) / int(2 * std::max(rays, kPhotos)));  // the photos with rows
+      ASSERT_EQ(std::memcmp(got.data(), again.data(), got.size() * 4), 0) << "the sums differ between runs";
     }
-    EXPECT_GT(nonzero, int(want.size()) / 2);  // most photos have rays in the batch
-    ASSERT_EQ(std::memcmp(got.data(), again.data(), got.size() * 4), 0) << "the sums differ between runs";
-  }
 }
 
 TEST_F(Appearance, DimsThatCannotWorkAreErrors) {

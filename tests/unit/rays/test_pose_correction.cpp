@@ -9,6 +9,7 @@
 #include "gpu/recorder.h"
 #include "nerf/rays/pose_correction.h"
 #include "nerf/rays/rays.h"
+#include "reference/rays/camera_runs.h"
 #include "reference/rays/pose_correction.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
@@ -79,16 +80,16 @@ TEST_F(PoseCorrection, GradientMatchesFiniteDifferences) {
   const float penalty = 0.05f;
   const uint32_t R = 150, counted = 140;  // the device's ray count: the last 10 rays add nothing
 
-  // Per ray: its camera, its direction in the world before correction (unit), its samples' t and
+  // Per ray: its camera (the batch in runs of one camera each, as training makes it), its direction in the world before correction (unit), its samples' t and
   // the dL/dp of the rows kept (the first `kept` of its marched samples).
   std::mt19937 gen(5);
   std::uniform_real_distribution<double> u(-1, 1), tDist(0.5, 4.0);
-  std::uniform_int_distribution<uint32_t> camOf(0, kCameras - 1), marchedOf(0, 6);
+  std::uniform_int_distribution<uint32_t> marchedOf(0, 6);
   std::vector<uint32_t> camera(R), marchedOff{0}, rowOff{0};
   std::vector<std::array<double, 3>> d0(R);
   std::vector<double> t, dP;
   for (uint32_t r = 0; r < R; ++r) {
-    camera[r] = camOf(gen);
+    camera[r] = ref::groupedCamera(5, r, R, kCameras);
     const double dc[3] = {0.3 * u(gen), 0.3 * u(gen), -1.0};
     const auto& m = poses[camera[r]].c2w;
     double n = 0;
@@ -144,10 +145,9 @@ TEST_F(PoseCorrection, GradientMatchesFiniteDifferences) {
        ob = gpu::Buffer::of(ctx(), rowOff), sb = gpu::Buffer::of(ctx(), samples), pb = gpu::Buffer::of(ctx(), dPf),
        cb = gpu::Buffer::of(ctx(), corr), nb = gpu::Buffer::of(ctx(), std::vector<uint32_t>{counted});
   auto gb = gpu::Buffer::of(ctx(), std::vector<float>(kCameras * 6, 12345.0f));
-  auto scratch = gpu::Buffer::zeros(ctx(), VkDeviceSize(R) * 32);
   nerf::PoseCorrection k(ctx());
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    k.recordGradient(rec, {{rb, R}, ib, mb, ob, sb, pb, nb, scratch, box}, kCameras, penalty, cb, gb);
+    k.recordGradient(rec, {{rb, R}, ib, mb, ob, sb, pb, nb, box}, kCameras, penalty, cb, gb);
   });
   const auto got = gb.download<float>();
 
@@ -162,9 +162,9 @@ TEST_F(PoseCorrection, GradientMatchesFiniteDifferences) {
     const double down = loss(c, nullptr);
     c[i] = saved;
     const double want = (up - down) / (2 * h);
-    // The device sums a camera's terms in float (per lane, then a 64-way tree), from float rays
-    // whose directions carry ~1e-7 relative error: 2^-24 times (the most terms a lane adds, ~40,
-    // plus the tree's 6 levels and the rays' rounding) of the sum of the terms' sizes: 1e-5 of it.
+    // The device sums a camera's terms in float (per lane, then an 8-way tree), from float rays
+    // whose directions carry ~1e-7 relative error: 2^-24 times (the most terms a lane adds, under 40,
+    // plus the tree's 3 levels and the rays' rounding) of the sum of the terms' sizes: 1e-5 of it.
     // The difference quotient's error, ~1e-10 absolute (rounding of L ~ 1e2 over h, and h^2
     // terms of second derivatives ~ 1e2), is far below.
     const double tol = 1e-5 * termSize[i / 6] + 1e-7;

@@ -1,4 +1,5 @@
 // rays.comp against the CPU reference (src/reference/rays/rays.h).
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -7,6 +8,7 @@
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "nerf/rays/rays.h"
+#include "reference/rays/camera_runs.h"
 #include "reference/rays/rays.h"
 #include "reference/rng.h"
 
@@ -25,14 +27,14 @@ struct GpuRays {
 };
 
 GpuRays runRays(Context& ctx, const std::vector<Camera>& cams, bool random, uint32_t cam, uint32_t first,
-                uint32_t count, const Aabb& box, float nearPlane, uint32_t seed = 0) {
+                uint32_t count, const Aabb& box, float nearPlane, uint32_t seed = 0, bool inCameraRuns = false) {
   auto packed = nerf::packCameras(cams);
   auto camBuf = gpu::Buffer::of(ctx, packed);
   gpu::Buffer rays(ctx, count * nerf::kRayBytes), ids(ctx, count * nerf::kPixelIdBytes);
   nerf::RayGeneration gen(ctx);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     if (random)
-      gen.recordRandom(rec, camBuf, {uint32_t(cams.size()), seed, count}, {box, nearPlane}, {rays, ids});
+      gen.recordRandom(rec, camBuf, {uint32_t(cams.size()), seed, count, inCameraRuns}, {box, nearPlane}, {rays, ids});
     else
       gen.recordImage(rec, camBuf, {cam, first, count}, {box, nearPlane}, {rays, ids});
   });
@@ -165,6 +167,55 @@ TEST_F(Rays, RandomPixelsMatchCounterRng) {
     perCamera[cam]++;
   }
   for (int c : perCamera) EXPECT_GT(c, 250);  // roughly uniform over cameras (expected 333)
+}
+
+// Training batches in runs of one camera each (camera_runs.glsl): each ray's camera and pixel as
+// the reference draws them, the cameras in consecutive runs whose lengths differ by at most one,
+// every camera with its run when there are more rays than cameras, and distinct cameras, one ray
+// each, when there are fewer.
+TEST_F(Rays, PixelsInCameraRunsMatchTheReference) {
+  std::vector<Camera> cams = {originCamera({4, 0, 1}, 10, 7, 9), originCamera({0, 4, 1}, 5, 12, 9),
+                              originCamera({-3, -3, 2}, 9, 9, 9), originCamera({3, 3, 2}, 6, 6, 9),
+                              originCamera({-4, 0, 1}, 8, 5, 9)};
+  const uint32_t C = cams.size();
+  for (const uint32_t n : {1000u, 3u})
+    for (const uint32_t seed : {1234u, 99u}) {
+      SCOPED_TRACE(testing::Message() << n << " rays, seed " << seed);
+      auto out = runRays(ctx(), cams, true, 0, seed, n, Aabb{}, 0, seed, true);
+      std::vector<uint32_t> perCamera(C);
+      uint32_t changes = 0;
+      for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t cam = ref::groupedCamera(seed, i, n, C);
+        const uint32_t pixel = ref::rngUint(seed, i, 1) % (cams[cam].width * cams[cam].height);
+        ASSERT_EQ(out.pixelIds[2 * i], cam);
+        ASSERT_EQ(out.pixelIds[2 * i + 1], pixel);
+        auto r = ref::cameraRay<double>(cams[cam], pixel % cams[cam].width, pixel / cams[cam].width);
+        ref::intersectAabb(r, Aabb{}, 0.0);
+        expectRayMatches(&out.rays[8 * i], r);
+        perCamera[cam]++;
+        changes += i > 0 && out.pixelIds[2 * i] != out.pixelIds[2 * i - 2];
+      }
+      EXPECT_EQ(changes, std::min(n, C) - 1);  // each camera's rays are one run
+      for (uint32_t c : perCamera)
+        if (n >= C) EXPECT_TRUE(c == n / C || c == n / C + 1) << c;
+        else EXPECT_LE(c, 1u);
+    }
+}
+
+// The runs cut [0, N) into C consecutive pieces, run k's rays being the rays whose run is k.
+TEST(CameraRuns, RunsPartitionTheBatch) {
+  for (const uint32_t N : {1u, 7u, 64u, 1000u, 4096u})
+    for (const uint32_t C : {1u, 3u, 7u, 64u, 100u, 5000u}) {
+      uint32_t next = 0;
+      for (uint32_t k = 0; k < C; ++k) {
+        const auto [first, end] = ref::cameraRunRays(k, N, C);
+        ASSERT_EQ(first, next) << N << " rays, " << C << " cameras, run " << k;
+        ASSERT_LE(end - first, N / C + 1);
+        for (uint32_t i = first; i < end; ++i) ASSERT_EQ(ref::cameraRunOfRay(i, N, C), k) << i;
+        next = end;
+      }
+      ASSERT_EQ(next, N);
+    }
 }
 
 TEST_F(Rays, EmptyBatchDispatchesNothing) {

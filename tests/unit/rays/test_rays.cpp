@@ -61,6 +61,16 @@ void expectRayMatches(const float* g, const ref::Ray<double>& r) {
   }
 }
 
+// Training ray i drawn with `seed` has camera `cam`, the reference's pixel of it, and its ray.
+void expectTrainingRay(const GpuRays& out, const std::vector<Camera>& cams, uint32_t seed, uint32_t i, uint32_t cam) {
+  const uint32_t pixel = ref::rngUint(seed, i, 1) % (cams[cam].width * cams[cam].height);
+  ASSERT_EQ(out.pixelIds[2 * i], cam) << "ray " << i;
+  ASSERT_EQ(out.pixelIds[2 * i + 1], pixel) << "ray " << i;
+  auto r = ref::cameraRay<double>(cams[cam], pixel % cams[cam].width, pixel / cams[cam].width);
+  ref::intersectAabb(r, Aabb{}, 0.0);
+  expectRayMatches(&out.rays[8 * i], r);
+}
+
 class Rays : public test::GpuTest {};
 
 }  // namespace
@@ -157,13 +167,8 @@ TEST_F(Rays, RandomPixelsMatchCounterRng) {
   auto out = runRays(ctx(), cams, true, 0, seed, n, Aabb{}, 0, seed);
   std::vector<int> perCamera(cams.size());
   for (uint32_t i = 0; i < n; ++i) {
-    uint32_t cam = ref::rngUint(seed, i, 0) % cams.size();
-    uint32_t pixel = ref::rngUint(seed, i, 1) % (cams[cam].width * cams[cam].height);
-    ASSERT_EQ(out.pixelIds[2 * i], cam);
-    ASSERT_EQ(out.pixelIds[2 * i + 1], pixel);
-    auto r = ref::cameraRay<double>(cams[cam], pixel % cams[cam].width, pixel / cams[cam].width);
-    ref::intersectAabb(r, Aabb{}, 0.0);
-    expectRayMatches(&out.rays[8 * i], r);
+    const uint32_t cam = ref::rngUint(seed, i, 0) % cams.size();
+    ASSERT_NO_FATAL_FAILURE(expectTrainingRay(out, cams, seed, i, cam));
     perCamera[cam]++;
   }
   for (int c : perCamera) EXPECT_GT(c, 250);  // roughly uniform over cameras (expected 333)
@@ -186,12 +191,7 @@ TEST_F(Rays, PixelsInCameraRunsMatchTheReference) {
       uint32_t changes = 0;
       for (uint32_t i = 0; i < n; ++i) {
         const uint32_t cam = ref::groupedCamera(seed, i, n, C);
-        const uint32_t pixel = ref::rngUint(seed, i, 1) % (cams[cam].width * cams[cam].height);
-        ASSERT_EQ(out.pixelIds[2 * i], cam);
-        ASSERT_EQ(out.pixelIds[2 * i + 1], pixel);
-        auto r = ref::cameraRay<double>(cams[cam], pixel % cams[cam].width, pixel / cams[cam].width);
-        ref::intersectAabb(r, Aabb{}, 0.0);
-        expectRayMatches(&out.rays[8 * i], r);
+        ASSERT_NO_FATAL_FAILURE(expectTrainingRay(out, cams, seed, i, cam));
         perCamera[cam]++;
         changes += i > 0 && out.pixelIds[2 * i] != out.pixelIds[2 * i - 2];
       }

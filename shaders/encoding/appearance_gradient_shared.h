@@ -6,10 +6,9 @@
 
 PUSH_CONSTANTS_BEGIN(AppearanceGradientPush)
   uint numCameras;
-  uint maxRays;     // the rays recorded; the device's ray count cuts them further
-  uint strideVec4;  // of dL/d(direction input)
-  uint offsetVec4;  // the vector's first column / 4
-  uint dimsVec4;
+  uint maxRays;    // the rays recorded; the device's ray count cuts them further
+  uint widthVec4;  // vec4s a row of dL/d(colour pre-activation)
+  uint dims;       // floats a vector
 PUSH_CONSTANTS_END
 
 #endif

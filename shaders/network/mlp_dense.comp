@@ -1,6 +1,7 @@
 #version 450
-// One dense layer, forward: Y = act(concat(A, B) W + bias) for `count` rows. W is row-major
-// [KA4 + KB4][N4] at vec4 offset WOFF4 of the parameter buffer, the bias [N4] right after it.
+// One dense layer, forward: Y = act(concat(A, B) W + bias (+ the row's bias)) for `count` rows. W is
+// row-major [KA4 + KB4][N4] at vec4 offset WOFF4 of the parameter buffer, the bias [N4] right after
+// it; ROW_BIAS: a bias per row too (network/row_bias.glsl).
 //
 // Shaped for lavapipe (shared/LAVAPIPE.md): lanes are rows, each invocation owns R rows
 // (row0 + r*G) kept in registers; the k loop is fully unrolled so every weight is read with a
@@ -20,7 +21,9 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer B;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) writeonly buffer Y { vec4 y4[]; };
 #include "network/dense_block.glsl"  // after R and P
-#define ROW_LIMIT_BINDING 4
+#define ROW_BIAS_BINDING 4
+#include "network/row_bias.glsl"
+#define ROW_LIMIT_BINDING 7
 #include "gpu/row_limit.glsl"
 
 const uint NMAIN = N4 - N4 % NB;
@@ -34,8 +37,10 @@ const uint NMAIN = N4 - N4 % NB;
       uint row = row0 + r * G;                                                                     \
       if (row < count)                                                                          \
         [[unroll]] for (uint j = 0; j < BLK; j += 4) {                                             \
-          vec4 v = mlpActivate(ACT, vec4(acc[r][j], acc[r][j + 1], acc[r][j + 2], acc[r][j + 3])); \
           uint col = (n0) + j;                                                                     \
+          vec4 z = vec4(acc[r][j], acc[r][j + 1], acc[r][j + 2], acc[r][j + 3]);                   \
+          if (ROW_BIAS != ROW_BIAS_NONE) z += rowBias(biasRow[r], col / 4u, N4);                   \
+          vec4 v = mlpActivate(ACT, z);                                                            \
           if (col + 4u > NTRUE) v = mix(vec4(0.0), v, lessThan(uvec4(col) + uvec4(0, 1, 2, 3), uvec4(NTRUE))); \
           y4[row * pc.strideY4 + col / 4u] = v;                                                    \
         }                                                                                          \
@@ -51,6 +56,9 @@ void main() {
   float xb[R][KB4 > 0u ? KB4 : 1u];
   DENSE_LOAD_ROWS(xa, A, KA4, pc.strideA4, row0, G, count)
   DENSE_LOAD_ROWS(xb, B, KB4, pc.strideB4, row0, G, count)
+  uint biasRow[R];
+  [[unroll]] for (uint r = 0; r < R; r++)
+    biasRow[r] = ROW_BIAS != ROW_BIAS_NONE ? rowBiasRow(min(row0 + r * G, count - 1u)) : 0u;
   [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
   [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
 }

@@ -14,6 +14,7 @@ SPEC_CONSTANTS_BEGIN(MlpDenseSpec)
   SPEC_CONSTANT(6, uint, WOFF4, 0)    // vec4 offset of W in the parameter buffer
   SPEC_CONSTANT(7, uint, R, 4)        // rows per invocation
   SPEC_CONSTANT(8, uint, NB, 8)       // output columns per block (multiple of 4)
+  SPEC_CONSTANT(9, uint, ROW_BIAS, 0) // ROW_BIAS_* (network/row_bias_shared.h)
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpDensePush)

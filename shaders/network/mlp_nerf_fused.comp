@@ -1,7 +1,8 @@
 #version 450
 // The whole NeRF MLP forward in one kernel, for narrow networks without a skip connection (the fast
 // model's): trunk (DEPTH <= 2 layers of W, ReLU) -> feature + sigma (V + 1, no activation) ->
-// colour (concat(feature, dir) -> W/2, ReLU) -> head (3, sigmoid), out = vec4(rgb, density(sigma)).
+// colour (concat(feature, dir) -> W/2, ReLU; ROW_BIAS: plus a bias per row before the ReLU,
+// network/row_bias.glsl) -> head (3, sigmoid), out = vec4(rgb, density(sigma)).
 // The same arithmetic as mlp_dense.comp + mlp_nerf_head.comp layer by layer (dense_block.glsl,
 // the same order of sums), but every activation stays in registers: nothing is written between
 // layers and nothing read back, and the network costs one dispatch instead of DEPTH + 3.
@@ -26,7 +27,9 @@ layout(std430, binding = 5) writeonly buffer H1 { vec4 h1Kept[]; };
 layout(std430, binding = 6) writeonly buffer F { vec4 fKept[]; };
 layout(std430, binding = 7) writeonly buffer C { vec4 cKept[]; };
 #include "network/dense_block.glsl"  // after R and P
-#define ROW_LIMIT_BINDING 8
+#define ROW_BIAS_BINDING 8
+#include "network/row_bias.glsl"
+#define ROW_LIMIT_BINDING 11
 #include "gpu/row_limit.glsl"
 
 const uint V4 = V + 4u;   // the feature layer's padded output: V features, sigma, 3 zero columns
@@ -93,7 +96,19 @@ void main() {
   float d[R][KD4];
   DENSE_LOAD_ROWS(d, Dir, KD4, pc.strideD4, row0, G, count)
   float c[R][W2];
-  FUSED_LAYER(c, W2, f, V, d, KD4, COFF4, MLP_ACT_RELU)
+  if (ROW_BIAS == ROW_BIAS_NONE) {
+    FUSED_LAYER(c, W2, f, V, d, KD4, COFF4, MLP_ACT_RELU)
+  } else {
+    FUSED_LAYER(c, W2, f, V, d, KD4, COFF4, MLP_ACT_NONE)
+    [[unroll]] for (uint r = 0; r < R; r++) {
+      uint t = rowBiasRow(min(row0 + r * G, count - 1u));
+      [[unroll]] for (uint q = 0; q < W2 / 4u; q++) {
+        vec4 z = vec4(c[r][4u * q], c[r][4u * q + 1u], c[r][4u * q + 2u], c[r][4u * q + 3u]) + rowBias(t, q, W2);
+        z = max(z, vec4(0.0));
+        c[r][4u * q] = z.x; c[r][4u * q + 1u] = z.y; c[r][4u * q + 2u] = z.z; c[r][4u * q + 3u] = z.w;
+      }
+    }
+  }
   FUSED_KEEP(cKept, c, W2)
 
   float rgb[R][4];

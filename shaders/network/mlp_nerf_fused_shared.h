@@ -22,6 +22,7 @@ SPEC_CONSTANTS_BEGIN(MlpFusedSpec)
   SPEC_CONSTANT(13, uint, COFF4, 0)
   SPEC_CONSTANT(14, uint, HOFF4, 0)
   SPEC_CONSTANT(15, uint, UNROLL, 1)     // 1: unroll the output blocks (FUSED_LAYER)
+  SPEC_CONSTANT(16, uint, ROW_BIAS, 0)   // the colour layer's bias per row: ROW_BIAS_* (network/row_bias.glsl)
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpFusedPush)

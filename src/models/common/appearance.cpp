@@ -2,41 +2,55 @@
 
 #include <string>
 
+#include "reference/encoding/appearance.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
 
-Appearance::Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, const std::optional<AdamConfig>& adam,
-                       std::optional<uint32_t> renderPhoto)
+Appearance::Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, uint32_t width, const AppearanceInit& init,
+                       const std::optional<AdamConfig>& adam, std::optional<uint32_t> renderPhoto)
     : numPhotos_(numPhotos),
       renderPhoto_(renderPhoto),
-      table_(ctx, "appearance", std::vector<float>(size_t(numPhotos) * dims, 0.0f), adam),
+      vectors_(ctx, "appearance", std::vector<float>(size_t(numPhotos) * dims, 0.0f), adam),
+      weights_(ctx, "appearance_weights", ref::appearanceWeights(dims, width, init.bound, init.seed), adam),
       mean_(gpu::Buffer::zeros(ctx, VkDeviceSize(dims) * 4, "the mean appearance vector")),
-      kernels_(ctx, dims) {
+      bias_(gpu::Buffer::zeros(ctx, VkDeviceSize(std::max(numPhotos, 1u)) * width * 4, "the appearance biases")),
+      photoSums_(gpu::Buffer::zeros(ctx, adam ? VkDeviceSize(std::max(numPhotos, 1u)) * width * 4 : 16)),
+      kernels_(ctx, dims, width) {
   if (numPhotos == 0) throw Error("appearance embedding: no training photos");
   if (renderPhoto && *renderPhoto >= numPhotos)
     throw Error("render settings: appearance photo " + std::to_string(*renderPhoto) + ", but the model was trained on " +
                 std::to_string(numPhotos) + " photos (0.." + std::to_string(numPhotos - 1) + ")");
 }
 
-void Appearance::recordTrainingRows(gpu::Recorder& rec, const AppearanceRows& rows) {
-  kernels_.recordRows(rec, rows, table_.params());
+RowBias Appearance::recordTrainingBias(gpu::Recorder& rec, const gpu::BufferRange& sampleRay,
+                                       const gpu::BufferRange& pixelIds) {
+  kernels_.recordBias(rec, parameters(), 0, numPhotos_, bias_);
+  return {bias_, sampleRay, pixelIds};
 }
 
-void Appearance::recordRenderRows(gpu::Recorder& rec, AppearanceRows rows) {
-  rows.pixelIds.reset(), rows.sampleRay.reset();
+RowBias Appearance::recordRenderBias(gpu::Recorder& rec) {
   if (renderPhoto_) {
-    rows.fixedRow = *renderPhoto_;
-    kernels_.recordRows(rec, rows, table_.params());
-    return;
+    kernels_.recordBias(rec, parameters(), *renderPhoto_, 1, bias_);
+  } else {
+    kernels_.recordMean(rec, numPhotos_, vectors_.params(), mean_);
+    kernels_.recordBias(rec, {mean_, weights_.params()}, 0, 1, bias_);
   }
-  kernels_.recordMean(rec, numPhotos_, table_.params(), mean_);
-  rows.fixedRow = 0;
-  kernels_.recordRows(rec, rows, mean_);
+  return {bias_};
 }
 
 void Appearance::recordGradient(gpu::Recorder& rec, const AppearanceGradientInputs& in) {
-  kernels_.recordGradient(rec, in, numPhotos_, table_.grads());
+  kernels_.recordGradient(rec, in, numPhotos_, parameters(), {vectors_.grads(), weights_.grads(), photoSums_});
+}
+
+void Appearance::recordOptimizerStep(gpu::Recorder& rec, uint32_t step) {
+  vectors_.recordOptimizerStep(rec, step);
+  weights_.recordOptimizerStep(rec, step);
+}
+
+void Appearance::appendState(std::vector<StateArray>& out) {
+  vectors_.appendState(out);
+  weights_.appendState(out);
 }
 
 }  // namespace vknerf::nerf

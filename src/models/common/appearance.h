@@ -1,13 +1,16 @@
 #pragma once
-// The per-photo appearance embedding of a model (nerfacto's, instant-ngp's): a learned vector per
-// training photo, fed to the colour network beside the direction encoding, so that exposure and
-// white balance that differ from photo to photo are explained there and not by density (floaters).
-// The table starts at zero: the untrained model is exactly the one without the embedding, every
+// The per-photo appearance embedding of a model (nerfacto's, instant-ngp's): a learned vector a per
+// training photo, fed to the colour network, so that exposure and white balance that differ from
+// photo to photo are explained there and not by density (floaters). The vector acts as the input
+// columns of the colour layer it would be beside the direction encoding, through its own weights
+// W_a; since a is the same for every sample of a photo, it enters as that photo's bias a W_a on the
+// layer's pre-activation (nerf/encoding/appearance_embedding.h), which costs the layer nothing.
+// The vectors start at zero: the untrained model is exactly the one without the embedding, every
 // photo starts alike, and a novel view's vector (the mean) is the untrained one too; the vectors
-// move first through dL/dvector = W^T dz (the colour layer's weights start random), then the
-// weights that read them. Trained with its own Adam state (the network's rate and schedule).
-// Training writes each sample the vector of its ray's photo; a render writes the mean of the
-// photos' vectors (nerfstudio's choice for a camera that took no training photo) or a chosen photo's.
+// move first through dL/da = W_a dz (W_a starts random, as the layer's weights do), then W_a.
+// Both are trained with their own Adam state (the network's rate and schedule). Training adds each
+// sample its ray's photo's bias; a render adds the bias of the mean of the photos' vectors
+// (nerfstudio's choice for a camera that took no training photo) or a chosen photo's.
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -16,35 +19,47 @@
 #include "gpu/recorder.h"
 #include "models/common/trainable_parameters.h"
 #include "nerf/encoding/appearance_embedding.h"
+#include "nerf/network/dense_layer.h"
 
 namespace vknerf::nerf {
 
+// What the weights W_a are drawn from: uniform in +-bound (the colour layer's own initialisation,
+// its fan-in counting the vector), deterministic in seed.
+struct AppearanceInit {
+  uint32_t seed = 0;
+  float bound = 0.0f;
+};
+
 class Appearance {
  public:
-  // Without `adam`: the table alone (a render loads it from the checkpoint). renderPhoto: the photo
-  // whose vector renders use, or none for the mean.
-  Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, const std::optional<AdamConfig>& adam,
-             std::optional<uint32_t> renderPhoto);
+  // Without `adam`: the parameters alone (a render loads them from the checkpoint). width: the colour
+  // layer's. renderPhoto: the photo whose vector renders use, or none for the mean.
+  Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, uint32_t width, const AppearanceInit& init,
+             const std::optional<AdamConfig>& adam, std::optional<uint32_t> renderPhoto);
 
   uint32_t numPhotos() const { return numPhotos_; }
   uint32_t dims() const { return kernels_.dims(); }
-  // Training: each row gets the vector of its ray's photo (rows.pixelIds and rows.sampleRay given).
-  void recordTrainingRows(gpu::Recorder& rec, const AppearanceRows& rows);
-  // A render: every row gets the mean vector (recomputed from the table now) or the chosen photo's.
-  void recordRenderRows(gpu::Recorder& rec, AppearanceRows rows);
-  // The table's gradient from a trained batch (before the optimizer step).
+  // Training: every photo's bias from the parameters now; a sample adds its ray's photo's (sampleRay:
+  // uint per sample, its ray; pixelIds: uvec2 (photo, pixel) per ray).
+  RowBias recordTrainingBias(gpu::Recorder& rec, const gpu::BufferRange& sampleRay, const gpu::BufferRange& pixelIds);
+  // A render: every sample adds the bias of the mean vector (recomputed now) or of the chosen photo's.
+  RowBias recordRenderBias(gpu::Recorder& rec);
+  // The gradients of the vectors and of W_a from a trained batch (before the optimizer step).
   void recordGradient(gpu::Recorder& rec, const AppearanceGradientInputs& in);
-  void recordOptimizerStep(gpu::Recorder& rec, uint32_t step) { table_.recordOptimizerStep(rec, step); }
-  // "appearance.params" (dims floats per photo) and, when training, Adam's moments.
-  void appendState(std::vector<StateArray>& out) { table_.appendState(out); }
-  // The table now, read back (dims floats per photo).
-  std::vector<float> vectors() { return table_.params().download<float>(table_.count()); }
+  void recordOptimizerStep(gpu::Recorder& rec, uint32_t step);
+  // "appearance.params" (dims floats per photo), "appearance_weights.params" (W_a: dims rows of the
+  // colour layer's width) and, when training, Adam's moments.
+  void appendState(std::vector<StateArray>& out);
+  // The vectors now, read back (dims floats per photo).
+  std::vector<float> vectors() { return vectors_.params().download<float>(vectors_.count()); }
 
  private:
+  AppearanceParameters parameters() { return {vectors_.params(), weights_.params()}; }
+
   uint32_t numPhotos_;
   std::optional<uint32_t> renderPhoto_;
-  TrainableParameters table_;
-  gpu::Buffer mean_;
+  TrainableParameters vectors_, weights_;
+  gpu::Buffer mean_, bias_, photoSums_;
   AppearanceEmbedding kernels_;
 };
 

@@ -113,9 +113,8 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                           .width = model_.width,
                           .skipLayer = 0,  // the hash grid's features need no re-injection through a shallow trunk
                           .posDims = hash_.outputDims(),
-                          // [SH(d) | appearance vector], the vector at a multiple of 4 columns
-                          .dirDims = model_.appearanceDims ? sh_.paddedDims() + model_.appearanceDims
-                                                           : sh_.outputDims(),
+                          // (an appearance vector enters as a bias on the colour layer, recordAppearance)
+                          .dirDims = sh_.outputDims(),
                           .density = model_.density,
                           .seed = config.seed,
                           .featureWidth = model_.featureWidth},
@@ -187,9 +186,9 @@ void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool kee
   const gpu::BufferRange total = batch.total();
   hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0, total}, table_.params());
   sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, total});
-  recordAppearance(rec, f, count, total, keep);
   NerfRows rows = f.mlpRows(count);
   rows.rowLimit = total;
+  rows.colourBias = recordAppearance(rec, keep);
   mlp_.recordForward(rec, rows, network_.params(), keep ? f.workspace.get() : nullptr);
 }
 
@@ -250,20 +249,18 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
 void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count) {
   hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0}, table_.params());
   sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0});
-  recordAppearance(rec, f, count, std::nullopt, false);
-  mlp_.recordForward(rec, f.mlpRows(count), network_.params(), nullptr);
+  NerfRows rows = f.mlpRows(count);
+  rows.colourBias = recordAppearance(rec, false);
+  mlp_.recordForward(rec, rows, network_.params(), nullptr);
 }
 
-void FastPipeline::recordAppearance(gpu::Recorder& rec, FieldBatch& f, uint32_t count,
-                                    std::optional<gpu::BufferRange> rowLimit, bool training) {
-  if (!model_.appearanceDims) return;
+std::optional<RowBias> FastPipeline::recordAppearance(gpu::Recorder& rec, bool training) {
+  if (!model_.appearanceDims) return std::nullopt;
   if (!appearance_)
     throw Error("fast model: model.appearance_dims is " + std::to_string(model_.appearanceDims) +
                 ", but the number of training photos (whose vectors it learns) was never given");
-  AppearanceRows rows{count, f.dirFeatures, mlp_.dirStride(), sh_.paddedDims(), rowLimit};
-  if (!training) return appearance_->recordRenderRows(rec, rows);
-  rows.pixelIds = rays_.pixelIds(), rows.sampleRay = marched_.sampleRay;
-  appearance_->recordTrainingRows(rec, rows);
+  if (!training) return appearance_->recordRenderBias(rec);
+  return appearance_->recordTrainingBias(rec, marched_.sampleRay, rays_.pixelIds());
 }
 
 void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
@@ -370,15 +367,14 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
     kept_->record(rec, R, marched_.offsets, field_.positions);
     positions = kept_->positions(), limit = kept_->total(), gradients.rowGather = kept_->rows();
   }
-  // The appearance vector's columns alone: SH(d)'s gradient is not used.
-  if (appearance_) gradients.dDir = gpu::BufferRange(dDir_), gradients.dDirFirst = sh_.paddedDims();
+  // The appearance embedding trains from the colour layer's pre-activation gradient.
+  if (appearance_) gradients.dColour = gpu::BufferRange(dColour_);
   NerfRows rows = field_.mlpRows(sampleCapacity_);
   rows.rowLimit = limit;
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
   const gpu::Buffer& rowOffsets = gatherBackward_ ? kept_->offsets() : marched_.offsets;
   if (appearance_)
-    appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dDir_, wholeRayCount(),
-                                      mlp_.dirStride(), sh_.paddedDims()});
+    appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dColour_, wholeRayCount()});
   const EncodedRows encoded{sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit};
   // Camera refinement: the table's backward also gives dL/dp (from the table before its optimizer
   // step), which the per-camera sums then carry to the poses.
@@ -398,11 +394,14 @@ void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch
 void FastPipeline::setTrainingCameras(uint32_t count) {
   gpu::MemoryAccount::Scope charge(memory());
   if (model_.appearanceDims) {
-    appearance_.emplace(ctx_, count, model_.appearanceDims, training_ ? std::optional(adamConfigOf(config_)) : std::nullopt,
-                        renderPhoto_);
+    // W_a starts as the colour layer's weights would with the vector among its inputs.
+    const ref::DenseShape& colour = mlp_.shape().colour();
+    const AppearanceInit init{config_.seed, float(1.0 / std::sqrt(double(colour.ka + colour.kb + model_.appearanceDims)))};
+    appearance_.emplace(ctx_, count, model_.appearanceDims, colour.n4(), init,
+                        training_ ? std::optional(adamConfigOf(config_)) : std::nullopt, renderPhoto_);
     if (training_)
-      dDir_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(sampleCapacity_) * mlp_.dirStride() * 4,
-                                 "the samples' direction-input gradients");
+      dColour_ = gpu::Buffer::zeros(ctx_, VkDeviceSize(sampleCapacity_) * colour.n4() * 4,
+                                    "the samples' colour-layer gradients");
   }
   if (!training_ || !model_.refineCameras) return;
   CameraRefinementSettings settings;

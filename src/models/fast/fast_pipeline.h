@@ -97,10 +97,9 @@ class FastPipeline final : public FieldPipeline {
   // `keep` keeps the activations for backward (training: each sample sees its own photo's
   // appearance vector, when the model has them; a render sees the render's vector).
   void recordField(gpu::Recorder& rec, const RaySpan& rays, bool keep);
-  // The appearance vectors into the first `count` rows of field_'s direction input, beside the SH
-  // encoding (nothing without an appearance embedding).
-  void recordAppearance(gpu::Recorder& rec, FieldBatch& f, uint32_t count, std::optional<gpu::BufferRange> rowLimit,
-                        bool training);
+  // The bias the appearance embedding adds to the colour layer of the MLP's rows: each sample its
+  // ray's photo's (training) or the render's one vector's; none without an embedding.
+  std::optional<RowBias> recordAppearance(gpu::Recorder& rec, bool training);
   // What the compositor reads of marched_'s rays [first, first + count): their samples, the field
   // there and each ray's background from rays_ (`background` where a ray has none of its own).
   CompositeInputs compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background);
@@ -130,7 +129,7 @@ class FastPipeline final : public FieldPipeline {
   std::optional<CameraRefinement> cameras_;  // FastModel::refineCameras, once the cameras are known
   std::optional<Appearance> appearance_;     // FastModel::appearanceDims, once the cameras are known
   std::optional<uint32_t> renderPhoto_;      // RenderSettings::appearancePhoto
-  gpu::Buffer dDir_;                         // training with it: dL/d(direction input) per backward row
+  gpu::Buffer dColour_;                      // training with it: dL/d(colour pre-activation) per backward row
   gpu::Buffer dPosition_;                    // with it: dL/dp per backward row (vec4)
 
   // per ray

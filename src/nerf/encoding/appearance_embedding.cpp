@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <string>
 
+#include "encoding/appearance_bias_shared.h"
 #include "encoding/appearance_gradient_shared.h"
 #include "encoding/appearance_mean_shared.h"
-#include "encoding/appearance_rows_shared.h"
+#include "encoding/appearance_weights_gradient_shared.h"
 #include "gpu/per_camera_sum_shared.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
@@ -13,7 +14,7 @@
 namespace vknerf::nerf {
 namespace {
 constexpr uint32_t kLocal = 64;
-static_assert(AppearanceEmbedding::kMaxDims == 4 * PER_CAMERA_SLOTS, "a photo's sum is at most the scratch's vec4 slots");
+static_assert(AppearanceEmbedding::kMaxWidth == 4 * PER_CAMERA_SLOTS, "a photo's sum is at most the scratch's vec4 slots");
 
 uint32_t checkedDims(uint32_t dims) {
   if (dims == 0 || dims % 4 || dims > AppearanceEmbedding::kMaxDims)
@@ -21,53 +22,58 @@ uint32_t checkedDims(uint32_t dims) {
                 std::to_string(AppearanceEmbedding::kMaxDims) + "], got " + std::to_string(dims));
   return dims;
 }
+
+uint32_t checkedWidth(uint32_t width) {
+  if (width == 0 || width % 4 || width > AppearanceEmbedding::kMaxWidth)
+    throw Error("appearance embedding: the colour layer must be a multiple of 4 wide, at most " +
+                std::to_string(AppearanceEmbedding::kMaxWidth) + " (model.width at most " +
+                std::to_string(2 * AppearanceEmbedding::kMaxWidth) + "), got " + std::to_string(width));
+  return width;
+}
+
+gpu::KernelDesc kernel(const gpu::ShaderCode& code, size_t bindings, uint32_t pushBytes) {
+  return {code, std::vector<gpu::Binding>(bindings, gpu::Binding::Storage), pushBytes, {}};
+}
 }  // namespace
 
-AppearanceEmbedding::AppearanceEmbedding(Context& ctx, uint32_t dims)
-    : ctx_(ctx),
-      dims_(checkedDims(dims)),
-      rows_(ctx, {gpu::shaders::appearance_rows, std::vector<gpu::Binding>(5, gpu::Binding::Storage),
-                  sizeof(glsl::AppearanceRowsPush), {}}),
-      gradient_(ctx, {gpu::shaders::appearance_gradient, std::vector<gpu::Binding>(5, gpu::Binding::Storage),
-                      sizeof(glsl::AppearanceGradientPush), {}}),
-      mean_(ctx, {gpu::shaders::appearance_mean, std::vector<gpu::Binding>(2, gpu::Binding::Storage),
-                  sizeof(glsl::AppearanceMeanPush), {}}),
-      limited_(ctx),
+AppearanceEmbedding::AppearanceEmbedding(Context& ctx, uint32_t dims, uint32_t width)
+    : dims_(checkedDims(dims)),
+      width_(checkedWidth(width)),
+      bias_(ctx, kernel(gpu::shaders::appearance_bias, 3, sizeof(glsl::AppearanceBiasPush))),
+      gradient_(ctx, kernel(gpu::shaders::appearance_gradient, 7, sizeof(glsl::AppearanceGradientPush))),
+      weightsGradient_(ctx, kernel(gpu::shaders::appearance_weights_gradient, 3,
+                                   sizeof(glsl::AppearanceWeightsGradientPush))),
+      mean_(ctx, kernel(gpu::shaders::appearance_mean, 2, sizeof(glsl::AppearanceMeanPush))),
       maxGroups_(ctx.properties().limits.maxComputeWorkGroupCount[0]) {}
 
-void AppearanceEmbedding::recordRows(gpu::Recorder& rec, const AppearanceRows& rows, const gpu::BufferRange& table) {
-  if (rows.stride % 4 || rows.columnOffset % 4 || rows.columnOffset + dims_ > rows.stride)
-    throw Error("AppearanceEmbedding: columns [" + std::to_string(rows.columnOffset) + ", " +
-                std::to_string(rows.columnOffset + dims_) + ") do not fit 4-aligned rows of " + std::to_string(rows.stride));
-  if (rows.pixelIds.has_value() != rows.sampleRay.has_value())
-    throw Error("AppearanceEmbedding: pixel ids and sample rays go together");
-  const bool perRay = rows.pixelIds.has_value();
-  gpu::requireBytes("AppearanceEmbedding", "features", rows.features, uint64_t(rows.count) * rows.stride * 4);
-  gpu::requireBytes("AppearanceEmbedding", "table", table, uint64_t(perRay ? 1 : rows.fixedRow + 1) * dims_ * 4);
-  if (perRay) gpu::requireBytes("AppearanceEmbedding", "sample rays", *rows.sampleRay, uint64_t(rows.count) * 4);
-  if (rows.count == 0) return;
-  const gpu::BufferRange* limit = rows.rowLimit ? &*rows.rowLimit : nullptr;
-  limited_.begin(rec, limit, rows.count, rows.count, {kLocal});
-  glsl::AppearanceRowsPush p{rows.count, rows.stride / 4, rows.columnOffset / 4, dims_ / 4,
-                             perRay ? APPEARANCE_PER_RAY : rows.fixedRow, 0};
-  // Unused bindings in a render: the table stands in (never read).
-  gpu::dispatchLimited(rec, rows_, {table, perRay ? *rows.pixelIds : table, perRay ? *rows.sampleRay : table, rows.features},
-                       p, limited_.rows(0, 0), gpu::groupsFor(rows.count, kLocal), "appearance_rows");
+void AppearanceEmbedding::recordBias(gpu::Recorder& rec, const AppearanceParameters& p, uint32_t first, uint32_t count,
+                                     const gpu::BufferRange& bias) {
+  gpu::requireBytes("AppearanceEmbedding", "vectors", p.vectors, (uint64_t(first) + count) * dims_ * 4);
+  gpu::requireBytes("AppearanceEmbedding", "weights", p.weights, uint64_t(dims_) * width_ * 4);
+  gpu::requireBytes("AppearanceEmbedding", "bias", bias, uint64_t(count) * width_ * 4);
+  if (count == 0) return;
+  rec.dispatch(bias_, {p.vectors, p.weights, bias}, glsl::AppearanceBiasPush{count, first, dims_, width_ / 4},
+               gpu::groupsFor(count * (width_ / 4), kLocal), 1, 1, "appearance_bias");
 }
 
 void AppearanceEmbedding::recordGradient(gpu::Recorder& rec, const AppearanceGradientInputs& in, uint32_t numPhotos,
-                                         const gpu::BufferRange& grads) {
-  if (in.stride % 4 || in.columnOffset % 4 || in.columnOffset + dims_ > in.stride)
-    throw Error("AppearanceEmbedding: gradient columns do not fit 4-aligned rows of " + std::to_string(in.stride));
+                                         const AppearanceParameters& p, const AppearanceGradients& g) {
   gpu::requireBytes("AppearanceEmbedding", "pixel ids", in.pixelIds, uint64_t(in.rays) * kPixelIdBytes);
   gpu::requireBytes("AppearanceEmbedding", "row offsets", in.rowOffsets, (uint64_t(in.rays) + 1) * 4);
   gpu::requireBytes("AppearanceEmbedding", "ray count", in.rayCount, 4);
-  gpu::requireBytes("AppearanceEmbedding", "gradients", grads, uint64_t(numPhotos) * dims_ * 4);
+  gpu::requireBytes("AppearanceEmbedding", "vectors", p.vectors, uint64_t(numPhotos) * dims_ * 4);
+  gpu::requireBytes("AppearanceEmbedding", "weights", p.weights, uint64_t(dims_) * width_ * 4);
+  gpu::requireBytes("AppearanceEmbedding", "vector gradients", g.vectors, uint64_t(numPhotos) * dims_ * 4);
+  gpu::requireBytes("AppearanceEmbedding", "weight gradients", g.weights, uint64_t(dims_) * width_ * 4);
+  gpu::requireBytes("AppearanceEmbedding", "photo sums", g.photoSums, uint64_t(numPhotos) * width_ * 4);
   if (numPhotos == 0) return;
-  glsl::AppearanceGradientPush p{numPhotos, in.rays, in.stride / 4, in.columnOffset / 4, dims_ / 4};
   // gpu/per_camera_sum.glsl: a workgroup a photo at a time, as many as one dispatch holds.
-  rec.dispatch(gradient_, {in.pixelIds, in.rowOffsets, in.dDir, grads, in.rayCount}, p, std::min(numPhotos, maxGroups_), 1,
+  rec.dispatch(gradient_, {in.pixelIds, in.rowOffsets, in.dColour, p.weights, g.photoSums, g.vectors, in.rayCount},
+               glsl::AppearanceGradientPush{numPhotos, in.rays, width_ / 4, dims_}, std::min(numPhotos, maxGroups_), 1,
                1, "appearance_gradient");
+  rec.dispatch(weightsGradient_, {p.vectors, g.photoSums, g.weights},
+               glsl::AppearanceWeightsGradientPush{numPhotos, dims_, width_ / 4},
+               gpu::groupsFor(dims_ * (width_ / 4), kLocal), 1, 1, "appearance_weights_gradient");
 }
 
 void AppearanceEmbedding::recordMean(gpu::Recorder& rec, uint32_t numPhotos, const gpu::BufferRange& table,

@@ -1,60 +1,59 @@
 #pragma once
 // The appearance embedding's kernels (shaders/encoding/appearance_*.comp): a learned vector of
-// dims() floats per training photo (exposure, white balance: what differs from photo to photo),
-// written into the colour network's direction input beside the SH encoding, and its gradient summed
-// per photo from dL/d(direction input). The table itself is a model's trainable parameters
+// dims() floats per training photo (exposure, white balance: what differs from photo to photo) and
+// its weights W_a (dims() rows of the colour layer's width). The vector enters the colour network as
+// the bias a W_a on the colour layer's pre-activation: the same function as the vector beside the
+// direction encoding in the layer's input, without widening the layer or writing the vector into
+// every sample's row (a sample adds its photo's bias, nerf::RowBias). Their gradients come from the
+// per-photo sums of dL/d(colour pre-activation). The parameters themselves are a model's
 // (models/common/appearance.h). CPU twin: src/reference/encoding/appearance.h.
 #include <cstdint>
-#include <optional>
 
 #include "gpu/kernel.h"
-#include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 
 namespace vknerf::nerf {
 
-// The rows the vectors are written into: `count` rows of a feature matrix of `stride` floats, the
-// vector at `columnOffset` (both multiples of 4), rows at and past rowLimit (a uint on the device)
-// untouched. Training: pixelIds (uvec2 (photo, pixel) per ray) and sampleRay (uint per row) pick
-// each row's photo; a render gives fixedRow instead.
-struct AppearanceRows {
-  uint32_t count = 0;
-  gpu::BufferRange features;
-  uint32_t stride = 0, columnOffset = 0;
-  std::optional<gpu::BufferRange> rowLimit;
-  std::optional<gpu::BufferRange> pixelIds, sampleRay;
-  uint32_t fixedRow = 0;  // with neither: every row gets this row of the table
-};
-
 // What the gradient reads of a trained batch: `rays` rays' pixel ids, the rays in runs of one photo
-// each (RayGeneration::RandomPixels::inCameraRuns, over the numPhotos the gradient is for), ray r's
-// rows of dDir being [rowOffsets[r], rowOffsets[r + 1]) (stride and columnOffset as
-// AppearanceRows), rayCount a uint on the device (the rays that trained).
+// each (RayGeneration::RandomPixels::inCameraRuns, over the photos the gradient is for), ray r's rows
+// of dColour (the colour layer's pre-activation gradient, width floats a row) being
+// [rowOffsets[r], rowOffsets[r + 1]), rayCount a uint on the device (the rays that trained).
 struct AppearanceGradientInputs {
   uint32_t rays = 0;
-  gpu::BufferRange pixelIds, rowOffsets, dDir, rayCount;
-  uint32_t stride = 0, columnOffset = 0;
+  gpu::BufferRange pixelIds, rowOffsets, dColour, rayCount;
+};
+
+// The parameters the kernels read and the gradients they write: vectors (dims floats per photo),
+// weights W_a (dims rows of width floats), and their gradients alike; photoSums: width floats per
+// photo, scratch between the two gradient kernels.
+struct AppearanceParameters {
+  gpu::BufferRange vectors, weights;
+};
+struct AppearanceGradients {
+  gpu::BufferRange vectors, weights, photoSums;
 };
 
 class AppearanceEmbedding {
  public:
-  // dims: a multiple of 4, 4..kMaxDims.
-  static constexpr uint32_t kMaxDims = 64;  // appearance_gradient.comp's shared sums: 16 vec4 a lane
-  AppearanceEmbedding(Context& ctx, uint32_t dims);
+  // dims: a multiple of 4, 4..kMaxDims; width: the colour layer's, a multiple of 4 up to kMaxWidth.
+  static constexpr uint32_t kMaxDims = 64;
+  static constexpr uint32_t kMaxWidth = 64;  // appearance_gradient.comp's shared sums: 16 vec4 a lane
+  AppearanceEmbedding(Context& ctx, uint32_t dims, uint32_t width);
   uint32_t dims() const { return dims_; }
+  uint32_t width() const { return width_; }
 
-  void recordRows(gpu::Recorder& rec, const AppearanceRows& rows, const gpu::BufferRange& table);
-  // grads (dims floats per photo, written) = the sum of the photo's rows of dDir.
+  // bias rows [0, count) (width floats each) = vectors [first, first + count) times W_a.
+  void recordBias(gpu::Recorder& rec, const AppearanceParameters& p, uint32_t first, uint32_t count,
+                  const gpu::BufferRange& bias);
+  // The gradients of the numPhotos vectors and of W_a (written) from a trained batch.
   void recordGradient(gpu::Recorder& rec, const AppearanceGradientInputs& in, uint32_t numPhotos,
-                      const gpu::BufferRange& grads);
+                      const AppearanceParameters& p, const AppearanceGradients& g);
   // mean (dims floats) = the mean of the table's numPhotos vectors.
   void recordMean(gpu::Recorder& rec, uint32_t numPhotos, const gpu::BufferRange& table, const gpu::BufferRange& mean);
 
  private:
-  Context& ctx_;
-  uint32_t dims_;
-  gpu::Kernel rows_, gradient_, mean_;
-  gpu::LimitedDispatch limited_;
+  uint32_t dims_, width_;
+  gpu::Kernel bias_, gradient_, weightsGradient_, mean_;
   uint32_t maxGroups_;  // of the per-photo sums' dispatch
 };
 

@@ -8,6 +8,7 @@
 #include "network/mlp_dense_shared.h"
 #include "network/mlp_dense_dx_shared.h"
 #include "network/mlp_dense_dw_shared.h"
+#include "network/row_bias_shared.h"
 
 namespace vknerf::nerf {
 namespace {
@@ -75,22 +76,42 @@ Mat Mat::rows(uint32_t first, uint32_t count) const {
           stride};
 }
 
+RowBias RowBias::rows(uint32_t first, uint32_t n) const {
+  RowBias r = *this;
+  if (rowRay) r.rowRay = gpu::rowsOf(*rowRay, 4, first, n);
+  return r;
+}
+
+uint32_t rowBiasMode(const RowBias* bias) {
+  if (!bias) return ROW_BIAS_NONE;
+  if (bias->rowRay.has_value() != bias->rayTable.has_value())
+    throw Error("MLP: a bias per row needs both the rows' rays and the rays' table rows, or neither");
+  return bias->rowRay ? ROW_BIAS_PER_RAY : ROW_BIAS_ONE;
+}
+
+std::array<gpu::BufferRange, 3> rowBiasBindings(const RowBias* bias, const gpu::BufferRange& unused) {
+  if (!bias) return {unused, unused, unused};  // never read (ROW_BIAS_NONE)
+  return {bias->table, bias->rowRay ? *bias->rowRay : bias->table, bias->rayTable ? *bias->rayTable : bias->table};
+}
+
 DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning)
     : ctx_(ctx), shape_(shape), t_(tuning) {
   if (shape.offset % 4) throw Error("MLP: layer weights must start on a multiple of 4 floats");
 }
 
 void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
-                               const Mat& b, const Mat& y) {
+                               const Mat& b, const Mat& y, const RowBias* rowBias) {
   const uint32_t count = rows.count;
   if (count == 0) return;
   const auto& s = shape_;
-  if (!forward_) {
+  const uint32_t mode = rowBiasMode(rowBias);
+  auto kernel = forward_.find(mode);
+  if (kernel == forward_.end()) {
     uint32_t act = uint32_t(s.act);
-    forward_ = std::make_unique<gpu::Kernel>(
-        ctx_, gpu::KernelDesc{gpu::shaders::mlp_dense,
-                              {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
-                               gpu::Binding::Storage, gpu::Binding::Storage},
+    std::vector<gpu::Binding> bindings(3, gpu::Binding::TexelRgba32f);
+    bindings.insert(bindings.end(), 5, gpu::Binding::Storage);
+    kernel = forward_.try_emplace(mode,
+        ctx_, gpu::KernelDesc{gpu::shaders::mlp_dense, bindings,
                               sizeof(RowPush),
                               {{RowSpec::LOCAL_SIZE_X, t_.local},
                                {RowSpec::KA4, s.ka4()},
@@ -100,10 +121,13 @@ void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const 
                                {RowSpec::ACT, act},
                                {RowSpec::WOFF4, u32(s.offset / 4, "weight offset")},
                                {RowSpec::R, t_.rows},
-                               {RowSpec::NB, std::min(t_.block, s.n4())}}});
+                               {RowSpec::NB, std::min(t_.block, s.n4())},
+                               {RowSpec::ROW_BIAS, mode}}}).first;
   }
+  if (rowBias) gpu::requireBytes("MLP", "the bias table", rowBias->table, uint64_t(s.n4()) * 4);
   const Mat& bb = s.kb ? b : a;
-  gpu::dispatchLimited(rec, *forward_, {a.range, bb.range, params, y.range},
+  const auto bias = rowBiasBindings(rowBias, params);
+  gpu::dispatchLimited(rec, kernel->second, {a.range, bb.range, params, y.range, bias[0], bias[1], bias[2]},
                        RowPush{count, a.stride / 4, bb.stride / 4, y.stride / 4, 0}, rows.limited,
                        gpu::groupsFor(count, rowsPerGroup()), rows.label);
 }

@@ -3,6 +3,7 @@
 // the inputs (mlp_dense_dx.comp) and to the weights (mlp_dense_dw.comp). The networks in
 // nerf/network/mlp.h are sequences of these. Kernels are built on first use, so a forward-only user never
 // pays the JIT time of the backward pipelines.
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -51,6 +52,20 @@ struct Mat {
   Mat rows(uint32_t first, uint32_t count) const;
 };
 
+// A bias per row added to a layer's pre-activation before its activation (shaders/network/row_bias.glsl):
+// row r adds row t(r) of `table` (n4 floats a row), t(r) = rayTable[rowRay[r]].x where both are given
+// (uint per row: the row's sample's ray; uvec2 per ray: its photo first), else 0 for every row.
+struct RowBias {
+  gpu::BufferRange table;
+  std::optional<gpu::BufferRange> rowRay, rayTable;
+  // The same bias for rows [first, first + n) of the batch (a chunk bound at its first row).
+  RowBias rows(uint32_t first, uint32_t n) const;
+};
+// The kernels' ROW_BIAS_* mode for `bias` (none: ROW_BIAS_NONE), and its three bindings (`unused`
+// stands in for those the mode never reads).
+uint32_t rowBiasMode(const RowBias* bias);
+std::array<gpu::BufferRange, 3> rowBiasBindings(const RowBias* bias, const gpu::BufferRange& unused);
+
 enum class GradMode : uint32_t { Skip = 0, Store = 1, StoreReluMasked = 2, Add = 3 };
 
 // The rows one layer call runs over, as one value: `count` rows, uncut or cut on the device to a
@@ -85,10 +100,10 @@ class DenseLayer {
   DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning);
   const ref::DenseShape& shape() const { return shape_; }
 
-  // y[rows][n4] = act(concat(a, b) W + bias); columns >= n are stored as 0. `b` is ignored when kb == 0.
-  // rows.limited: arguments recorded for rowsPerGroup() rows per workgroup; no gather.
+  // y[rows][n4] = act(concat(a, b) W + bias (+ rowBias)); columns >= n are stored as 0. `b` is ignored
+  // when kb == 0. rows.limited: arguments recorded for rowsPerGroup() rows per workgroup; no gather.
   void recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
-                     const Mat& b, const Mat& y);
+                     const Mat& b, const Mat& y, const RowBias* rowBias = nullptr);
   uint32_t rowsPerGroup() const { return t_.local * t_.rows; }
   // From dz = dL/d(pre-activation): grads.da and grads.db per their GradModes; StoreReluMasked
   // multiplies by [a > 0]. rows.limited: arguments recorded for dxRowsPerGroup() rows per workgroup;
@@ -112,7 +127,7 @@ class DenseLayer {
   Context& ctx_;
   ref::DenseShape shape_;
   MlpTuning t_;
-  std::unique_ptr<gpu::Kernel> forward_;
+  std::map<uint32_t, gpu::Kernel> forward_;  // by ROW_BIAS_* mode
   std::map<std::tuple<GradMode, GradMode, uint32_t>, gpu::Kernel> dx_;  // by (modeA, modeB, firstB)
   std::vector<std::unique_ptr<DwPart>> dwA_, dwB_, dwBias_;
 };

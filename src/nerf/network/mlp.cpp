@@ -141,7 +141,8 @@ void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu:
     const LayerRows layerRows{n, L};
     const Mat h = recordTrunk(rec, layerRows, params, p, ws, row);
     layers_[D].recordForward(rec, layerRows.as("nerf feature+sigma"), params, h, h, F);
-    layers_[D + 1].recordForward(rec, layerRows.as("nerf colour"), params, F, d, C);
+    const std::optional<RowBias> bias = rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
+    layers_[D + 1].recordForward(rec, layerRows.as("nerf colour"), params, F, d, C, bias ? &*bias : nullptr);
     gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range}, HeadPush{n, C.stride / 4, F.stride / 4, 1, 0},
                          head, gpu::groupsFor(n, kHeadLocal), "nerf head");
   });
@@ -202,11 +203,12 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
   const gpu::BufferRange &pos = rows.pos, &dir = rows.dir, &out = rows.out;
   const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
-  auto& kernel = fused_[keep ? 1 : 0];
+  const uint32_t mode = rowBiasMode(rows.colourBias ? &*rows.colourBias : nullptr);
+  auto& kernel = fused_[keep ? 1 : 0][mode];
   if (!kernel) {
     auto off4 = [&](const ref::DenseShape& l) { return uint32_t(l.offset / 4); };
     std::vector<gpu::Binding> b(3, gpu::Binding::TexelRgba32f);
-    b.insert(b.end(), 6, gpu::Binding::Storage);
+    b.insert(b.end(), 9, gpu::Binding::Storage);
     kernel = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_fused, b, sizeof(FusedPush),
                               {{FusedSpec::LOCAL_SIZE_X, tuning_.local},
@@ -224,7 +226,8 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
                                {FusedSpec::FOFF4, off4(shape_.feature())},
                                {FusedSpec::COFF4, off4(shape_.colour())},
                                {FusedSpec::HOFF4, off4(shape_.head())},
-                               {FusedSpec::UNROLL, variantBit(tuning_.fusedUnroll, keep)}}});
+                               {FusedSpec::UNROLL, variantBit(tuning_.fusedUnroll, keep)},
+                               {FusedSpec::ROW_BIAS, mode}}});
   }
   // The rows of one chunk bind within the device's limits; nothing lives between layers, so a batch
   // without a workspace needs no scratch rows either.
@@ -237,10 +240,13 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
     auto kept = [&](const gpu::Buffer& b, uint32_t stride) { return Mat{b, stride}.rows(first, n).range; };
     const gpu::BufferRange none = o.range;
     FusedPush push{n, p.stride / 4, d.stride / 4, 1, 0};
+    const std::optional<RowBias> chunkBias =
+        rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
+    const auto bias = rowBiasBindings(chunkBias ? &*chunkBias : nullptr, none);
     gpu::dispatchLimited(rec, *kernel,
                          {p.range, d.range, params, o.range, keep ? kept(keep->h_[0], W) : none,
                           keep && D > 1 ? kept(keep->h_[1], W) : none, keep ? kept(keep->f_, V + 4) : none,
-                          keep ? kept(keep->c_, W / 2) : none},
+                          keep ? kept(keep->c_, W / 2) : none, bias[0], bias[1], bias[2]},
                          push, limited_.rows(c, 0), gpu::groupsFor(n, rowsPerGroup), "nerf mlp fused");
   });
 }
@@ -257,6 +263,8 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
   if (count == 0) return;
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (dDir) gpu::requireBytes("NeRF MLP backward", "dDir", *dDir, uint64_t(count) * dirStride() * 4);
+  const gpu::BufferRange* dColour = gradients.dColour ? &*gradients.dColour : nullptr;
+  if (dColour) gpu::requireBytes("NeRF MLP backward", "dColour", *dColour, uint64_t(count) * (config_.width / 2) * 4);
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
@@ -285,7 +293,9 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
     Mat o = Mat{out, 4}.rows(first, n), dO = Mat{dOut, 4}.rows(first, n);
     auto H = [&](uint32_t l) { return Mat{ws.h_[l], W}.rows(first, n); };
     Mat F = Mat{ws.f_, V + 4}.rows(first, n), C = Mat{ws.c_, W / 2}.rows(first, n);
-    Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], V + 4}.rows(0, n), dC = Mat{ws.dc_, W / 2}.rows(0, n);
+    Mat dzh = Mat{ws.dzh_, 4}.rows(0, n), dF = Mat{ws.dz_[0], V + 4}.rows(0, n);
+    // The colour layer's pre-activation gradient: the caller's rows when it wants them, else scratch.
+    Mat dC = dColour ? Mat{*dColour, W / 2}.rows(first, n) : Mat{ws.dc_, W / 2}.rows(0, n);
     Mat dP = dPos ? Mat{*dPos, posStride()}.rows(first, n) : p;
     Mat dD = dDir ? Mat{*dDir, dirStride()}.rows(first, n) : d;
 

@@ -37,10 +37,15 @@ struct MlpConfig {
 // The rows a NeRF MLP runs over, as one value: `count` rows of pos (posStride() floats each), dir
 // (dirStride()) and out (vec4). rowLimit (optional): a uint on the device (e.g. a sample total);
 // only rows below it are computed, the rest of `out` is left untouched (shaders/gpu/row_limit.glsl).
+// colourBias (optional): a bias per row added to the colour layer's pre-activation (W/2 floats a
+// table row; its rowRay, when given, holds `count` rows): what an input beside the direction that is
+// the same for many rows (a per-photo appearance vector a, through its weights: a W_a) adds, without
+// widening the layer.
 struct NerfRows {
   uint32_t count = 0;
   gpu::BufferRange pos, dir, out;
   std::optional<gpu::BufferRange> rowLimit;
+  std::optional<RowBias> colourBias;
 };
 
 // What a NeRF MLP's backward reads and writes besides the forward's rows: dOut (vec4 per row), the
@@ -50,9 +55,11 @@ struct NerfRows {
 // appearance vector, trains from); rowGather (optional, uint per row): the batch is packed, its row i the forward's row
 // rowGather[i] (pos, dir, out, dOut and the activations are read there; the rows early termination
 // cut need not be computed), and dPos and dDir are written packed (row i).
+// dColour (optional, W/2 floats per row) = dL/d(the colour layer's pre-activation), overwritten
+// (packed like dDir): the gradient of a bias per row (NerfRows::colourBias).
 struct NerfGradients {
   gpu::BufferRange dOut, grads;
-  std::optional<gpu::BufferRange> dPos, rowGather, dDir;
+  std::optional<gpu::BufferRange> dPos, rowGather, dDir, dColour;
   uint32_t dDirFirst = 0;  // dDir's columns before it (a multiple of 4) are neither computed nor written
 };
 
@@ -132,7 +139,7 @@ class NerfMlp {
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_, density_;
-  std::unique_ptr<gpu::Kernel> fused_[2];  // the fused forward without / with the activations kept
+  std::unique_ptr<gpu::Kernel> fused_[2][3];  // the fused forward without / with the activations kept, by ROW_BIAS_*
   gpu::LimitedDispatch limited_;          // the forward's workgroup counts under a row limit
   gpu::LimitedDispatch limitedBackward_;  // the backward's
   std::unique_ptr<Workspace> scratch_;

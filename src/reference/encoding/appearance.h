@@ -1,37 +1,66 @@
 #pragma once
 // CPU reference for the appearance embedding (shaders/encoding/appearance_*.comp): a learned vector
-// of `dims` floats per training photo, fed to the colour network beside the direction encoding.
-//   rows:     each sample's row gets the vector of its ray's photo (or one fixed table row)
-//   gradient: per photo, the sum of dL/d(vector columns) over the rows of its rays
+// a of `dims` floats per training photo and its weights W_a (dims rows of the colour layer's
+// `width`), which enter the colour layer as the bias a W_a on its pre-activation: the function of
+// the vector as input columns of that layer beside the direction encoding.
+//   bias:     a photo's bias row, vectors[photo] W_a
+//   gradient: per photo, g = the sum of dL/d(colour pre-activation) over the rows of its rays; then
+//             dL/da = W_a g and dL/dW_a = sum over photos of a (outer) g
 //   mean:     the mean of the photos' vectors (what a novel view uses)
-// Tables are row-major, `dims` floats per photo; feature rows are `stride` floats, the vector at
-// column `offset`.
+// Tables are row-major: `dims` floats per photo, `width` per row of W_a, of a bias and of dColour.
 #include <cstdint>
 #include <vector>
 
+#include "reference/rng.h"
+
 namespace vknerf::ref {
 
-// features[row * stride + offset + k] = table[photo * dims + k], photo = rayPhoto[sampleRay[row]],
-// or `fixedRow` for every row when it is >= 0.
-inline void appearanceRows(const std::vector<float>& table, uint32_t dims, const std::vector<uint32_t>& rayPhoto,
-                           const std::vector<uint32_t>& sampleRay, uint32_t count, uint32_t stride, uint32_t offset,
-                           int64_t fixedRow, std::vector<float>& features) {
-  for (uint32_t row = 0; row < count; ++row) {
-    const size_t photo = fixedRow >= 0 ? size_t(fixedRow) : rayPhoto[sampleRay[row]];
-    for (uint32_t k = 0; k < dims; ++k) features[size_t(row) * stride + offset + k] = table[photo * dims + k];
-  }
+// W_a at the start: uniform in +-bound, entry i drawn from rng01(seed, i, 1) (the network's own
+// weights draw stream 0).
+inline std::vector<float> appearanceWeights(uint32_t dims, uint32_t width, float bound, uint32_t seed) {
+  std::vector<float> w(size_t(dims) * width);
+  for (size_t i = 0; i < w.size(); ++i) w[i] = (2.0f * rng01(seed, uint32_t(i), 1) - 1.0f) * bound;
+  return w;
 }
 
-// Per photo (numPhotos x dims, in double): the sum over the first `rays` rays r of that photo of
-// dDir[q * stride + offset + k] for q in [rowOffsets[r], rowOffsets[r + 1]).
-inline std::vector<double> appearanceGradient(const std::vector<float>& dDir, uint32_t dims, uint32_t stride,
-                                              uint32_t offset, const std::vector<uint32_t>& rayPhoto,
-                                              const std::vector<uint32_t>& rowOffsets, uint32_t rays,
-                                              uint32_t numPhotos) {
-  std::vector<double> g(size_t(numPhotos) * dims, 0.0);
+// Rows [0, count) (width each): vectors [first, first + count) times W_a, in double.
+inline std::vector<double> appearanceBias(const std::vector<float>& vectors, const std::vector<float>& weights,
+                                          uint32_t dims, uint32_t width, uint32_t first, uint32_t count) {
+  std::vector<double> b(size_t(count) * width, 0.0);
+  for (uint32_t p = 0; p < count; ++p)
+    for (uint32_t k = 0; k < dims; ++k)
+      for (uint32_t n = 0; n < width; ++n)
+        b[size_t(p) * width + n] += double(vectors[size_t(first + p) * dims + k]) * weights[size_t(k) * width + n];
+  return b;
+}
+
+struct AppearanceGradient {
+  std::vector<double> photoSums;  // g: width per photo
+  std::vector<double> vectors;    // dL/da: dims per photo
+  std::vector<double> weights;    // dL/dW_a: dims rows of width
+};
+
+// From dColour (width values a row) over the first `rays` rays, ray r of photo rayPhoto[r] owning
+// rows [rowOffsets[r], rowOffsets[r + 1]).
+template <class T>
+AppearanceGradient appearanceGradient(const std::vector<T>& dColour, uint32_t width,
+                                             const std::vector<uint32_t>& rayPhoto,
+                                             const std::vector<uint32_t>& rowOffsets, uint32_t rays,
+                                             uint32_t numPhotos, const std::vector<float>& vectors,
+                                             const std::vector<float>& weights, uint32_t dims) {
+  AppearanceGradient g{std::vector<double>(size_t(numPhotos) * width, 0.0),
+                       std::vector<double>(size_t(numPhotos) * dims, 0.0),
+                       std::vector<double>(size_t(dims) * width, 0.0)};
   for (uint32_t r = 0; r < rays; ++r)
     for (uint32_t q = rowOffsets[r]; q < rowOffsets[r + 1]; ++q)
-      for (uint32_t k = 0; k < dims; ++k) g[size_t(rayPhoto[r]) * dims + k] += dDir[size_t(q) * stride + offset + k];
+      for (uint32_t n = 0; n < width; ++n) g.photoSums[size_t(rayPhoto[r]) * width + n] += dColour[size_t(q) * width + n];
+  for (uint32_t c = 0; c < numPhotos; ++c)
+    for (uint32_t k = 0; k < dims; ++k)
+      for (uint32_t n = 0; n < width; ++n) {
+        const double s = g.photoSums[size_t(c) * width + n];
+        g.vectors[size_t(c) * dims + k] += double(weights[size_t(k) * width + n]) * s;
+        g.weights[size_t(k) * width + n] += double(vectors[size_t(c) * dims + k]) * s;
+      }
   return g;
 }
 

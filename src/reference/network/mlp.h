@@ -211,16 +211,18 @@ NerfSample<T> nerfForward(const NerfShape& s, const std::vector<P>& p, const T* 
 }
 
 // Accumulates dL/dparams into g (sized s.total) for one sample; dPos/dDir (posDims/dirDims, may be null)
-// receive dL/dgamma(x), dL/dgamma(d).
+// receive dL/dgamma(x), dL/dgamma(d); dColour (width / 2, may be null) dL/d(the colour layer's
+// pre-activation).
 template <class T, class P>
 void nerfBackward(const NerfShape& s, const std::vector<P>& p, const T* pos, const T* dir, const NerfSample<T>& fw,
-                  const std::array<T, 4>& dOut, std::vector<T>& g, T* dPos, T* dDir) {
+                  const std::array<T, 4>& dOut, std::vector<T>& g, T* dPos, T* dDir, T* dColour = nullptr) {
   const uint32_t W = s.width, V = s.featureWidth;
   T dzHead[3];
   for (int i = 0; i < 3; ++i) dzHead[i] = dOut[i] * activateGrad(Activation::Sigmoid, fw.out[i]);
   std::vector<T> dc(W / 2), df(V + 1), dh(W), dhPrev(W), dPosPart(s.posDims);
   denseBackward(s.head(), p, fw.c.data(), (const T*)nullptr, dzHead, g, dc.data(), (T*)nullptr);
   for (uint32_t k = 0; k < W / 2; ++k) dc[k] *= activateGrad(Activation::Relu, fw.c[k]);
+  if (dColour) std::copy(dc.begin(), dc.end(), dColour);
   denseBackward(s.colour(), p, fw.f.data(), dir, dc.data(), g, df.data(), dDir);
   df[V] = dOut[3] * densityGrad(s.density, fw.f[V]);
   denseBackward(s.feature(), p, fw.h.back().data(), (const T*)nullptr, df.data(), g, dh.data(), (T*)nullptr);

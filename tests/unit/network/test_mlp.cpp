@@ -8,6 +8,7 @@
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "nerf/network/mlp.h"
+#include "reference/encoding/appearance.h"
 #include "reference/network/mlp.h"
 #include "reference/rng.h"
 
@@ -433,4 +434,116 @@ TEST_F(MlpDense, ForwardAndBackwardMatchReference) {
   expectNear(gOut, rOut, kFwdRel, kFwdAbs, "out");
   expectNear(gGrads, rGrads, kGradRel, kGradAbsScale * maxAbs(rGrads), "grads");
   expectNear(gIn, rIn, kGradRel, kGradAbsScale * maxAbs(rIn), "dIn");
+}
+
+// A bias per row on the colour layer (NerfRows::colourBias) is the per-photo appearance vector a
+// as input columns of that layer, through their weights W_a: the rows with bias a_photo W_a must
+// give what the reference gives for the network whose direction input is [dir | a_photo] and whose
+// colour layer has W_a as those columns' rows, both in the forward (layered, fused with and without
+// the activations kept, each row its ray's photo's bias or every row one) and in the backward:
+// the other parameters' gradients are that network's, and dColour is the reference's
+// dL/d(colour pre-activation). Tolerances: the reference ones (kFwdRel/kFwdAbs, kGradRel with
+// kGradAbsScale of the largest value) since the bias adds one more sum of dims products in float.
+TEST_F(MlpNerf, ColourBiasIsTheVectorAsInputColumns) {
+  constexpr uint32_t kDims = 8, kPhotos = 5, kRays = 40, kRows = 301;
+  nerf::MlpConfig cfg;
+  cfg.depth = 1, cfg.width = 32, cfg.skipLayer = 0, cfg.posDims = 16, cfg.dirDims = 16, cfg.featureWidth = 16;
+  cfg.density = DensityActivation::TruncExp, cfg.seed = 5;
+  auto tuning = nerf::MlpTuning::forDevice(ctx());
+  tuning.fused = 0;
+  nerf::NerfMlp layered(ctx(), cfg, tuning);
+  tuning.fused = 3;
+  nerf::NerfMlp fused(ctx(), cfg, tuning);
+  layered.setChunkRows(128), fused.setChunkRows(128);  // chunks: the rows' rays bind at each chunk's first row
+  const ref::NerfShape& narrow = layered.shape();
+  const ref::NerfShape wide = ref::NerfShape::make(cfg.depth, cfg.width, 0, cfg.posDims, cfg.dirDims + kDims,
+                                                   cfg.density, cfg.featureWidth);
+  const uint32_t W2 = cfg.width / 2, colour = cfg.depth + 1;
+
+  // The narrow network's parameters, a and W_a; the wide network holds the same, W_a as the rows of
+  // the colour layer's extra inputs.
+  const std::vector<float> params = layered.initialParameters();
+  const std::vector<float> vectors = features(kPhotos, kDims, kDims, 11), weights = features(kDims, W2, W2, 12, 0.3f);
+  std::vector<float> wideParams(wide.total, 0.0f);
+  std::vector<size_t> wideOf(params.size());  // the wide index of each narrow parameter
+  for (size_t l = 0; l < narrow.layers.size(); ++l) {
+    const ref::DenseShape &n = narrow.layers[l], &w = wide.layers[l];
+    for (uint32_t row = 0; row <= n.k4(); ++row)  // row k4: the bias
+      for (uint32_t col = 0; col < n.n4(); ++col)
+        wideOf[n.offset + size_t(row) * n.n4() + col] =
+            (row == n.k4() ? w.biasOffset() : w.offset + size_t(row) * w.n4()) + col;
+  }
+  for (size_t i = 0; i < params.size(); ++i) wideParams[wideOf[i]] = params[i];
+  const ref::DenseShape& wc = wide.layers[colour];
+  for (uint32_t k = 0; k < kDims; ++k)
+    for (uint32_t n = 0; n < W2; ++n) wideParams[wc.offset + size_t(wc.rowB(cfg.dirDims + k)) * wc.n4() + n] = weights[k * W2 + n];
+
+  NerfCase c{cfg, kRows};
+  const NerfData d = makeData(layered, c);
+  std::vector<uint32_t> rowRay(kRows), rayTable(2 * kRays);
+  for (uint32_t r = 0; r < kRows; ++r) rowRay[r] = ref::rngUint(3, r, 0) % kRays;
+  for (uint32_t r = 0; r < kRays; ++r) rayTable[2 * r] = ref::rngUint(4, r, 0) % kPhotos, rayTable[2 * r + 1] = r;
+  const auto biasDouble = ref::appearanceBias(vectors, weights, kDims, W2, 0, kPhotos);
+  const std::vector<float> bias(biasDouble.begin(), biasDouble.end());
+
+  // The wide reference, each row with its photo's vector (or one photo's for every row).
+  auto reference = [&](std::optional<uint32_t> onePhoto) {
+    NerfRef r{std::vector<double>(size_t(kRows) * 4), std::vector<double>(wide.total, 0.0), {}, {}};
+    std::vector<double> dColour(size_t(kRows) * W2), pos(cfg.posDims), dir(cfg.dirDims + kDims), dDir(dir.size());
+    for (uint32_t i = 0; i < kRows; ++i) {
+      const uint32_t photo = onePhoto ? *onePhoto : rayTable[2 * rowRay[i]];
+      for (uint32_t k = 0; k < cfg.posDims; ++k) pos[k] = d.pos[size_t(i) * layered.posStride() + k];
+      for (uint32_t k = 0; k < cfg.dirDims; ++k) dir[k] = d.dir[size_t(i) * layered.dirStride() + k];
+      for (uint32_t k = 0; k < kDims; ++k) dir[cfg.dirDims + k] = vectors[photo * kDims + k];
+      auto fw = ref::nerfForward<double>(wide, wideParams, pos.data(), dir.data());
+      for (int k = 0; k < 4; ++k) r.out[4 * i + k] = fw.out[k];
+      std::array<double, 4> g{d.dOut[4 * i], d.dOut[4 * i + 1], d.dOut[4 * i + 2], d.dOut[4 * i + 3]};
+      ref::nerfBackward(wide, wideParams, pos.data(), dir.data(), fw, g, r.grads, (double*)nullptr, dDir.data(),
+                        &dColour[size_t(i) * W2]);
+    }
+    r.dDir = dColour;
+    return r;
+  };
+
+  auto paramsBuf = gpu::Buffer::of(ctx(), params), pos = gpu::Buffer::of(ctx(), d.pos), dir = gpu::Buffer::of(ctx(), d.dir);
+  auto dOut = gpu::Buffer::of(ctx(), d.dOut), biasBuf = gpu::Buffer::of(ctx(), bias);
+  auto rowRayBuf = gpu::Buffer::of(ctx(), rowRay), rayTableBuf = gpu::Buffer::of(ctx(), rayTable);
+  gpu::Buffer out(ctx(), size_t(kRows) * 16), grads(ctx(), params.size() * 4), dColour(ctx(), size_t(kRows) * W2 * 4);
+
+  const NerfRef perRay = reference(std::nullopt);
+  std::vector<double> narrowGrads(params.size());
+  for (size_t i = 0; i < params.size(); ++i) narrowGrads[i] = perRay.grads[wideOf[i]];
+  const double gScale = maxAbs(narrowGrads), dcScale = maxAbs(perRay.dDir);
+  ASSERT_GT(dcScale, 0.0);
+  for (nerf::NerfMlp* mlp : {&layered, &fused}) {
+    SCOPED_TRACE(mlp == &fused ? "fused" : "layered");
+    const nerf::RowBias rowBias{biasBuf, gpu::BufferRange(rowRayBuf), gpu::BufferRange(rayTableBuf)};
+    nerf::NerfRows rows{kRows, pos, dir, out};
+    rows.colourBias = rowBias;
+    grads.zero();
+    nerf::NerfMlp::Workspace ws(ctx(), *mlp, kRows);
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      mlp->recordForward(rec, rows, paramsBuf, &ws);
+      nerf::NerfGradients gradients{dOut, grads};
+      gradients.dColour = gpu::BufferRange(dColour);
+      mlp->recordBackward(rec, rows, paramsBuf, gradients, ws);
+    });
+    expectNear(out.download<float>(size_t(kRows) * 4), perRay.out, kFwdRel, kFwdAbs, "out");
+    expectNear(grads.download<float>(params.size()), narrowGrads, kGradRel, kGradAbsScale * gScale, "grads");
+    expectNear(dColour.download<float>(size_t(kRows) * W2), perRay.dDir, kGradRel, kGradAbsScale * dcScale, "dColour");
+    // Inference, each row its photo's bias.
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { mlp->recordForward(rec, rows, paramsBuf, nullptr); });
+    expectNear(out.download<float>(size_t(kRows) * 4), perRay.out, kFwdRel, kFwdAbs, "inference out");
+  }
+  // A render: every row adds one photo's bias (the table's row 0).
+  const uint32_t photo = 3;
+  const NerfRef one = reference(photo);
+  auto oneBias = gpu::Buffer::of(ctx(), std::vector<float>(bias.begin() + photo * W2, bias.begin() + (photo + 1) * W2));
+  for (nerf::NerfMlp* mlp : {&layered, &fused}) {
+    SCOPED_TRACE(mlp == &fused ? "fused, one bias" : "layered, one bias");
+    nerf::NerfRows rows{kRows, pos, dir, out};
+    rows.colourBias = nerf::RowBias{oneBias};
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { mlp->recordForward(rec, rows, paramsBuf, nullptr); });
+    expectNear(out.download<float>(size_t(kRows) * 4), one.out, kFwdRel, kFwdAbs, "out");
+  }
 }

@@ -12,7 +12,8 @@ layout(local_size_x = PER_CAMERA_LANES) in;
 
 layout(std430, binding = 0) readonly buffer PixelIds { uvec2 pixelIds[]; };     // (camera, pixel) per ray
 layout(std430, binding = 1) readonly buffer RowOffsets { uint rowOffsets[]; };  // ray -> its rows of dColour
-layout(std430, binding = 2) readonly buffer ColourGradient { vec4 dColour[]; };
+// A texel buffer: imageLoad is vectorised on lavapipe, a per-lane SSBO load a loop over the lanes.
+layout(binding = 2, rgba32f) uniform readonly imageBuffer ColourGradient;
 layout(std430, binding = 3) readonly buffer Weights { vec4 weights[]; };        // W_a: dims rows of widthVec4
 layout(std430, binding = 4) writeonly buffer PhotoSums { vec4 photoSums[]; };   // g: widthVec4 a photo
 layout(std430, binding = 5) writeonly buffer Grads { float grads[]; };          // dims a photo
@@ -28,7 +29,7 @@ void main() {
     uint begin = rowOffsets[run.x], end = rowOffsets[run.y];
     for (uint k = 0u; k < width; ++k) {
       vec4 s = vec4(0.0);
-      for (uint q = begin + lane; q < end; q += PER_CAMERA_LANES) s += dColour[q * width + k];
+      for (uint q = begin + lane; q < end; q += PER_CAMERA_LANES) s += imageLoad(ColourGradient, int(q * width + k));
       perCameraStore(k, s);
     }
     perCameraReduce(width);

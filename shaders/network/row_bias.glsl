@@ -8,7 +8,9 @@
 #define VKNERF_ROW_BIAS_GLSL
 #include "network/row_bias_shared.h"
 
-layout(std430, binding = ROW_BIAS_BINDING) readonly buffer RowBiasTable { vec4 rowBiasTable[]; };
+// The table as a texel buffer: imageLoad is vectorised on lavapipe, where a per-lane SSBO load is a
+// loop over the lanes (shared/LAVAPIPE.md), and a colour layer reads W/8 of them a row.
+layout(binding = ROW_BIAS_BINDING, rgba32f) uniform readonly imageBuffer RowBiasTable;
 layout(std430, binding = ROW_BIAS_BINDING + 1) readonly buffer RowBiasRay { uint rowBiasRay[]; };
 layout(std430, binding = ROW_BIAS_BINDING + 2) readonly buffer RowBiasRayTable { uvec2 rowBiasRayTable[]; };
 
@@ -16,6 +18,6 @@ layout(std430, binding = ROW_BIAS_BINDING + 2) readonly buffer RowBiasRayTable {
 uint rowBiasRow(uint row) { return ROW_BIAS == ROW_BIAS_PER_RAY ? rowBiasRayTable[rowBiasRay[row]].x : 0u; }
 
 // Columns [4 q, 4 q + 4) of table row t (N4 floats a row).
-vec4 rowBias(uint t, uint q, uint N4) { return rowBiasTable[t * (N4 / 4u) + q]; }
+vec4 rowBias(uint t, uint q, uint N4) { return imageLoad(RowBiasTable, int(t * (N4 / 4u) + q)); }
 
 #endif

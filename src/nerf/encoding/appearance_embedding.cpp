@@ -34,13 +34,19 @@ uint32_t checkedWidth(uint32_t width) {
 gpu::KernelDesc kernel(const gpu::ShaderCode& code, size_t bindings, uint32_t pushBytes) {
   return {code, std::vector<gpu::Binding>(bindings, gpu::Binding::Storage), pushBytes, {}};
 }
+
+gpu::KernelDesc gradientKernel() {
+  gpu::KernelDesc k = kernel(gpu::shaders::appearance_gradient, 7, sizeof(glsl::AppearanceGradientPush));
+  k.bindings[2] = gpu::Binding::TexelRgba32f;  // dColour
+  return k;
+}
 }  // namespace
 
 AppearanceEmbedding::AppearanceEmbedding(Context& ctx, uint32_t dims, uint32_t width)
     : dims_(checkedDims(dims)),
       width_(checkedWidth(width)),
       bias_(ctx, kernel(gpu::shaders::appearance_bias, 3, sizeof(glsl::AppearanceBiasPush))),
-      gradient_(ctx, kernel(gpu::shaders::appearance_gradient, 7, sizeof(glsl::AppearanceGradientPush))),
+      gradient_(ctx, gradientKernel()),
       weightsGradient_(ctx, kernel(gpu::shaders::appearance_weights_gradient, 3,
                                    sizeof(glsl::AppearanceWeightsGradientPush))),
       mean_(ctx, kernel(gpu::shaders::appearance_mean, 2, sizeof(glsl::AppearanceMeanPush))),

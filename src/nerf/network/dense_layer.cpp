@@ -109,7 +109,8 @@ void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const 
   if (kernel == forward_.end()) {
     uint32_t act = uint32_t(s.act);
     std::vector<gpu::Binding> bindings(3, gpu::Binding::TexelRgba32f);
-    bindings.insert(bindings.end(), 5, gpu::Binding::Storage);
+    bindings.insert(bindings.end(), {gpu::Binding::Storage, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
+                                     gpu::Binding::Storage, gpu::Binding::Storage});
     kernel = forward_.try_emplace(mode,
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_dense, bindings,
                               sizeof(RowPush),

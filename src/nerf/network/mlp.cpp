@@ -208,7 +208,8 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
   if (!kernel) {
     auto off4 = [&](const ref::DenseShape& l) { return uint32_t(l.offset / 4); };
     std::vector<gpu::Binding> b(3, gpu::Binding::TexelRgba32f);
-    b.insert(b.end(), 9, gpu::Binding::Storage);
+    b.insert(b.end(), 5, gpu::Binding::Storage);
+    b.insert(b.end(), {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage});
     kernel = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_fused, b, sizeof(FusedPush),
                               {{FusedSpec::LOCAL_SIZE_X, tuning_.local},
@@ -242,7 +243,7 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
     FusedPush push{n, p.stride / 4, d.stride / 4, 1, 0};
     const std::optional<RowBias> chunkBias =
         rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
-    const auto bias = rowBiasBindings(chunkBias ? &*chunkBias : nullptr, none);
+    const auto bias = rowBiasBindings(chunkBias ? &*chunkBias : nullptr, params);
     gpu::dispatchLimited(rec, *kernel,
                          {p.range, d.range, params, o.range, keep ? kept(keep->h_[0], W) : none,
                           keep && D > 1 ? kept(keep->h_[1], W) : none, keep ? kept(keep->f_, V + 4) : none,

@@ -1,7 +1,10 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Adam over a flat float parameter buffer with gradient, first- and second-moment buffers of the
-// same size; the gradient is zeroed after the step so the next backward pass can accumulate.
+// same size; the gradient is zeroed after the step so the next backward pass can accumulate. This
+// kernel steps the first body4 vec4s and the count % 4 leftovers; the vec4s past body4, where a
+// zero gradient is skipped, go through the list of the touched ones (adam_touched.comp,
+// adam_sparse.comp).
 // Each invocation updates 4 parameters through rgba32f storage texel buffers: on lavapipe their
 // loads and stores are vectorised across lanes while SSBO access is a per-lane loop (measured
 // 2-4x faster for this kernel on a dense step). The last invocation handles the count % 4 leftovers through
@@ -21,31 +24,21 @@ layout(std430, binding = 7) buffer Moment2F { float v1[]; };
 
 #include "optim/adam_shared.h"
 
-// Same operation order as ref::adamStep. `live` masks lanes that must keep their old values.
-void adam(inout vec4 p, inout vec4 m, inout vec4 v, vec4 g, bvec4 live) {
-  vec4 mn = pc.beta1 * m + (1.0 - pc.beta1) * g;
-  vec4 vn = pc.beta2 * v + (1.0 - pc.beta2) * g * g;
-  vec4 pn = p - pc.lr * (mn * pc.correction1) / (sqrt(vn * pc.correction2) + pc.epsilon);
-  p = mix(p, pn, live);
-  m = mix(m, mn, live);
-  v = mix(v, vn, live);
-}
+#include "optim/adam_step.glsl"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
   uint full = pc.count / 4u;
-  if (i < full) {
+  if (i < pc.body4) {
     int k = int(i);
     vec4 g = imageLoad(G4, k);
-    bvec4 live = pc.skipZero != 0u ? notEqual(g, vec4(0.0)) : bvec4(true);
-    if (!any(live)) return;  // an untouched sparse row: one load, no stores
     vec4 p = imageLoad(P4, k), m = imageLoad(M4, k), v = imageLoad(V4, k);
-    adam(p, m, v, g, live);
+    adamStep(p, m, v, g, bvec4(true));
     imageStore(P4, k, p);
     imageStore(M4, k, m);
     imageStore(V4, k, v);
     imageStore(G4, k, vec4(0.0));
-  } else if (i == full && pc.count > 4u * full) {
+  } else if (i == pc.body4 && pc.count > 4u * full) {
     uint first = pc.tailIndex, n = pc.count - 4u * full;  // 1..3 leftovers
     vec4 p = vec4(0.0), g = vec4(0.0), m = vec4(0.0), v = vec4(0.0);
     for (uint j = 0u; j < n; ++j) {
@@ -54,8 +47,8 @@ void main() {
       m[j] = m1[first + j];
       v[j] = v1[first + j];
     }
-    bvec4 live = pc.skipZero != 0u ? notEqual(g, vec4(0.0)) : bvec4(true);
-    adam(p, m, v, g, live);
+    bvec4 live = 4u * full >= pc.skipZeroFrom ? notEqual(g, vec4(0.0)) : bvec4(true);
+    adamStep(p, m, v, g, live);
     for (uint j = 0u; j < n; ++j) {
       params1[first + j] = p[j];
       m1[first + j] = m[j];

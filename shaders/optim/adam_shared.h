@@ -11,8 +11,9 @@ PUSH_CONSTANTS_BEGIN(AdamPush)
   float correction1;  // 1 / (1 - beta1^t)
   float correction2;  // 1 / (1 - beta2^t)
   uint count;         // parameters
-  uint skipZero;      // 1: a parameter whose gradient is exactly 0 keeps p, m and v (sparse rows)
+  uint skipZeroFrom;  // parameters at and past it whose gradient is exactly 0 keep p, m and v (a multiple of 4)
   uint tailIndex;     // index of parameter 4 * (count / 4) in the tail bindings
+  uint body4;         // the vec4s this kernel steps (the rest: adam_sparse.comp)
 PUSH_CONSTANTS_END
 
 #endif

@@ -66,12 +66,26 @@ MlpTuning mlpTuningFor(const Context& ctx, bool training) {
 }
 
 // Every table entry takes an Adam step, also one no sample touched (its momentum carries it on).
-// instant-ngp skips those (AdamConfig::skipZeroGradients) to save time where the gradients are
+// instant-ngp skips those (AdamConfig::skipZeroGradientsFrom) to save time where the gradients are
 // sparse; at these tables (2^15 entries a level, ~16k samples a step) they are not: the skip saved
 // about 1 ms of a ~65 ms step, and held-out PSNR in equal time was the same or better without it
 // (docs/performance.md: +0.5 dB on the sample scene at 60 s and on an 800x800 object scene at 120 s).
 AdamConfig tableAdamOf(const TrainConfig& config) {
   return adamConfigOf(config, config.fastModel().hashLearningRateScale);
+}
+
+// The field's table: the dense step while a step touches much of each level's slot, and the skip
+// of the entries a step did not touch once a slot holds more than kDenseEntriesPerSample entries per
+// sample a step marches (their zero gradients are read, nothing else), so that Adam's cost follows
+// the touched entries and not the table's size (docs/performance.md, "Adam on large tables"). Every
+// level alike: a coarse level's few entries are all touched every step either way, and the unused
+// part of its slot (past its (res + 1)^3 vertices) would cost the dense step as much as a used one.
+constexpr uint64_t kDenseEntriesPerSample = 4;
+AdamConfig fieldTableAdamOf(const TrainConfig& config, const HashGridConfig& grid) {
+  AdamConfig a = tableAdamOf(config);
+  if ((uint64_t(1) << grid.log2TableSize) > kDenseEntriesPerSample * config.fastModel().samplesPerBatch)
+    a.skipZeroGradientsFrom = 0;
+  return a;
 }
 
 }  // namespace
@@ -120,7 +134,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                           .featureWidth = model_.featureWidth},
            mlpTuningFor(ctx, training)),
       table_(ctx, "encoding", hash_.initialParameters(config.seed),
-             training ? std::optional(tableAdamOf(config)) : std::nullopt),
+             training ? std::optional(fieldTableAdamOf(config, hashGridConfigFor(model_))) : std::nullopt),
       network_(ctx, "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),
       grid_(ctx, model_.gridResolution, model_.cascades),
       // The per-photo gradients (camera refinement, appearance) are summed over each photo's run of rays.

@@ -6,6 +6,8 @@
 
 #include "vknerf/error.h"
 #include "optim/adam_shared.h"
+#include "optim/adam_sparse_shared.h"
+#include "optim/adam_touched_shared.h"
 
 namespace vknerf::nerf {
 namespace {
@@ -19,6 +21,9 @@ const AdamConfig& checked(const AdamConfig& c) {
   if (!(c.epsilon > 0)) bad("epsilon must be > 0 (0 divides 0 by 0 for a zero gradient)");
   if (!(c.initialLearningRate >= 0)) bad("the learning rate must be >= 0");
   if (!(c.decayRate > 0) || !(c.decaySteps > 0)) bad("decayRate and decaySteps must be > 0");
+  if (c.skipZeroGradientsFrom != AdamConfig::kNever && c.skipZeroGradientsFrom % 4)
+    bad("the first parameter whose zero gradients are skipped must be a multiple of 4, got " +
+        std::to_string(c.skipZeroGradientsFrom));
   return c;
 }
 
@@ -66,15 +71,58 @@ void Adam::record(gpu::Recorder& rec, const AdamState& state, uint32_t step, flo
   // In double: 1 - beta2^t at t = 1 is 1e-3 and loses digits in float.
   double c1 = 1.0 / (1.0 - std::pow(double(config_.beta1), double(step)));
   double c2 = 1.0 / (1.0 - std::pow(double(config_.beta2), double(step)));
+  // The vec4s from skipZeroGradientsFrom on go through the list of the touched ones; the kernel
+  // below steps the rest and the leftovers (whose zero gradients it skips past that index too).
+  const uint32_t sparseFrom4 = uint32_t(std::min<uint64_t>(full, config_.skipZeroGradientsFrom / 4));
   Push p{lr, config_.beta1, config_.beta2, config_.epsilon, float(c1), float(c2), count,
-         config_.skipZeroGradients ? 1u : 0u, uint32_t((tailStart - tailBase) / 4)};
+         config_.skipZeroGradientsFrom, uint32_t((tailStart - tailBase) / 4), sparseFrom4};
   // The vec4 part, exactly; with fewer than 4 parameters a dummy keeps the unused views valid.
   auto body = [&](const gpu::BufferRange& r) {
     return full ? gpu::BufferRange(*r.buffer, r.offset, 16 * full) : gpu::BufferRange(dummy_);
   };
   // One invocation per 4 parameters, plus one for the leftovers.
-  rec.dispatch(kernel_, {body(params), body(grads), body(m), body(v), tail(params), tail(grads), tail(m), tail(v)}, p,
-               gpu::groupsFor(full + (count % 4 ? 1 : 0), kLocal), 1, 1, "adam");
+  const uint32_t invocations = sparseFrom4 + (count % 4 ? 1 : 0);
+  if (invocations)
+    rec.dispatch(kernel_, {body(params), body(grads), body(m), body(v), tail(params), tail(grads), tail(m), tail(v)}, p,
+                 gpu::groupsFor(invocations, kLocal), 1, 1, "adam");
+  if (sparseFrom4 < full) {
+    const AdamState bodies{count, body(params), body(grads), body(m), body(v)};
+    const glsl::AdamSparsePush sp{p.lr, p.beta1, p.beta2, p.epsilon, p.correction1, p.correction2, 0, 0};
+    recordSparse(rec, bodies, sparseFrom4, uint32_t(full), sp);
+  }
+}
+
+void Adam::recordSparse(gpu::Recorder& rec, const AdamState& state, uint32_t first4, uint32_t full4,
+                        glsl::AdamSparsePush push) {
+  const uint32_t capacity = full4 - first4;
+  constexpr uint32_t kTouchedPerGroup = 64 * 16;  // adam_touched.comp's invocations x vec4s each
+  const uint32_t groups = gpu::groupsFor(capacity, kTouchedPerGroup);
+  if (groups > ctx_.properties().limits.maxComputeWorkGroupCount[0])
+    throw Error("Adam: " + std::to_string(4ull * capacity) + " parameters with sparse gradients exceed one dispatch of the device");
+  if (!touched_) {
+    using gpu::Binding;
+    touched_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::adam_touched, {Binding::TexelRgba32f, Binding::Storage, Binding::Storage},
+                              sizeof(glsl::AdamTouchedPush), {}});
+    sparse_ = std::make_unique<gpu::Kernel>(
+        ctx_, gpu::KernelDesc{gpu::shaders::adam_sparse,
+                              {Binding::TexelRgba32f, Binding::TexelRgba32f, Binding::TexelRgba32f, Binding::TexelRgba32f,
+                               Binding::Storage, Binding::Storage},
+                              sizeof(glsl::AdamSparsePush), {}});
+    listCount_ = std::make_unique<gpu::Buffer>(gpu::Buffer::zeros(ctx_, 16));
+    limited_ = std::make_unique<gpu::LimitedDispatch>(ctx_);
+  }
+  if (!list_ || list_->size() < VkDeviceSize(capacity) * 4)
+    list_ = std::make_unique<gpu::Buffer>(gpu::Buffer::zeros(ctx_, VkDeviceSize(capacity) * 4, "Adam's touched parameters"));
+  rec.fill(*listCount_, 0);
+  rec.dispatch(*touched_, {state.grads, *list_, *listCount_}, glsl::AdamTouchedPush{first4, capacity}, groups, 1, 1,
+               "adam touched");
+  glsl::AdamSparsePush sp = push;
+  sp.count = capacity;
+  const gpu::BufferRange count(*listCount_, 0, 4);
+  limited_->begin(rec, &count, capacity, capacity, {kLocal});
+  gpu::dispatchLimited(rec, *sparse_, {state.params, state.grads, state.m, state.v, *list_}, sp, limited_->rows(0, 0),
+                       gpu::groupsFor(capacity, kLocal), "adam sparse");
 }
 
 }  // namespace vknerf::nerf

@@ -5,8 +5,15 @@
 // gradient buffer is zeroed by every step so the next backward pass accumulates into it.
 #include <cstdint>
 
+#include <memory>
+
 #include "gpu/kernel.h"
+#include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
+
+namespace vknerf::glsl {
+struct AdamSparsePush;
+}
 
 namespace vknerf::nerf {
 
@@ -17,7 +24,12 @@ struct AdamConfig {
   float epsilon = 1e-8f;   // 1e-15 for hash grids; must be > 0
   float decayRate = 1.0f;  // lr = initialLearningRate * decayRate^(step / decaySteps); 1: constant
   float decaySteps = 250000.0f;
-  bool skipZeroGradients = false;  // leave p, m, v of parameters whose gradient is exactly 0
+  // Parameters at and past this index (a multiple of 4) whose gradient is exactly 0 keep p, m and v
+  // (instant-ngp's skip of the table entries a step did not touch); 0: every one, kNever: none.
+  // That part's step costs what the step touched: a pass lists its vec4s with a nonzero gradient,
+  // and only those are stepped (shaders/optim/adam_touched.comp, adam_sparse.comp).
+  static constexpr uint32_t kNever = UINT32_MAX;
+  uint32_t skipZeroGradientsFrom = kNever;
 
   // The exponentially decayed learning rate at `step` (continuous in the step, as in NeRF);
   // learningRate(0) is the initial rate.
@@ -40,10 +52,18 @@ class Adam {
   void record(gpu::Recorder& rec, const AdamState& state, uint32_t step, float lr);
 
  private:
+  // The vec4s [first4, full4) of `state`, those with a nonzero gradient alone.
+  void recordSparse(gpu::Recorder& rec, const AdamState& state, uint32_t first4, uint32_t full4,
+                    glsl::AdamSparsePush push);
+
   Context& ctx_;
   AdamConfig config_;
   gpu::Kernel kernel_;
   gpu::Buffer dummy_;  // binds the vec4 views when there are fewer than 4 parameters
+  // The sparse part's kernels, list of touched vec4s and its length, built on first use.
+  std::unique_ptr<gpu::Kernel> touched_, sparse_;
+  std::unique_ptr<gpu::Buffer> list_, listCount_;
+  std::unique_ptr<gpu::LimitedDispatch> limited_;
 };
 
 }  // namespace vknerf::nerf

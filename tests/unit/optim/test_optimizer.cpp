@@ -16,7 +16,8 @@ using namespace vknerf;
 namespace {
 
 ref::AdamParams<double> refParams(const nerf::AdamConfig& c) {
-  return {double(c.beta1), double(c.beta2), double(c.epsilon), c.skipZeroGradients};
+  return {double(c.beta1), double(c.beta2), double(c.epsilon),
+          c.skipZeroGradientsFrom == nerf::AdamConfig::kNever ? SIZE_MAX : size_t(c.skipZeroGradientsFrom)};
 }
 
 // Device state of one optimisation problem next to its double-precision twin.
@@ -153,44 +154,81 @@ TEST_F(Adam, SeveralStepsMatchReference) {
   std::printf("adam %d steps: max |p_gpu - p_ref| = %.3g (lr %.3g)\n", steps, maxErr, cfg.initialLearningRate);
 }
 
+// From skipZeroGradientsFrom on (0: all; 100: a table whose first levels take the dense step), a
+// parameter with a zero gradient keeps p, m and v bit for bit; before it, and every parameter with
+// a gradient, take the reference's step.
 TEST_F(Adam, SkipsParametersWithZeroGradient) {
   const size_t n = 203;  // leftovers included
-  nerf::AdamConfig cfg;
-  cfg.skipZeroGradients = true;
-  nerf::Adam adam(ctx(), cfg);
   auto p0 = randomVector(n, 4, 1);
   auto m0 = randomVector(n, 5, 0.1f);
   auto v0 = randomVector(n, 6, 0.01f);
   for (auto& x : v0) x = std::fabs(x);
-  Problem pr(ctx(), p0, m0, v0);
-  // Whole zero vec4 rows (the sparse hash-grid case), single zeros, and a zero leftover.
+  // Whole zero vec4 rows (the sparse hash-grid case) before and past 100, single zeros, and a zero leftover.
   auto g = randomVector(n, 7, 0.5f, 0.3f);
   for (size_t i = 40; i < 48; ++i) g[i] = 0;
+  for (size_t i = 120; i < 128; ++i) g[i] = 0;
   g[n - 2] = 0;
   const float lr = 1e-3f;
-  auto gAfter = pr.step(ctx(), adam, g, 3, lr);
-  int skipped = 0;
-  for (size_t i = 0; i < n; ++i) {
-    ASSERT_EQ(gAfter[i], 0.0f);
-    if (g[i] == 0.0f) {
-      ++skipped;
-      ASSERT_EQ(pr.p[i], p0[i]) << i;  // bit for bit untouched
-      ASSERT_EQ(pr.m[i], m0[i]) << i;
-      ASSERT_EQ(pr.v[i], v0[i]) << i;
-    } else {
-      ASSERT_TRUE(paramNear(pr.p[i], pr.rp[i], lr, 1)) << i;
-      ASSERT_NE(pr.p[i], p0[i]) << i;
+  for (const uint32_t from : {0u, 100u}) {
+    SCOPED_TRACE(testing::Message() << "skipped from " << from);
+    nerf::AdamConfig cfg;
+    cfg.skipZeroGradientsFrom = from;
+    nerf::Adam adam(ctx(), cfg);
+    Problem pr(ctx(), p0, m0, v0);
+    auto gAfter = pr.step(ctx(), adam, g, 3, lr);
+    int skipped = 0;
+    for (size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(gAfter[i], 0.0f);
+      if (g[i] == 0.0f && i >= from) {
+        ++skipped;
+        ASSERT_EQ(pr.p[i], p0[i]) << i;  // bit for bit untouched
+        ASSERT_EQ(pr.m[i], m0[i]) << i;
+        ASSERT_EQ(pr.v[i], v0[i]) << i;
+      } else {
+        ASSERT_TRUE(paramNear(pr.p[i], pr.rp[i], lr, 1)) << i;
+        ASSERT_NE(pr.p[i], p0[i]) << i;  // a zero gradient before `from`: its momentum moves it
+        ASSERT_NE(pr.m[i], m0[i]) << i;
+      }
     }
+    EXPECT_GT(skipped, from ? 25 : 50);
   }
-  EXPECT_GT(skipped, 50);
-  // Without the flag the moments of a zero-gradient parameter decay and its parameter keeps moving.
-  cfg.skipZeroGradients = false;
-  nerf::Adam dense(ctx(), cfg);
-  Problem pd(ctx(), p0, m0, v0);
-  pd.step(ctx(), dense, g, 3, lr);
-  EXPECT_NE(pd.m[40], m0[40]);
-  EXPECT_NE(pd.p[40], p0[40]);
-  EXPECT_TRUE(paramNear(pd.p[40], pd.rp[40], lr, 1));
+  nerf::AdamConfig bad;
+  bad.skipZeroGradientsFrom = 6;
+  EXPECT_THROW(nerf::Adam(ctx(), bad), Error);
+}
+
+// The sparse part over many workgroups of the touched-list pass (each lists 1024 vec4s): a table
+// of 12000 vec4s sparse from vec4 1024 on, its gradients zero in whole vec4 rows (80%, scattered as
+// a hash level's untouched entries are) and in single components, a new pattern every step: each
+// step's list is built anew (its length reset), every touched vec4 is stepped once, and the result
+// is the reference's (the parameters within paramNear, the untouched ones bit for bit).
+TEST_F(Adam, SparsePartStepsEachTouchedParameterOnce) {
+  const size_t n = 4 * 12000;
+  nerf::AdamConfig cfg;
+  cfg.skipZeroGradientsFrom = 4 * 1024;
+  nerf::Adam adam(ctx(), cfg);
+  auto v0 = randomVector(n, 6, 0.01f);
+  for (auto& x : v0) x = std::fabs(x);
+  Problem pr(ctx(), randomVector(n, 4, 1), randomVector(n, 5, 0.1f), v0);
+  const float lr = 1e-3f;
+  for (uint32_t t = 1; t <= 3; ++t) {
+    SCOPED_TRACE(testing::Message() << "step " << t);
+    auto g = randomVector(n, 20 + t, 0.5f, 0.1f);
+    std::mt19937 gen(30 + t);
+    for (size_t row = 0; row < n / 4; ++row)
+      if (gen() % 5 != 0)
+        for (size_t k = 0; k < 4; ++k) g[4 * row + k] = 0;
+    const auto before = pr.p;
+    auto gAfter = pr.step(ctx(), adam, g, t, lr);
+    size_t stepped = 0;
+    for (size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(gAfter[i], 0.0f) << i;
+      ASSERT_TRUE(paramNear(pr.p[i], pr.rp[i], lr, t)) << i;
+      if (g[i] == 0.0f && i >= cfg.skipZeroGradientsFrom) ASSERT_EQ(pr.p[i], before[i]) << i;
+      stepped += pr.p[i] != before[i];
+    }
+    EXPECT_GT(stepped, n / 5);  // the test must see steps
+  }
 }
 
 TEST_F(Adam, ExtremeGradientsStayFinite) {

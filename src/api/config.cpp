@@ -83,10 +83,12 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     // samples per ray, twice the rays), 2^14 samples per step beat 2^15 and 2^16 (more, cheaper
     // steps), and a 2^15-entry table per level matched 2^17 at a third of the Adam cost (the
     // capacity rule of src/models/fast/fast_capacity.h gives the sample scene that table and 256 cells).
+    // The march steps follow the pixel footprint there too (0: 128 for the sample scene, 256 for
+    // photos whose pixels are 8 times finer than a step of 128, as the 800x800 object's).
     m.hashLevels = 8;
     m.gridResolution = 64;
-    m.marchSteps = 128;
-    m.maxSamplesPerRay = 128;
+    m.marchSteps = 0;
+    m.maxSamplesPerRay = 0;
     // With cascades (unbounded scenes), instant-ngp's 1/256 marches ~300 points per ray through a
     // fresh grid, past the 128-sample cap, so rays stop short of the far field (docs/unbounded.md:
     // 1/256 lost 1.5 dB to the single grid at 60 s). On the distorted capture at 120 s, 1/64 beat
@@ -123,8 +125,8 @@ std::string TrainConfig::describe() const {
     os << ", MLP " << m->depth << "x" << m->width << " (feature " << (m->featureWidth ? m->featureWidth : m->width) << ")"
        << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
        << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
-       << "), near " << (m->nearDistance > 0 ? std::to_string(m->nearDistance) : std::string("auto")) << ", " << m->marchSteps
-       << " steps per diagonal, ~" << m->samplesPerBatch << " samples/step";
+       << "), near " << (m->nearDistance > 0 ? std::to_string(m->nearDistance) : std::string("auto")) << ", "
+       << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, ~" << m->samplesPerBatch << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss;
     os << ", far field " << farFieldName(m->farField);
   } else {

@@ -207,13 +207,13 @@ std::vector<ConfigField> table() {
       model("near_distance", &FastModel::nearDistance).addedLater(0.0f).range(0.0, 1e30)
           .flag("--near", "fast: rays start this far in front of the camera, in the scene's units (default: 5% of the inner cascade's side)")
           .flagPositive(),
-      model("march_steps", &FastModel::marchSteps).addedLater().range(1, 65536)
+      model("march_steps", &FastModel::marchSteps).addedLater().range(1, 65536).zeroIsAuto()
           .flag("--march-steps", "fast: march steps per scene-box diagonal").flagRange(1, 65536)
           .flagApplies([](TrainConfig& c, const ConfigValue& v) {
             FastModel& f = c.fastModel();
             f.marchSteps = f.maxSamplesPerRay = std::get<uint32_t>(v);
           }),
-      model("max_samples_per_ray", &FastModel::maxSamplesPerRay).addedLater().range(1, 65536),
+      model("max_samples_per_ray", &FastModel::maxSamplesPerRay).addedLater().range(1, 65536).zeroIsAuto(),
       fastTop("samples_per_batch", &FastModel::samplesPerBatch).addedLater().range(1, 1u << 28)
           .flag("--samples-per-step", "fast: samples a training step aims for").flagRange(256, 1u << 26),
       fastTop("grid_update_interval", &FastModel::gridUpdateInterval).addedLater().range(1, UINT32_MAX),

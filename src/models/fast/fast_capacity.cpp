@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "nerf/sampling/ray_marcher.h"
 #include "reference/occupancy/view_bounds.h"
 
 namespace vknerf::nerf {
@@ -18,7 +19,19 @@ constexpr uint32_t kMinFinest = 64, kMaxFinest = 4096;
 // distortion loss kept fog out, 512 beat 256 by 0.44 dB at 120 s and 0.35 dB at 300 s, and 1024
 // gained nothing at 120 s.
 constexpr uint32_t kMaxFinestCpu = 512;
-constexpr uint32_t kMinLog2Size = 15, kMaxLog2Size = 19, kMaxLog2SizeCpu = 15;
+// A CPU device's cap was 2^15 while every ray marched 128 steps: no larger table paid in the
+// minutes it trains. With the march step following the footprint (below), 2^17 does on the scenes
+// whose pixels ask for it (docs/performance.md, "The 800x800 detailed object": +0.6 dB there at
+// 256 steps); the sample scene's 40k pixels still ask for 2^15.
+constexpr uint32_t kMinLog2Size = 15, kMaxLog2Size = 19, kMaxLog2SizeCpu = 17;
+// The march step, where the configuration leaves it open: about this many pixel footprints of the
+// typical camera, the power of two nearest it (the estimate is a median: a finer rounding would
+// claim more than it knows), within [128, 1024] (instant-ngp's 1024), [128, 512] on a CPU. Measured
+// at 240 s on the 800x800 detailed object, whose footprint is 1/1024 of the box diagonal: a step
+// of 8 footprints (128 steps) 22.38 dB held-out, 4 (256) 22.90, 2 (512) 22.26; below 128 steps the
+// sample scene (0.9 footprints at 128) lost to 128 (fewer samples, but the surfaces blur).
+constexpr double kFootprintsPerStep = 4.0;
+constexpr uint32_t kMinMarchSteps = 128, kMaxMarchSteps = 1024, kMaxMarchStepsCpu = 512;
 constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen share
 // Where rays start, as a share of the inner cube's side: the same in any units. The vanilla model's
 // fixed 0.05 (kNearPlane) is a hundredth of that cube in a scene of colmap2nerf's units, and a
@@ -76,21 +89,53 @@ std::string resolveNearDistance(FastModel& m, const Aabb& box) {
   return why;
 }
 
-std::string resolveHashGrid(FastModel& m, const Dataset& train, bool cpuDevice) {
-  if (m.hashGrowth != 0 && m.hashLog2Size != 0) return "";
+// The typical camera: the medians over the cameras of their distance to the box centre and of their
+// pixel footprint there, distance / focal (the pixel angle is 1 / focal).
+struct TypicalView {
+  double distance = 0, footprint = 0;
+};
+TypicalView typicalViewOf(const Dataset& train) {
   const Aabb& b = train.bounds;
   std::array<double, 3> centre;
   for (int k = 0; k < 3; ++k) centre[k] = 0.5 * (double(b.min[k]) + b.max[k]);
-  const uint32_t doublings = std::max(m.cascades, 1u) - 1;
-  const double inner = innerCubeOf(m, b);
   std::vector<double> distances, footprints;
   for (const Camera& c : train.cameras) {
     const double dx = c.c2w[3] - centre[0], dy = c.c2w[7] - centre[1], dz = c.c2w[11] - centre[2];
     const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
     distances.push_back(d);
-    footprints.push_back(d / std::sqrt(double(c.fx) * c.fy));  // the pixel angle is 1 / focal
+    footprints.push_back(d / std::sqrt(double(c.fx) * c.fy));
   }
-  const double distance = median(distances), footprint = median(footprints);
+  return {median(distances), median(footprints)};
+}
+
+std::string resolveMarchSteps(FastModel& m, const Dataset& train, bool cpuDevice) {
+  if (m.marchSteps != 0) {
+    if (m.maxSamplesPerRay == 0) m.maxSamplesPerRay = m.marchSteps;
+    return "";
+  }
+  const double diagonal = RayMarcher::diagonal(RayMarcher::innerCube(train.bounds, std::max(m.cascades, 1u)));
+  const double footprint = typicalViewOf(train).footprint;
+  const double wanted = footprint > 0 ? diagonal / (kFootprintsPerStep * footprint) : kMaxMarchSteps;
+  const uint32_t most = cpuDevice ? kMaxMarchStepsCpu : kMaxMarchSteps;
+  m.marchSteps = uint32_t(std::clamp(std::exp2(std::round(std::log2(std::max(wanted, 1.0)))), double(kMinMarchSteps), double(most)));
+  // A ray through the inner cube's diagonal takes every step; the cone steps of the outer cascades
+  // (coneAngle) are fewer than that.
+  if (m.maxSamplesPerRay == 0) m.maxSamplesPerRay = m.marchSteps;
+  char why[240];
+  std::snprintf(why, sizeof why,
+                "march: %u steps per diagonal of the inner cube (%.3g over %.0f pixel footprints of %.3g: %.0f; within %u..%u%s), "
+                "at most %u samples per ray",
+                m.marchSteps, diagonal, kFootprintsPerStep, footprint, wanted, kMinMarchSteps, most, cpuDevice ? " on a CPU" : "",
+                m.maxSamplesPerRay);
+  return why;
+}
+
+std::string resolveHashGrid(FastModel& m, const Dataset& train, bool cpuDevice) {
+  if (m.hashGrowth != 0 && m.hashLog2Size != 0) return "";
+  const Aabb& b = train.bounds;
+  const uint32_t doublings = std::max(m.cascades, 1u) - 1;
+  const double inner = innerCubeOf(m, b);
+  const auto [distance, footprint] = typicalViewOf(train);
   char why[400];
   if (m.hashGrowth == 0) {
     // The finest level resolves the inner cube at two cells per pixel footprint and spans the whole
@@ -134,9 +179,9 @@ std::string resolveHashGrid(FastModel& m, const Dataset& train, bool cpuDevice) 
 
 std::string resolveFastCapacity(FastModel& m, const Dataset& train, bool cpuDevice) {
   std::string note = resolveHashGrid(m, train, cpuDevice);
-  const std::string near = resolveNearDistance(m, train.bounds);
-  if (!note.empty() && !near.empty()) note += '\n';
-  return note + near;
+  for (const std::string& more : {resolveMarchSteps(m, train, cpuDevice), resolveNearDistance(m, train.bounds)})
+    if (!more.empty()) note += (note.empty() ? "" : "\n") + more;
+  return note;
 }
 
 }  // namespace vknerf::nerf

@@ -22,12 +22,6 @@ constexpr float kMinTransmittance = RenderSettings{}.minTransmittance;
 // million samples; 32 rendered fastest (24 needs more rounds, 48 shades more behind the surfaces).
 constexpr uint32_t kFirstSegment = 32;
 
-float diagonal(const Aabb& b) {
-  float s = 0;
-  for (int k = 0; k < 3; ++k) s += (b.max[k] - b.min[k]) * (b.max[k] - b.min[k]);
-  return std::sqrt(s);
-}
-
 // A render may march finer than training did; the per-ray sample cap follows.
 FastModel withOverrides(FastModel m, const RenderSettings& overrides) {
   if (overrides.marchSteps) m.maxSamplesPerRay = std::max(m.maxSamplesPerRay, overrides.marchSteps);
@@ -45,7 +39,7 @@ FastModel checked(FastModel m) {
 // (or dt, for a render asking for coarser steps than that).
 ConeSteps coneStepsFor(const FastModel& m, const Aabb& box, float dt) {
   if (m.cascades <= 1) return {};
-  return {m.coneAngle, std::max(dt, diagonal(box) / float(m.gridResolution))};
+  return {m.coneAngle, std::max(dt, RayMarcher::diagonal(box) / float(m.gridResolution))};
 }
 
 // A capacity that always holds kRayAlign whole rays, so every sub-batch makes progress: twice a
@@ -117,9 +111,9 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       rayCapacity_(std::max(rayCapacity, kRayAlign)),
       sampleCapacity_(sampleCapacityFor(model_, rayCapacity_, training)),
       training_(training),
-      dt_(diagonal(RayMarcher::innerCube(box, model_.cascades)) /
+      dt_(RayMarcher::diagonal(RayMarcher::innerCube(box, model_.cascades)) /
           float(overrides.marchSteps ? overrides.marchSteps : model_.marchSteps)),
-      trainedDt_(diagonal(RayMarcher::innerCube(box, model_.cascades)) / float(model_.marchSteps)),
+      trainedDt_(RayMarcher::diagonal(RayMarcher::innerCube(box, model_.cascades)) / float(model_.marchSteps)),
       cone_(coneStepsFor(model_, box, dt_)),
       hash_(ctx, hashGridConfigFor(model_)),
       sh_(ctx, model_.shDegree),

@@ -47,6 +47,12 @@ Aabb RayMarcher::innerCube(const Aabb& box, uint32_t cascades) {
   return inner;
 }
 
+float RayMarcher::diagonal(const Aabb& b) {
+  float s = 0;
+  for (int k = 0; k < 3; ++k) s += (b.max[k] - b.min[k]) * (b.max[k] - b.min[k]);
+  return std::sqrt(s);
+}
+
 void RayMarcher::record(gpu::Recorder& rec, const RaySpan& raySpan, const OccupancyGrid& grid, const Aabb& box,
                         const MarchSteps& steps, const PackedSamples& out) {
   const uint32_t numRays = raySpan.count, maxSamplesPerRay = steps.maxSamplesPerRay;

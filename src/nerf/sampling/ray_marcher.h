@@ -69,6 +69,8 @@ class RayMarcher {
 
   // The inner cube of a grid of `cascades` over `box`: the box shrunk by 2^(cascades - 1) about its centre.
   static Aabb innerCube(const Aabb& box, uint32_t cascades);
+  // A box's diagonal: the march step is the inner cube's over the march steps.
+  static float diagonal(const Aabb& box);
 
  private:
   uint32_t maxRays_;

@@ -71,11 +71,11 @@ TEST(FastCapacity, TableFollowsTheTrainingPixels) {
   EXPECT_EQ(mid.hashLog2Size, 16u);
 }
 
-// A CPU device: the table at 2^15 and the finest level at 512, whatever the data asks for.
-TEST(FastCapacity, CpuDeviceKeepsTheSmallModel) {
+// A CPU device: the table at most 2^17 and the finest level at most 512, whatever the data asks for.
+TEST(FastCapacity, CpuDeviceCapsTheModel) {
   FastModel m = openModel();
   const std::string note = nerf::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), true);
-  EXPECT_EQ(m.hashLog2Size, 15u);
+  EXPECT_EQ(m.hashLog2Size, 17u);
   EXPECT_NEAR(finestOf(m), 512, 1e-2);
   EXPECT_NE(note.find("at most 512 on a CPU"), std::string::npos) << note;
 }
@@ -111,6 +111,50 @@ TEST(FastCapacity, CascadesKeepTheInnerCubesDetail) {
   cpu.cascades = 3;
   nerf::resolveFastCapacity(cpu, ring(100, 800, 800, 60, 4, 4), true);
   EXPECT_NEAR(finestOf(cpu), 4 * 512, 1e-1);
+}
+
+// The march step, left open: the power of two nearest 4 pixel footprints of the typical camera over
+// the inner cube's diagonal, within 128..1024 (..512 on a CPU), and as many samples per ray at most.
+// A ring at distance sqrt(16.25) around a box of side 2: steps = 2 sqrt(3) focal / (4 distance),
+// ~0.215 focal, with focal = 200 / tan(fov / 2) for 400-pixel photos.
+TEST(FastCapacity, MarchStepFollowsThePixelFootprint) {
+  auto stepsFor = [](float fovX, bool cpu, uint32_t cascades = 1, float boxHalf = 1) {
+    FastModel m = openModel();
+    m.marchSteps = m.maxSamplesPerRay = 0;
+    m.cascades = cascades;
+    const std::string note = nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4, boxHalf), cpu);
+    EXPECT_EQ(m.maxSamplesPerRay, m.marchSteps);
+    EXPECT_NE(note.find("march: " + std::to_string(m.marchSteps) + " steps"), std::string::npos) << note;
+    return m.marchSteps;
+  };
+  auto wanted = [](float fovX) {
+    const double focal = 200 / std::tan(fovX / 2 * M_PI / 180), distance = std::sqrt(16.25);
+    return 2 * std::sqrt(3.0) / (4 * distance / focal);
+  };
+  EXPECT_NEAR(wanted(60), 74.4, 0.1);  // coarse pixels: the floor
+  EXPECT_EQ(stepsFor(60, true), 128u);
+  EXPECT_NEAR(wanted(17.5f), 279, 1);  // 2^8.1: 256, not the next power up
+  EXPECT_EQ(stepsFor(17.5f, true), 256u);
+  EXPECT_NEAR(wanted(13), 377, 1);  // 2^8.56: 512
+  EXPECT_EQ(stepsFor(13, false), 512u);
+  EXPECT_NEAR(wanted(4.6f), 1069, 1);  // the ceiling: 1024 on a GPU, 512 on a CPU
+  EXPECT_EQ(stepsFor(4.6f, false), 1024u);
+  EXPECT_EQ(stepsFor(4.6f, true), 512u);
+  // Cascades: the inner cube's diagonal, whatever the box around it.
+  EXPECT_EQ(stepsFor(17.5f, true, 3, 4), 256u);
+  // What the configuration sets is kept; a cap left open follows the steps.
+  FastModel set = openModel();
+  set.marchSteps = 200;
+  set.maxSamplesPerRay = 0;
+  nerf::resolveFastCapacity(set, ring(4, 400, 400, 4.6f, 4), true);
+  EXPECT_EQ(set.marchSteps, 200u);
+  EXPECT_EQ(set.maxSamplesPerRay, 200u);
+  FastModel capped = openModel();
+  capped.marchSteps = 0;
+  capped.maxSamplesPerRay = 64;
+  nerf::resolveFastCapacity(capped, ring(4, 400, 400, 17.5f, 4), true);
+  EXPECT_EQ(capped.marchSteps, 256u);
+  EXPECT_EQ(capped.maxSamplesPerRay, 64u);
 }
 
 // Rays start 5% of the inner cube's side in front of the camera: the same share in any units (the

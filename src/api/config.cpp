@@ -126,7 +126,8 @@ std::string TrainConfig::describe() const {
        << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
        << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
        << "), near " << (m->nearDistance > 0 ? std::to_string(m->nearDistance) : std::string("auto")) << ", "
-       << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, ~" << m->samplesPerBatch << " samples/step";
+       << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, ~"
+       << m->samplesPerBatch << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss;
     os << ", far field " << farFieldName(m->farField);
   } else {

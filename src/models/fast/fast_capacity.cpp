@@ -109,18 +109,17 @@ TypicalView typicalViewOf(const Dataset& train) {
 }
 
 std::string resolveMarchSteps(FastModel& m, const Dataset& train, bool cpuDevice) {
-  if (m.marchSteps != 0) {
-    if (m.maxSamplesPerRay == 0) m.maxSamplesPerRay = m.marchSteps;
-    return "";
-  }
+  const bool open = m.marchSteps == 0;
   const double diagonal = RayMarcher::diagonal(RayMarcher::innerCube(train.bounds, std::max(m.cascades, 1u)));
   const double footprint = typicalViewOf(train).footprint;
   const double wanted = footprint > 0 ? diagonal / (kFootprintsPerStep * footprint) : kMaxMarchSteps;
   const uint32_t most = cpuDevice ? kMaxMarchStepsCpu : kMaxMarchSteps;
-  m.marchSteps = uint32_t(std::clamp(std::exp2(std::round(std::log2(std::max(wanted, 1.0)))), double(kMinMarchSteps), double(most)));
+  if (open)
+    m.marchSteps = uint32_t(std::clamp(std::exp2(std::round(std::log2(std::max(wanted, 1.0)))), double(kMinMarchSteps), double(most)));
   // A ray through the inner cube's diagonal takes every step; the cone steps of the outer cascades
   // (coneAngle) are fewer than that.
   if (m.maxSamplesPerRay == 0) m.maxSamplesPerRay = m.marchSteps;
+  if (!open) return "";
   char why[240];
   std::snprintf(why, sizeof why,
                 "march: %u steps per diagonal of the inner cube (%.3g over %.0f pixel footprints of %.3g: %.0f; within %u..%u%s), "

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "models/fast/fast_capacity.h"
 #include "vknerf/camera.h"
@@ -143,18 +144,15 @@ TEST(FastCapacity, MarchStepFollowsThePixelFootprint) {
   // Cascades: the inner cube's diagonal, whatever the box around it.
   EXPECT_EQ(stepsFor(17.5f, true, 3, 4), 256u);
   // What the configuration sets is kept; a cap left open follows the steps.
-  FastModel set = openModel();
-  set.marchSteps = 200;
-  set.maxSamplesPerRay = 0;
-  nerf::resolveFastCapacity(set, ring(4, 400, 400, 4.6f, 4), true);
-  EXPECT_EQ(set.marchSteps, 200u);
-  EXPECT_EQ(set.maxSamplesPerRay, 200u);
-  FastModel capped = openModel();
-  capped.marchSteps = 0;
-  capped.maxSamplesPerRay = 64;
-  nerf::resolveFastCapacity(capped, ring(4, 400, 400, 17.5f, 4), true);
-  EXPECT_EQ(capped.marchSteps, 256u);
-  EXPECT_EQ(capped.maxSamplesPerRay, 64u);
+  auto resolved = [](uint32_t marchSteps, uint32_t maxSamplesPerRay, float fovX) {
+    FastModel m = openModel();
+    m.marchSteps = marchSteps;
+    m.maxSamplesPerRay = maxSamplesPerRay;
+    nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4), true);
+    return std::pair{m.marchSteps, m.maxSamplesPerRay};
+  };
+  EXPECT_EQ(resolved(200, 0, 4.6f), std::pair(200u, 200u));
+  EXPECT_EQ(resolved(0, 64, 17.5f), std::pair(256u, 64u));
 }
 
 // Rays start 5% of the inner cube's side in front of the camera: the same share in any units (the

@@ -91,7 +91,9 @@ const char* modelName(const ModelConfig& model);
 struct TrainConfig {
   ModelConfig model = VanillaModel{};
   uint32_t raysPerBatch = 1024;  // vanilla: rays per step; fast: the most rays a step may take
-  float learningRate = 5e-4f, learningRateFinal = 5e-5f;  // exponential decay over `decaySteps`
+  // Exponential decay from learningRate to learningRateFinal over `decaySteps`; the rate holds at
+  // learningRateFinal after them.
+  float learningRate = 5e-4f, learningRateFinal = 5e-5f;
   uint32_t decaySteps = 250000;
   float beta1 = 0.9f, beta2 = 0.999f, epsilon = 1e-7f;
   // Training rays see a random background colour behind the scene (unless a learned far field gives

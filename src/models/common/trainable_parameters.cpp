@@ -9,6 +9,7 @@ AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
   ac.initialLearningRate = config.learningRate * rateScale;
   ac.decayRate = config.learningRateFinal / config.learningRate;
   ac.decaySteps = float(config.decaySteps);
+  ac.decayEndStep = config.decaySteps;
   ac.beta1 = config.beta1;
   ac.beta2 = config.beta2;
   ac.epsilon = config.epsilon;

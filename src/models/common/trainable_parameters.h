@@ -13,7 +13,8 @@
 namespace vknerf::nerf {
 
 // Adam's rates and moments as a training configuration sets them: the learning rate decays
-// exponentially from learningRate to learningRateFinal over decaySteps, times `rateScale`.
+// exponentially from learningRate to learningRateFinal over decaySteps and holds there, times
+// `rateScale`.
 AdamConfig adamConfigOf(const TrainConfig& config, float rateScale = 1.0f);
 
 class TrainableParameters {

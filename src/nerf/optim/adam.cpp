@@ -30,7 +30,8 @@ const AdamConfig& checked(const AdamConfig& c) {
 }  // namespace
 
 float AdamConfig::learningRate(uint32_t step) const {
-  return float(double(initialLearningRate) * std::pow(double(decayRate), double(step) / double(decaySteps)));
+  const uint32_t decayed = std::min(step, decayEndStep);
+  return float(double(initialLearningRate) * std::pow(double(decayRate), double(decayed) / double(decaySteps)));
 }
 
 Adam::Adam(Context& ctx, AdamConfig config)

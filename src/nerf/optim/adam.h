@@ -18,21 +18,25 @@ struct AdamSparsePush;
 namespace vknerf::nerf {
 
 struct AdamConfig {
+  static constexpr uint32_t kNever = UINT32_MAX;
   float initialLearningRate = 5e-4f;
   float beta1 = 0.9f;
   float beta2 = 0.999f;    // 0.99 for hash grids
   float epsilon = 1e-8f;   // 1e-15 for hash grids; must be > 0
   float decayRate = 1.0f;  // lr = initialLearningRate * decayRate^(step / decaySteps); 1: constant
   float decaySteps = 250000.0f;
+  // The rate decays until this step and holds its value there after; kNever: it decays on, as in
+  // NeRF. A training configuration holds at its final rate (adamConfigOf): a run longer than its
+  // decay would otherwise train at a vanishing rate (1e-6 after 4 decays).
+  uint32_t decayEndStep = kNever;
   // Parameters at and past this index (a multiple of 4) whose gradient is exactly 0 keep p, m and v
   // (instant-ngp's skip of the table entries a step did not touch); 0: every one, kNever: none.
   // That part's step costs what the step touched: a pass lists its vec4s with a nonzero gradient,
   // and only those are stepped (shaders/optim/adam_touched.comp, adam_sparse.comp).
-  static constexpr uint32_t kNever = UINT32_MAX;
   uint32_t skipZeroGradientsFrom = kNever;
 
-  // The exponentially decayed learning rate at `step` (continuous in the step, as in NeRF);
-  // learningRate(0) is the initial rate.
+  // The exponentially decayed learning rate at `step` (continuous in the step, as in NeRF, up to
+  // decayEndStep); learningRate(0) is the initial rate.
   float learningRate(uint32_t step) const;
 };
 

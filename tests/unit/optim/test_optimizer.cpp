@@ -7,6 +7,7 @@
 #include "gpu/recorder.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
+#include "models/common/trainable_parameters.h"
 #include "nerf/optim/adam.h"
 #include "reference/optim/adam.h"
 #include "vknerf/error.h"
@@ -103,6 +104,31 @@ TEST(AdamReference, LearningRateDecaySchedule) {
   EXPECT_LT(c.learningRate(1001), c.learningRate(1000));  // continuous, not staircase
   c.decayRate = 1;
   EXPECT_FLOAT_EQ(c.learningRate(123456), 5e-4f);
+}
+
+TEST(AdamReference, LearningRateHoldsAfterTheDecayEnds) {
+  nerf::AdamConfig c;
+  c.initialLearningRate = 1e-2f;
+  c.decayRate = 0.1f;
+  c.decaySteps = 4000;
+  c.decayEndStep = 4000;
+  EXPECT_FLOAT_EQ(c.learningRate(2000), float(ref::decayedLearningRate<double>(1e-2, 0.1, 4000, 2000)));
+  EXPECT_FLOAT_EQ(c.learningRate(4000), 1e-3f);
+  EXPECT_FLOAT_EQ(c.learningRate(16000), 1e-3f);  // without the hold: 1e-6
+  EXPECT_FLOAT_EQ(c.learningRate(UINT32_MAX), 1e-3f);
+
+  // A training configuration ends its decay at its final rate: that is what its fields promise.
+  TrainConfig t;
+  t.learningRate = 2e-3f;
+  t.learningRateFinal = 2e-4f;
+  t.decaySteps = 100;
+  const nerf::AdamConfig a = nerf::adamConfigOf(t);
+  EXPECT_FLOAT_EQ(a.learningRate(100), 2e-4f);
+  EXPECT_FLOAT_EQ(a.learningRate(1000), 2e-4f);
+  EXPECT_GT(a.learningRate(99), a.learningRate(100));
+  // A rising schedule holds at its final rate too.
+  t.learningRateFinal = 4e-3f;
+  EXPECT_FLOAT_EQ(nerf::adamConfigOf(t).learningRate(5000), 4e-3f);
 }
 
 TEST_F(Adam, OneStepMatchesReference) {

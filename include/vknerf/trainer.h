@@ -9,6 +9,7 @@
 //   trainer.save("tabletop.vknerf");
 //   auto view = vknerf::Model::load(ctx, "tabletop.vknerf").render(data.cameras[0]);
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +56,14 @@ class Trainer {
   // One optimisation step over a random batch of rays (recorded into one command buffer).
   StepStats step(bool readLoss = false);
   uint32_t steps() const;
+  // Fits the learning rates' decay to a run of known length: `fraction` is how much of the run is
+  // done (0 at its start, 1 at its end: by steps, or by time for a time budget), and the rates
+  // decay from lr to lr_final over the run, whatever its number of steps. Call it before each step.
+  // Without it (or after std::nullopt) the decay follows the step count over decay_steps. Either
+  // way the rates hold at lr_final once the decay is done.
+  void setRunProgress(std::optional<double> fraction);
+  // The field's learning rate the next step takes (the hash table's is a multiple of it).
+  double learningRate() const;
   const Model& model() const;
   // The training cameras as the model is fitted through them: the dataset's, with their learned
   // corrections applied when the fast model refines cameras (FastModel::refineCameras).

@@ -136,7 +136,8 @@ std::string TrainConfig::describe() const {
        << "/" << v.dirLevels << ", samples " << v.coarseSamples << "+" << v.fineSamples
        << (v.separateFineNetwork ? ", coarse+fine networks" : ", one network") << ", " << raysPerBatch << " rays/step";
   }
-  os << ", Adam lr " << learningRate << " -> " << learningRateFinal << " over " << decaySteps << " steps";
+  // `vknerf train` decays over its run instead (Trainer::setRunProgress); the rate holds after either.
+  os << ", Adam lr " << learningRate << " -> " << learningRateFinal << " over " << decaySteps << " steps or a run";
   return os.str();
 }
 

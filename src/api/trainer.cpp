@@ -12,6 +12,7 @@
 #include "io/checkpoint/checkpoint.h"
 #include "io/checkpoint/checkpoint_record.h"
 #include "io/dataset/memory_fit.h"
+#include "models/common/trainable_parameters.h"
 #include "models/fast/fast_choices.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/loss/pixel_bindings.h"
@@ -38,7 +39,15 @@ struct Trainer::Impl {
   std::unique_ptr<gpu::Recorder> rec;
   std::unique_ptr<Model> model;
   uint32_t step = 0;
+  std::optional<double> runProgress;  // setRunProgress
   std::string capacityNote;
+
+  // Where the rate schedule stands for the next step, in steps (nerf::OptimizerStep).
+  nerf::OptimizerStep nextStep() const {
+    if (!runProgress) return nerf::OptimizerStep::at(step);
+    const double fraction = std::clamp(*runProgress, 0.0, 1.0);
+    return {step, uint32_t(std::lround(fraction * double(config.decaySteps)))};
+  }
 
   // The cameras the checkpoint records: with camera refinement the refined poses, what the model
   // was fitted through, not what the dataset said.
@@ -127,6 +136,13 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
 
 Trainer::~Trainer() = default;
 uint32_t Trainer::steps() const { return impl_->step; }
+
+void Trainer::setRunProgress(std::optional<double> fraction) {
+  if (fraction && !std::isfinite(*fraction)) throw Error("Trainer::setRunProgress: the fraction is not finite");
+  impl_->runProgress = fraction;
+}
+
+double Trainer::learningRate() const { return nerf::adamConfigOf(impl_->config).learningRate(impl_->nextStep().rateStep); }
 std::vector<std::pair<std::string, double>> Trainer::lastStepTimings() const {
   std::vector<std::pair<std::string, double>> all;
   for (const auto& sub : impl_->rec->submissions()) all.insert(all.end(), sub.kernels.begin(), sub.kernels.end());
@@ -147,7 +163,8 @@ StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
   s.rec->startLog();
   s.stepStart = std::chrono::steady_clock::now();
-  const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras, s.transparentPixels}, s.step);
+  const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras, s.transparentPixels},
+                                      s.nextStep());
   const uint32_t R = size.rays;
   ++s.step;
   StepStats st;

@@ -15,6 +15,7 @@
 #include "gpu/memory_account.h"
 #include "gpu/recorder.h"
 #include "nerf/occupancy/occupancy_grid.h"
+#include "nerf/optim/adam.h"
 #include "vknerf/camera.h"
 #include "vknerf/config.h"
 #include "vknerf/model_statistics.h"
@@ -87,15 +88,15 @@ class FieldPipeline {
   // samples the field only there; none for a model that marches everywhere (vanilla).
   virtual std::optional<OccupancyBits> occupancyBits() const { return std::nullopt; }
 
-  // One optimisation step (`step` counts from 0), recorded into `rec`, submitted, waited for. Returns
+  // One optimisation step (`at.step` counts from 0), recorded into `rec`, submitted, waited for. Returns
   // the rays whose loss partials lossPartials() holds and the field evaluations the step made.
   struct StepSize {
     uint32_t rays = 0;
     uint64_t samples = 0;
   };
-  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
+  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
     gpu::MemoryAccount::Scope charge(memory_);
-    return doTrainStep(rec, data, step);
+    return doTrainStep(rec, data, at);
   }
   virtual const gpu::Buffer& lossPartials() const = 0;
   // Before the first step: the training cameras, so that space none of them sees is never modelled
@@ -130,7 +131,7 @@ class FieldPipeline {
 
  private:
   virtual void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) = 0;
-  virtual StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) = 0;
+  virtual StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) = 0;
   virtual ModelStatistics modelStatistics() = 0;
 
   std::shared_ptr<gpu::MemoryAccount> memory_;

@@ -1,6 +1,7 @@
 // The vanilla trainer on the shipped sample scene: steps run, checkpoints resume exactly, a loaded
 // model renders what the trainer's model renders.
 #include <cmath>
+#include <optional>
 
 #include "support/gpu_test.h"
 #include "support/sample_scene.h"
@@ -60,6 +61,51 @@ TEST_F(TrainerTest, ResumeContinuesExactly) {
     auto sa = a.step(true), sb = b.step(true);
     EXPECT_NEAR(sa.loss, sb.loss, 1e-4 * sa.loss) << "step " << sa.step;
   }
+}
+
+TEST_F(TrainerTest, RunProgressSetsTheRateSchedule) {
+  Trainer t(sharedContext(), scene(), tinyConfig());  // 5e-3 -> 5e-4 over 1000 steps
+  EXPECT_FLOAT_EQ(t.learningRate(), 5e-3f);
+  t.setRunProgress(0.5);
+  EXPECT_FLOAT_EQ(t.learningRate(), float(5e-3 * std::sqrt(0.1)));
+  t.setRunProgress(1.0);
+  EXPECT_FLOAT_EQ(t.learningRate(), 5e-4f);
+  t.setRunProgress(3.0);  // past the run's end (a last step that overran its time): held
+  EXPECT_FLOAT_EQ(t.learningRate(), 5e-4f);
+  EXPECT_THROW(t.setRunProgress(std::nan("")), Error);
+  t.setRunProgress(std::nullopt);  // back to the steps over decay_steps
+  for (int i = 0; i < 2; ++i) t.step();
+  EXPECT_FLOAT_EQ(t.learningRate(), float(5e-3 * std::pow(0.1, 2.0 / 1000.0)));
+}
+
+// The rate the progress gives is the one the step applies: Adam's first step moves each parameter
+// by lr * g / (|g| + eps), i.e. by lr wherever |g| >> eps, so a run at its end (lr_final) moves the
+// parameters a tenth as far as a run at its start, from the same initial parameters and batch.
+TEST_F(TrainerTest, RunProgressReachesTheOptimizer) {
+  const test::TempDir tmp("trainer");
+  const auto start = tmp.file("start.vknerf"), end = tmp.file("end.vknerf"), init = tmp.file("init.vknerf");
+  Trainer a(sharedContext(), scene(), tinyConfig()), b(sharedContext(), scene(), tinyConfig());
+  a.save(init);
+  a.step();
+  b.setRunProgress(1.0);
+  b.step();
+  a.save(start);
+  b.save(end);
+  const auto p0 = nerf::Checkpoint::load(init).get<float>("coarse.params");
+  const auto pa = nerf::Checkpoint::load(start).get<float>("coarse.params");
+  const auto pb = nerf::Checkpoint::load(end).get<float>("coarse.params");
+  ASSERT_EQ(pa.size(), p0.size());
+  ASSERT_EQ(pb.size(), p0.size());
+  // Parameters that moved by nearly the whole rate at the start (|g| >> eps, not a rounding of a
+  // float atomic's order away from zero) moved by a tenth of it at the end: lr_final / lr = 0.1.
+  size_t compared = 0;
+  for (size_t i = 0; i < p0.size(); ++i) {
+    const double da = std::abs(double(pa[i]) - p0[i]), db = std::abs(double(pb[i]) - p0[i]);
+    if (da < 0.99 * 5e-3) continue;
+    EXPECT_NEAR(db / da, 0.1, 0.005) << "parameter " << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, p0.size() / 2);
 }
 
 TEST_F(TrainerTest, LoadedModelRendersLikeTrainer) {

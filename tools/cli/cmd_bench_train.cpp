@@ -116,7 +116,10 @@ int run(const Options& o, const Globals& g) {
     for (uint32_t p = 1; p <= o.points; ++p) {
       const double until = o.seconds * p / o.points;
       auto t0 = std::chrono::steady_clock::now();
-      while (trained + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < until) {
+      // The rates decay over the whole budget, as `vknerf train --time` decays them; the earlier
+      // points see them mid-decay.
+      for (double now = trained; now < until; now = trained + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()) {
+        trainer.setRunProgress(now / o.seconds);
         StepStats st = trainer.step(false);
         rays += st.rays, samples += st.samples;
       }

@@ -191,11 +191,26 @@ int train(const Options& o, const Globals& g) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() -
            (ctx->compileStats().seconds - compiledBefore);
   };
+  // How much of the run is done: by steps, by time, or the further of the two when both are given.
+  auto runFraction = [&] {
+    const double s = elapsed(), done = double(trainer.steps() - first);
+    if (o.steps && o.seconds > 0) return std::max(done / o.steps, s / o.seconds);
+    return o.steps ? done / o.steps : s / o.seconds;
+  };
+  // The rates decay over this run's budget. A resumed run keeps the step schedule instead: its
+  // budget is what is left, and a decay restarted over it would throw the rates back up to lr.
+  if (resuming)
+    std::printf("learning rate: %.3g, as the schedule stands at step %u (decay_steps %u, then held)\n",
+                trainer.learningRate(), trainer.steps(), cfg.decaySteps);
+  else
+    std::printf("learning rate: %g -> %g over this run's %s\n", double(cfg.learningRate), double(cfg.learningRateFinal),
+                o.steps && o.seconds > 0 ? "steps or time, whichever ends it" : o.steps ? "steps" : "time");
   StepStats st;
   std::deque<StepProfile> profiles;  // --profile: the last --profile-steps steps'
   double lastPsnr = -1;  // none measured yet: the loss is read every --log-every steps
   while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !stopSignal) {
     bool report = (trainer.steps() + 1) % o.logEvery == 0 || trainer.steps() + 1 == last;
+    if (!resuming) trainer.setRunProgress(runFraction());
     st = trainer.step(report);
     if (o.profile) {
       profiles.push_back(trainer.lastStepProfile());
@@ -204,8 +219,7 @@ int train(const Options& o, const Globals& g) {
     if (st.hasLoss) lastPsnr = st.psnr;
     if (report) {
       double s = elapsed(), done = double(trainer.steps() - first);
-      double rate = done / s, frac = o.steps ? done / o.steps : s / o.seconds;
-      if (o.steps && o.seconds > 0) frac = std::max(done / o.steps, s / o.seconds);
+      double rate = done / s, frac = runFraction();
       double eta = frac > 0 ? s / frac - s : 0;
       char line[256];
       std::snprintf(line, sizeof line, "step %6u  loss %.5f  train PSNR %5.2f dB  %7.0f rays/s  %s elapsed  ETA %s",

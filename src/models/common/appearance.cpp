@@ -43,9 +43,9 @@ void Appearance::recordGradient(gpu::Recorder& rec, const AppearanceGradientInpu
   kernels_.recordGradient(rec, in, numPhotos_, parameters(), {vectors_.grads(), weights_.grads(), photoSums_});
 }
 
-void Appearance::recordOptimizerStep(gpu::Recorder& rec, uint32_t step) {
-  vectors_.recordOptimizerStep(rec, step);
-  weights_.recordOptimizerStep(rec, step);
+void Appearance::recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) {
+  vectors_.recordOptimizerStep(rec, at);
+  weights_.recordOptimizerStep(rec, at);
 }
 
 void Appearance::appendState(std::vector<StateArray>& out) {

@@ -46,7 +46,7 @@ class Appearance {
   RowBias recordRenderBias(gpu::Recorder& rec);
   // The gradients of the vectors and of W_a from a trained batch (before the optimizer step).
   void recordGradient(gpu::Recorder& rec, const AppearanceGradientInputs& in);
-  void recordOptimizerStep(gpu::Recorder& rec, uint32_t step);
+  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at);
   // "appearance.params" (dims floats per photo), "appearance_weights.params" (W_a: dims rows of the
   // colour layer's width) and, when training, Adam's moments.
   void appendState(std::vector<StateArray>& out);

@@ -29,7 +29,7 @@ class CameraRefinement {
   const gpu::Buffer& cameras() const { return corrected_; }
   // The corrections' gradient from a trained batch (before the field's optimizer step).
   void recordGradient(gpu::Recorder& rec, const PoseGradientInputs& in);
-  void recordOptimizerStep(gpu::Recorder& rec, uint32_t step) { corrections_.recordOptimizerStep(rec, step); }
+  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) { corrections_.recordOptimizerStep(rec, at); }
   // "cameras.params" (6 per camera: w, tau) and Adam's moments, for checkpoints.
   void appendState(std::vector<StateArray>& out) { corrections_.appendState(out); }
   // The corrections now, read back.

@@ -92,9 +92,9 @@ void LearnedFarField::recordBackward(gpu::Recorder& rec, uint32_t count, const g
   hash_.recordBackward(rec, {count, directions_, dFeatures_, net_.inputStride(), 0}, table_.grads());
 }
 
-void LearnedFarField::recordOptimizerStep(gpu::Recorder& rec, uint32_t step) {
-  table_.recordOptimizerStep(rec, step);
-  mlp_.recordOptimizerStep(rec, step);
+void LearnedFarField::recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) {
+  table_.recordOptimizerStep(rec, at);
+  mlp_.recordOptimizerStep(rec, at);
 }
 
 void LearnedFarField::appendState(std::vector<StateArray>& out) {

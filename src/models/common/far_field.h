@@ -47,7 +47,7 @@ class LearnedFarField {
   // opacity) and dL/dcolour, into the grads (accumulated until recordOptimizerStep).
   void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& background,
                       const gpu::BufferRange& color, const gpu::BufferRange& dColor);
-  void recordOptimizerStep(gpu::Recorder& rec, uint32_t step);
+  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at);
   // "far_field.table.*", "far_field.mlp.*" (TrainableParameters::appendState).
   void appendState(std::vector<StateArray>& out);
 

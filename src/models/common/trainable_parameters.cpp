@@ -27,9 +27,9 @@ TrainableParameters::TrainableParameters(Context& ctx, std::string name, const s
   adam_.emplace(ctx, *adam);
 }
 
-void TrainableParameters::recordOptimizerStep(gpu::Recorder& rec, uint32_t step) {
+void TrainableParameters::recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) {
   // Adam counts steps from 1 (bias correction); the rate schedule from 0.
-  adam_->record(rec, {uint32_t(count_), params_, grads_, m_, v_}, step + 1, adam_->config().learningRate(step));
+  adam_->record(rec, {uint32_t(count_), params_, grads_, m_, v_}, at.step + 1, adam_->config().learningRate(at.rateStep));
 }
 
 void TrainableParameters::appendState(std::vector<StateArray>& out) {

@@ -27,8 +27,8 @@ class TrainableParameters {
   gpu::Buffer& params() { return params_; }
   gpu::Buffer& grads() { return grads_; }
 
-  // Adam's update for training step `step` (0-based) at the configured rate schedule; zeroes grads.
-  void recordOptimizerStep(gpu::Recorder& rec, uint32_t step);
+  // Adam's update for training step `at` at the configured rate schedule; zeroes grads.
+  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at);
   // "<name>.params" and, when training, "<name>.adam_m" and "<name>.adam_v", for checkpoints.
   void appendState(std::vector<StateArray>& out);
 

@@ -293,8 +293,9 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {kOccupancyDecay, threshold, true});
 }
 
-FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
+FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
   if (!training_) throw Error("fast model: pipeline was not built for training");
+  const uint32_t step = at.step;
   const uint32_t seed = stepSeed(config_, step);
   rec.begin();
   if (model_.gridUpdateInterval && step % model_.gridUpdateInterval == 0 && step > 0) recordOccupancyUpdate(rec, step);
@@ -314,11 +315,11 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   const RaySpan batch = recordTrainingBatch(rec, cameras, seed, raysNext_);
   const CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
   recordTrainingBackward(rec, batch, composite);
-  network_.recordOptimizerStep(rec, step);
-  table_.recordOptimizerStep(rec, step);
-  if (farField_) farField_->recordOptimizerStep(rec, step);
-  if (cameras_) cameras_->recordOptimizerStep(rec, step);
-  if (appearance_) appearance_->recordOptimizerStep(rec, step);
+  network_.recordOptimizerStep(rec, at);
+  table_.recordOptimizerStep(rec, at);
+  if (farField_) farField_->recordOptimizerStep(rec, at);
+  if (cameras_) cameras_->recordOptimizerStep(rec, at);
+  if (appearance_) appearance_->recordOptimizerStep(rec, at);
   rec.end();
   rec.submitAndWait();
   return countTrainingStep();

@@ -68,7 +68,7 @@ class FastPipeline final : public FieldPipeline {
   void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) override;
   void allocateTraining(Context& ctx);
   // A training step, one submission: the occupancy update when due, then the named steps below.
-  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) override;
   // R random training rays marched, the batch cut on the device to the rays that fit the sample capacity whole.
   RaySpan recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R);
   // Field, compositing and photometric loss over the batch; returns what the backward composites again.

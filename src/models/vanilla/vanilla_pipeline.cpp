@@ -101,7 +101,7 @@ void VanillaPipeline::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32
   recordLevel(rec, f, fine(), numRays, training_);
 }
 
-void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, uint32_t step) {
+void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, OptimizerStep at) {
   for (int li = 0; li < 2; ++li) {
     Level& l = levels_[li];
     Network& net = li == 0 ? coarse_ : fine();
@@ -112,8 +112,8 @@ void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const
     net.mlp.recordBackward(rec, f.mlpRows(numRays * l.samplesPerRay), net.parameters.params(),
                            {f.dField, net.parameters.grads()}, *f.workspace);
   }
-  coarse_.parameters.recordOptimizerStep(rec, step);
-  if (fine_) fine_->parameters.recordOptimizerStep(rec, step);
+  coarse_.parameters.recordOptimizerStep(rec, at);
+  if (fine_) fine_->parameters.recordOptimizerStep(rec, at);
 }
 
 void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool) {
@@ -121,14 +121,15 @@ void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, 
   recordForward(rec, view.count, 0, false);
 }
 
-FieldPipeline::StepSize VanillaPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) {
+FieldPipeline::StepSize VanillaPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
   if (!training_) throw Error("vanilla model: pipeline was not built for training");
+  const uint32_t step = at.step;
   const uint32_t R = capacity_;
   const uint32_t seed = stepSeed(config_, step);
   rec.begin();
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   recordForward(rec, R, seed, true);
-  recordBackward(rec, R, data, step);
+  recordBackward(rec, R, data, at);
   rec.end();
   rec.submitAndWait();
   return {R, uint64_t(R) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay)};

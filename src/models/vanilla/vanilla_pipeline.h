@@ -58,7 +58,7 @@ class VanillaPipeline final : public FieldPipeline {
 
  private:
   void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) override;
-  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, uint32_t step) override;
+  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) override;
   ModelStatistics modelStatistics() override;
 
   Network& fine() { return fine_ ? *fine_ : coarse_; }
@@ -70,7 +70,7 @@ class VanillaPipeline final : public FieldPipeline {
   // Encodings and `net` at the first `count` positions and directions of `f`.
   void recordNetwork(gpu::Recorder& rec, FieldBatch& f, Network& net, uint32_t count, bool keep);
   // Loss against the training pixels and backward through both levels; then Adam.
-  void recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, uint32_t step);
+  void recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, OptimizerStep at);
 
   TrainConfig config_;
   VanillaModel model_;

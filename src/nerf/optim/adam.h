@@ -40,6 +40,15 @@ struct AdamConfig {
   float learningRate(uint32_t step) const;
 };
 
+// One optimizer step: Adam's step number (from 0; its bias correction counts it) and where the rate
+// schedule stands, in steps: the step itself, or the run's progress times decay_steps when the
+// decay spans a run's budget (Trainer::setRunProgress).
+struct OptimizerStep {
+  uint32_t step = 0;
+  uint32_t rateStep = 0;
+  static OptimizerStep at(uint32_t step) { return {step, step}; }
+};
+
 // What one Adam step updates, as one value: `count` parameters and their gradients and first and
 // second moments, each a range of `count` floats (offsets multiples of 16 bytes and of the device's
 // storage and texel offset alignments; each buffer extends at least 16 bytes past its offset).

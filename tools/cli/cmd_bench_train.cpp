@@ -116,14 +116,15 @@ int run(const Options& o, const Globals& g) {
     for (uint32_t p = 1; p <= o.points; ++p) {
       const double until = o.seconds * p / o.points;
       auto t0 = std::chrono::steady_clock::now();
+      auto now = [&] { return trained + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
       // The rates decay over the whole budget, as `vknerf train --time` decays them; the earlier
       // points see them mid-decay.
-      for (double now = trained; now < until; now = trained + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()) {
-        trainer.setRunProgress(now / o.seconds);
+      for (double t = trained; t < until; t = now()) {
+        trainer.setRunProgress(t / o.seconds);
         StepStats st = trainer.step(false);
         rays += st.rays, samples += st.samples;
       }
-      trained += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      trained = now();
       const bool last = p == o.points;
       if (trainer.steps() == lastSteps && !last) continue;  // one slow step spanned this point
       Score s = evaluate([&](const Camera& c) { return trainer.model().render(c); }, test,

@@ -24,7 +24,7 @@ degrees elevation, evenly spaced in azimuth. Training draws within 5 degrees of 
 camera). The object does not depend on --seed; the cameras and the Cycles noise do.
 
 Run by Blender, not by python3, as a module of this package (need_blender.sh's blender_module):
-    tools/scenes/make_detail_object.sh OUT [--size 800] [--train 100] [--test 200] [--samples 16] [--seed 7]
+    tools/scenes/make_detail_object.sh OUT [--size 800] [--train 100] [--test 200] [--test-stride 1] [--samples 16] [--seed 7]
 which renders and then runs check_scene. Writes OUT/transforms_{train,test}.json (camera_angle_x, aabb,
 frames of ./train/r_<i> and 4x4 transform_matrix) and OUT/train/r_<i>.png, OUT/test/r_<i>.png (RGBA).
 """
@@ -58,10 +58,16 @@ def parse_args():
     p.add_argument("--size", type=int, default=800, help="image width = height in pixels")
     p.add_argument("--train", type=int, default=100)
     p.add_argument("--test", type=int, default=200)
+    p.add_argument("--test-stride", type=int, default=1,
+                   help="render every k-th test view only (the held-out subset a benchmark uses); the training "
+                        "cameras stay those drawn around all --test views")
     p.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (no denoiser)")
     p.add_argument("--seed", type=int, default=7, help="camera positions and Cycles noise")
     p.add_argument("--threads", type=int, default=2)
-    return p.parse_args(argv)
+    args = p.parse_args(argv)
+    if args.test_stride < 1:
+        p.error(f"--test-stride must be >= 1, got {args.test_stride}")
+    return args
 
 
 # ---------------------------------------------------------------- materials
@@ -536,8 +542,8 @@ def main():
     train = parts.camera_positions(random.Random(args.seed), args.train, RADIUS, avoid=test,
                                    z_min=0.0, z_max=TRAIN_Z_MAX)
     parts.render_split(cam, args.out, "train", train, aabb)
-    parts.render_split(cam, args.out, "test", test, aabb)
-    print(f"make_detail_object: wrote {args.train} train + {args.test} test views to {args.out}, "
+    parts.render_split(cam, args.out, "test", test[::args.test_stride], aabb)
+    print(f"make_detail_object: wrote {args.train} train + {len(test[::args.test_stride])} test views to {args.out}, "
           f"aabb {aabb}, farthest point {far:.3f}")
 
 

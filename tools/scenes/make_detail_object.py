@@ -542,8 +542,9 @@ def main():
     train = parts.camera_positions(random.Random(args.seed), args.train, RADIUS, avoid=test,
                                    z_min=0.0, z_max=TRAIN_Z_MAX)
     parts.render_split(cam, args.out, "train", train, aabb)
-    parts.render_split(cam, args.out, "test", test[::args.test_stride], aabb)
-    print(f"make_detail_object: wrote {args.train} train + {len(test[::args.test_stride])} test views to {args.out}, "
+    rendered_test = test[::args.test_stride]
+    parts.render_split(cam, args.out, "test", rendered_test, aabb)
+    print(f"make_detail_object: wrote {args.train} train + {len(rendered_test)} test views to {args.out}, "
           f"aabb {aabb}, farthest point {far:.3f}")
 
 

@@ -59,7 +59,7 @@ struct FastModel {
   uint32_t maxSamplesPerRay = 512;
 
   // Training
-  uint32_t samplesPerBatch = 1u << 16;   // rays per step adapt to march about this many samples
+  uint32_t samplesPerBatch = 1u << 16;   // rays per step adapt to march about this many samples; 0: from the march steps (a Trainer sets it)
   uint32_t gridUpdateInterval = 16;      // steps between occupancy updates
   uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
   float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's

@@ -101,7 +101,8 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     // 0.001 that capture trains as without it, and the real captures gain (docs/real_captures.md).
     m.distortionLoss = 0.001f;
     c.raysPerBatch = 1u << 14;
-    m.samplesPerBatch = 1u << 14;
+    // 2^14 samples a step at 128 march steps, more at finer steps (0: src/models/fast/fast_capacity.h).
+    m.samplesPerBatch = 0;
     c.decaySteps = 4000;
     m.gridUpdateInterval = 16;
     m.gridWarmupSteps = 64;
@@ -126,8 +127,8 @@ std::string TrainConfig::describe() const {
        << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
        << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
        << "), near " << (m->nearDistance > 0 ? std::to_string(m->nearDistance) : std::string("auto")) << ", "
-       << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, ~"
-       << m->samplesPerBatch << " samples/step";
+       << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, "
+       << (m->samplesPerBatch ? "~" + std::to_string(m->samplesPerBatch) : std::string("auto")) << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss;
     os << ", far field " << farFieldName(m->farField);
   } else {

@@ -214,8 +214,8 @@ std::vector<ConfigField> table() {
             f.marchSteps = f.maxSamplesPerRay = std::get<uint32_t>(v);
           }),
       model("max_samples_per_ray", &FastModel::maxSamplesPerRay).addedLater().range(1, 65536).zeroIsAuto(),
-      fastTop("samples_per_batch", &FastModel::samplesPerBatch).addedLater().range(1, 1u << 28)
-          .flag("--samples-per-step", "fast: samples a training step aims for").flagRange(256, 1u << 26),
+      fastTop("samples_per_batch", &FastModel::samplesPerBatch).addedLater().range(1, 1u << 28).zeroIsAuto()
+          .flag("--samples-per-step", "fast: samples a training step aims for (default on a CPU: from the march steps)").flagRange(256, 1u << 26),
       fastTop("grid_update_interval", &FastModel::gridUpdateInterval).addedLater().range(1, UINT32_MAX),
       fastTop("grid_warmup_steps", &FastModel::gridWarmupSteps).addedLater(),
       fastTop("hash_lr_scale", &FastModel::hashLearningRateScale).addedLater().range(0.0, 1e6).openLow(),

@@ -32,6 +32,13 @@ constexpr uint32_t kMinLog2Size = 15, kMaxLog2Size = 19, kMaxLog2SizeCpu = 17;
 // sample scene (0.9 footprints at 128) lost to 128 (fewer samples, but the surfaces blur).
 constexpr double kFootprintsPerStep = 4.0;
 constexpr uint32_t kMinMarchSteps = 128, kMaxMarchSteps = 1024, kMaxMarchStepsCpu = 512;
+// A step's samples, where the configuration leaves them open (a CPU device's default): 2^14 at 128
+// march steps per diagonal, and in proportion to the steps beyond, so that a finer march, whose rays
+// each march more samples, keeps a step's rays. At 128 steps 2^14 beat 2^15 and 2^16 on the sample
+// scene and 2^13 and 2^15 on the distorted capture (docs/unbounded.md); at 256 steps, on the 800x800
+// object at 600 s, 2^15 beat 2^14 on every held-out view (docs/performance.md, "Samples per step at
+// 800x800").
+constexpr uint32_t kSamplesPerStepAtMinMarch = 1u << 14;
 constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen share
 // Where rays start, as a share of the inner cube's side: the same in any units. The vanilla model's
 // fixed 0.05 (kNearPlane) is a hundredth of that cube in a scene of colmap2nerf's units, and a
@@ -129,6 +136,16 @@ std::string resolveMarchSteps(FastModel& m, const Dataset& train, bool cpuDevice
   return why;
 }
 
+std::string resolveSamplesPerStep(FastModel& m) {
+  if (m.samplesPerBatch != 0) return "";
+  const uint32_t ratio = std::max(1u, m.marchSteps / kMinMarchSteps);
+  m.samplesPerBatch = kSamplesPerStepAtMinMarch * ratio;
+  char why[160];
+  std::snprintf(why, sizeof why, "training step: about %u marched samples (%u at %u march steps, times %u for %u steps)",
+                m.samplesPerBatch, kSamplesPerStepAtMinMarch, kMinMarchSteps, ratio, m.marchSteps);
+  return why;
+}
+
 std::string resolveHashGrid(FastModel& m, const Dataset& train, bool cpuDevice) {
   if (m.hashGrowth != 0 && m.hashLog2Size != 0) return "";
   const Aabb& b = train.bounds;
@@ -178,7 +195,8 @@ std::string resolveHashGrid(FastModel& m, const Dataset& train, bool cpuDevice) 
 
 std::string resolveFastCapacity(FastModel& m, const Dataset& train, bool cpuDevice) {
   std::string note = resolveHashGrid(m, train, cpuDevice);
-  for (const std::string& more : {resolveMarchSteps(m, train, cpuDevice), resolveNearDistance(m, train.bounds)})
+  for (const std::string& more :
+       {resolveMarchSteps(m, train, cpuDevice), resolveSamplesPerStep(m), resolveNearDistance(m, train.bounds)})
     if (!more.empty()) note += (note.empty() ? "" : "\n") + more;
   return note;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The fast model's capacity from the training data, where its configuration leaves it open
-// (FastModel::hashLog2Size, hashGrowth, marchSteps, maxSamplesPerRay or nearDistance 0; a value
+// (FastModel::hashLog2Size, hashGrowth, marchSteps, maxSamplesPerRay, samplesPerBatch or nearDistance 0; a value
 // set explicitly is kept):
 //   - finest hash-grid resolution: two cells (Nyquist) per pixel footprint at the typical camera
 //     distance over the inner cascade's side, N = 2 * inner / (distance / focal), the medians over
@@ -13,6 +13,8 @@
 //   - the march step (FastModel::marchSteps): about 4 pixel footprints, the inner cascade's diagonal
 //     over 4 x distance / focal, the power of two nearest it, within [128, 1024], [128, 512] on a
 //     CPU; at most as many samples per ray (maxSamplesPerRay), where that is open too.
+//   - a training step's samples (FastModel::samplesPerBatch): 2^14 at 128 march steps, in proportion
+//     to the march steps beyond, so that a step's rays stay the same with a finer march.
 //   - where rays start (FastModel::nearDistance): 5% of the inner cascade's side, so that it means
 //     the same in any units.
 //   - table entries per level: a parameter per training pixel at most, 2^T <= pixels / (levels x

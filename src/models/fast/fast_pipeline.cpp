@@ -29,8 +29,10 @@ FastModel withOverrides(FastModel m, const RenderSettings& overrides) {
 }
 
 // One cascade unless the configuration asks for more (0, "from the dataset", is resolved by the trainer).
-FastModel checked(FastModel m) {
+FastModel checked(FastModel m, bool training) {
   if (m.marchSteps == 0 || m.maxSamplesPerRay == 0) throw Error("fast model: march steps and samples per ray must be > 0");
+  if (training && m.samplesPerBatch == 0)
+    throw Error("fast model: the samples per training step are left to the dataset (0); a Trainer sets them");
   m.cascades = std::max(m.cascades, 1u);
   return m;
 }
@@ -106,7 +108,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                            bool training, const RenderSettings& overrides)
     : ctx_(ctx),
       config_(config),
-      model_(withOverrides(checked(config.fastModel()), overrides)),
+      model_(withOverrides(checked(config.fastModel(), training), overrides)),
       box_(box),
       rayCapacity_(std::max(rayCapacity, kRayAlign)),
       sampleCapacity_(sampleCapacityFor(model_, rayCapacity_, training)),

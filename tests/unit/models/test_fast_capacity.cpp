@@ -173,3 +173,23 @@ TEST(FastCapacity, NearDistanceFollowsTheInnerCube) {
   nerf::resolveFastCapacity(set, ring(8, 100, 100, 60, 4), true);
   EXPECT_EQ(set.nearDistance, 0.3f);
 }
+
+// A step's samples, left open: 2^14 at 128 march steps and in proportion to finer marches (the
+// march steps resolved first, from the footprint, or as configured); a set value is kept.
+TEST(FastCapacity, SamplesPerStepFollowTheMarchSteps) {
+  auto samplesFor = [](uint32_t marchSteps, float fovX, uint32_t samplesPerBatch = 0) {
+    FastModel m = openModel();
+    m.marchSteps = marchSteps;
+    m.maxSamplesPerRay = 0;
+    m.samplesPerBatch = samplesPerBatch;
+    const std::string note = nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4), true);
+    if (samplesPerBatch == 0)
+      EXPECT_NE(note.find("about " + std::to_string(m.samplesPerBatch) + " marched samples"), std::string::npos) << note;
+    return std::pair{m.marchSteps, m.samplesPerBatch};
+  };
+  EXPECT_EQ(samplesFor(0, 60), std::pair(128u, 1u << 14));     // coarse pixels: 128 steps
+  EXPECT_EQ(samplesFor(0, 17.5f), std::pair(256u, 1u << 15));  // 256 steps: twice the samples
+  EXPECT_EQ(samplesFor(0, 4.6f), std::pair(512u, 1u << 16));   // the CPU's finest march
+  EXPECT_EQ(samplesFor(100, 60), std::pair(100u, 1u << 14));   // under 128 steps: the floor
+  EXPECT_EQ(samplesFor(0, 17.5f, 5000), std::pair(256u, 5000u));
+}

@@ -35,9 +35,10 @@ constexpr uint32_t kMinMarchSteps = 128, kMaxMarchSteps = 1024, kMaxMarchStepsCp
 // A step's samples, where the configuration leaves them open (a CPU device's default): 2^14 at 128
 // march steps per diagonal, and in proportion to the steps beyond, so that a finer march, whose rays
 // each march more samples, keeps a step's rays. At 128 steps 2^14 beat 2^15 and 2^16 on the sample
-// scene and 2^13 and 2^15 on the distorted capture (docs/unbounded.md); at 256 steps, on the 800x800
-// object at 600 s, 2^15 beat 2^14 on every held-out view (docs/performance.md, "Samples per step at
-// 800x800").
+// scene, and 2^15 lost 0.85 and 0.68 dB on the two real captures at 300 s (the distorted unbounded
+// capture's 0.25 dB gain from 2^15 at 120 s was within its spread, docs/unbounded.md); at 256 steps,
+// on the 800x800 object at 600 s, 2^15 beat 2^14 on every held-out view and 2^16 lost to both
+// (docs/performance.md, "Samples per step: in proportion to the march steps").
 constexpr uint32_t kSamplesPerStepAtMinMarch = 1u << 14;
 constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen share
 // Where rays start, as a share of the inner cube's side: the same in any units. The vanilla model's

@@ -8,7 +8,9 @@
 // an imageLoad at per-lane coordinates is a vectorised gather, where an SSBO load is a scalar loop
 // over the lanes (shared/LAVAPIPE.md). An entry of F = 2 is half a texel, F = 1 a quarter.
 #include "encoding/hash_grid.glsl"
-#define ROW_LIMIT_BINDING 3
+#define ROW_GATHER_BINDING 3
+#include "gpu/row_gather.glsl"  // with pc.gather, invocation i encodes row rowGather[i]
+#define ROW_LIMIT_BINDING 4
 #include "gpu/row_limit.glsl"
 
 layout(local_size_x = 64) in;
@@ -28,8 +30,9 @@ layout(std430, binding = 2) writeonly buffer Features { vec4 features[]; };
 #include "encoding/encode_hash_shared.h"
 
 void main() {
-  uint row = gl_GlobalInvocationID.x;
-  if (row >= limitedRows(pc.count, pc.limitBase)) return;
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= limitedRows(pc.count, pc.limitBase)) return;
+  uint row = gatheredRow(i, pc.gather);
   vec3 p = imageLoad(positions, int(row)).xyz;
   uint dst = row * pc.strideVec4 + pc.offsetVec4;
   for (uint g = 0u; g < GROUPS; ++g) {

@@ -10,6 +10,7 @@ PUSH_CONSTANTS_BEGIN(HashPush)
   uint denseMask;    // bit l: level l is densely indexed
   UVEC4_ARRAY(res, 6);  // resolution of level l at res[l / 4][l % 4] (C++: res[l])
   uint limitBase;    // row_limit.glsl
+  uint gather;       // row_gather.glsl (the forward; the backward leaves it 0)
 PUSH_CONSTANTS_END
 PUSH_CONSTANTS_OFFSET(HashPush, res, 16)
 

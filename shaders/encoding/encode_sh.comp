@@ -13,12 +13,15 @@ const uint OUT_VEC4 = (OUT_DIMS + 3u) / 4u;
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer directions;
 layout(std430, binding = 1) writeonly buffer Features { vec4 features[]; };
-#define ROW_LIMIT_BINDING 2
+#define ROW_GATHER_BINDING 2
+#include "gpu/row_gather.glsl"  // with pc.gather, invocation i encodes row rowGather[i]
+#define ROW_LIMIT_BINDING 3
 #include "gpu/row_limit.glsl"
 
 void main() {
-  uint row = gl_GlobalInvocationID.x;
-  if (row >= limitedRows(pc.count, pc.limitBase)) return;
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= limitedRows(pc.count, pc.limitBase)) return;
+  uint row = gatheredRow(i, pc.gather);
   vec3 d = imageLoad(directions, int(row)).xyz;
   float x = d.x, y = d.y, z = d.z;
   float xy = x * y, xz = x * z, yz = y * z, x2 = x * x, y2 = y * y, z2 = z * z;

@@ -13,6 +13,7 @@ PUSH_CONSTANTS_BEGIN(ShPush)
   uint strideVec4;
   uint offsetVec4;
   uint limitBase;  // row_limit.glsl
+  uint gather;     // row_gather.glsl
 PUSH_CONSTANTS_END
 
 #endif

@@ -44,12 +44,13 @@
 // X[r][0 .. K4) = row min(row0 + r G, count - 1) of the rgba32f texel buffer IMG (stride4 vec4s a
 // row): rows past `count` read the last row, so every lane computes and only the stores are masked.
 #define DENSE_LOAD_ROWS(X, IMG, K4, stride4, row0, G, count)                                      \
-  [[unroll]] for (uint r_ = 0; r_ < R; r_++) {                                                   \
-    uint row_ = min((row0) + r_ * (G), (count) - 1u);                                            \
-    [[unroll]] for (uint q_ = 0; q_ < (K4) / 4u; q_++) {                                         \
-      vec4 v_ = imageLoad(IMG, int(row_ * (stride4) + q_));                                      \
-      X[r_][4u * q_] = v_.x; X[r_][4u * q_ + 1u] = v_.y; X[r_][4u * q_ + 2u] = v_.z; X[r_][4u * q_ + 3u] = v_.w; \
-    }                                                                                            \
+  [[unroll]] for (uint r_ = 0; r_ < R; r_++) DENSE_LOAD_ROW(X, r_, IMG, K4, stride4, min((row0) + r_ * (G), (count) - 1u))
+
+// X[r][0 .. K4) = row `row` of IMG (stride4 vec4s a row).
+#define DENSE_LOAD_ROW(X, r, IMG, K4, stride4, row)                                              \
+  [[unroll]] for (uint q_ = 0; q_ < (K4) / 4u; q_++) {                                           \
+    vec4 v_ = imageLoad(IMG, int((row) * (stride4) + q_));                                       \
+    X[r][4u * q_] = v_.x; X[r][4u * q_ + 1u] = v_.y; X[r][4u * q_ + 2u] = v_.z; X[r][4u * q_ + 3u] = v_.w; \
   }
 
 // Invocation i owns rows i, i + G, ..., i + (R - 1) G of a dispatch of G invocations. Under a device

@@ -9,7 +9,8 @@
 // columns stays dynamic: unrolling it as well (every weight coordinate a constant) measured no faster
 // once 4 columns are summed per accumulator update (DENSE_K4), and it cost ~9 s of JIT per 64x64
 // layer. A tail of 4-wide blocks covers N4 % NB. Rows past `count` read the last row and store
-// nothing.
+// nothing. With pc.gather, row i of the batch is row rowGather[i] of A, B, Y and the row bias (a
+// training forward over the samples in front of early termination, src/nerf/sampling/segment_rows.h).
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
@@ -23,7 +24,9 @@ layout(std430, binding = 3) writeonly buffer Y { vec4 y4[]; };
 #include "network/dense_block.glsl"  // after R and P
 #define ROW_BIAS_BINDING 4
 #include "network/row_bias.glsl"
-#define ROW_LIMIT_BINDING 7
+#define ROW_GATHER_BINDING 7
+#include "gpu/row_gather.glsl"
+#define ROW_LIMIT_BINDING 8
 #include "gpu/row_limit.glsl"
 
 const uint NMAIN = N4 - N4 % NB;
@@ -42,7 +45,7 @@ const uint NMAIN = N4 - N4 % NB;
           if (ROW_BIAS != ROW_BIAS_NONE) z += rowBias(biasRow[r], col / 4u, N4);                   \
           vec4 v = mlpActivate(ACT, z);                                                            \
           if (col + 4u > NTRUE) v = mix(vec4(0.0), v, lessThan(uvec4(col) + uvec4(0, 1, 2, 3), uvec4(NTRUE))); \
-          y4[row * pc.strideY4 + col / 4u] = v;                                                    \
+          y4[rows[r] * pc.strideY4 + col / 4u] = v;                                                \
         }                                                                                          \
     }                                                                                              \
   }
@@ -54,11 +57,13 @@ void main() {
   if (row0 >= G) return;
   float xa[R][KA4];
   float xb[R][KB4 > 0u ? KB4 : 1u];
-  DENSE_LOAD_ROWS(xa, A, KA4, pc.strideA4, row0, G, count)
-  DENSE_LOAD_ROWS(xb, B, KB4, pc.strideB4, row0, G, count)
-  uint biasRow[R];
-  [[unroll]] for (uint r = 0; r < R; r++)
-    biasRow[r] = ROW_BIAS != ROW_BIAS_NONE ? rowBiasRow(min(row0 + r * G, count - 1u)) : 0u;
+  uint rows[R], biasRow[R];
+  [[unroll]] for (uint r = 0; r < R; r++) {
+    rows[r] = gatheredRow(min(row0 + r * G, count - 1u), pc.gather);
+    DENSE_LOAD_ROW(xa, r, A, KA4, pc.strideA4, rows[r])
+    DENSE_LOAD_ROW(xb, r, B, KB4, pc.strideB4, rows[r])
+    biasRow[r] = ROW_BIAS != ROW_BIAS_NONE ? rowBiasRow(rows[r]) : 0u;
+  }
   [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
   [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
 }

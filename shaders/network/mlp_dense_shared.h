@@ -21,6 +21,7 @@ PUSH_CONSTANTS_BEGIN(MlpDensePush)
   uint count;
   uint strideA4, strideB4, strideY4;  // row strides in vec4
   uint limitBase;                     // row_limit.glsl
+  uint gather;                        // row_gather.glsl
 PUSH_CONSTANTS_END
 
 #endif

@@ -12,14 +12,16 @@ layout(binding = 0, rgba32f) uniform readonly imageBuffer C;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer F;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer P;
 layout(std430, binding = 3) writeonly buffer Out { vec4 out4[]; };
-#define ROW_LIMIT_BINDING 4
+#define ROW_GATHER_BINDING 4
+#include "gpu/row_gather.glsl"  // with pc.gather, row i of the batch is row rowGather[i] of C, F and Out
+#define ROW_LIMIT_BINDING 5
 #include "gpu/row_limit.glsl"
 
 void main() {
   uint row = gl_GlobalInvocationID.x;
   uint count = limitedRows(pc.count, pc.limitBase);
   if (count == 0u) return;
-  uint rc = min(row, count - 1u);
+  uint rc = gatheredRow(min(row, count - 1u), pc.gather);
   vec4 acc = imageLoad(P, int(WOFF4 + K4));  // bias
   [[unroll]] for (uint q = 0; q < K4 / 4u; q++) {
     vec4 c = imageLoad(C, int(rc * pc.strideC4 + q));
@@ -27,5 +29,5 @@ void main() {
            c.z * imageLoad(P, int(WOFF4 + 4u * q + 2u)) + c.w * imageLoad(P, int(WOFF4 + 4u * q + 3u));
   }
   float sigmaPre = imageLoad(F, int(rc * pc.strideF4 + SIGMA_COL / 4u)).x;
-  if (row < count) out4[row * pc.strideOut4] = vec4(mlpSigmoid(acc).xyz, mlpDensity(DENSITY, sigmaPre));
+  if (row < count) out4[rc * pc.strideOut4] = vec4(mlpSigmoid(acc).xyz, mlpDensity(DENSITY, sigmaPre));
 }

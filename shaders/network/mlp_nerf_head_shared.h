@@ -16,6 +16,7 @@ PUSH_CONSTANTS_BEGIN(MlpHeadPush)
   uint count;
   uint strideC4, strideF4, strideOut4;
   uint limitBase;  // row_limit.glsl
+  uint gather;     // row_gather.glsl
 PUSH_CONSTANTS_END
 
 #endif

@@ -185,4 +185,11 @@ void requireBytes(const char* stage, const char* what, const BufferRange& r, uin
                 std::to_string(needed));
 }
 
+void requireGatherInOneChunk(const char* stage, const BufferRange& gather, uint32_t count, uint32_t chunkRows) {
+  if (count > chunkRows)
+    throw Error(std::string(stage) + ": a batch read through a row index of " + std::to_string(count) +
+                " rows does not fit one chunk of " + std::to_string(chunkRows));
+  requireBytes(stage, "row index", gather, uint64_t(count) * 4);
+}
+
 }  // namespace vknerf::gpu

@@ -127,4 +127,9 @@ inline BufferRange rowsOf(const BufferRange& matrix, VkDeviceSize rowBytes, uint
 // Throws vknerf::Error "<stage>: <what> buffer holds N bytes, needs M" when the range is too small.
 void requireBytes(const char* stage, const char* what, const BufferRange& r, uint64_t needed);
 
+// A batch read through a row index (shaders/gpu/row_gather.glsl) indexes the whole batch, so it is
+// dispatched as one chunk: throws when `count` rows exceed `chunkRows` or the index holds fewer than
+// `count` uints.
+void requireGatherInOneChunk(const char* stage, const BufferRange& gather, uint32_t count, uint32_t chunkRows);
+
 }  // namespace vknerf::gpu

@@ -32,6 +32,7 @@
 #include "nerf/sampling/kept_rows.h"
 #include "nerf/sampling/packed_points.h"
 #include "nerf/sampling/ray_marcher.h"
+#include "nerf/sampling/segment_rows.h"
 #include "vknerf/config.h"
 
 namespace vknerf::nerf {
@@ -95,8 +96,13 @@ class FastPipeline final : public FieldPipeline {
   // Field at marched_'s samples of `rays` (the block last marched): points, encodings, MLP, recorded
   // for the sample capacity and cut on the device to the march's total (shaders/gpu/row_limit.glsl);
   // `keep` keeps the activations for backward (training: each sample sees its own photo's
-  // appearance vector, when the model has them; a render sees the render's vector).
+  // appearance vector, when the model has them; a render sees the render's vector). With early
+  // termination a training forward runs in segments, over the samples the compositor will read.
   void recordField(gpu::Recorder& rec, const RaySpan& rays, bool keep);
+  // The encodings and the MLP over marched_'s rows below `limit` (a uint on the device), or over
+  // the rows `gather` lists (a training forward's segment, SegmentRows).
+  void recordFieldRows(gpu::Recorder& rec, const gpu::BufferRange& limit, const std::optional<gpu::BufferRange>& gather,
+                       const std::optional<RowBias>& colourBias, bool keep);
   // The bias the appearance embedding adds to the colour layer of the MLP's rows: each sample its
   // ray's photo's (training) or the render's one vector's; none without an embedding.
   std::optional<RowBias> recordAppearance(gpu::Recorder& rec, bool training);
@@ -139,6 +145,8 @@ class FastPipeline final : public FieldPipeline {
   // else over every marched sample, with a zero gradient behind each ray's cut.
   std::optional<KeptRows> kept_;
   bool gatherBackward_ = false;
+  // With it, the training forward runs in segments over the rows the compositor reads (SegmentRows).
+  std::optional<SegmentRows> segmentRows_;
   // per sample
   Packed marched_;
   FieldBatch field_;

@@ -61,7 +61,7 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
       mode_(mode),
       forward_(ctx, {gpu::shaders::encode_hash,
                      {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
-                      gpu::Binding::Storage},
+                      gpu::Binding::Storage, gpu::Binding::Storage},
                      sizeof(Push), gridSpec(config)}),
       limited_(ctx),
       limitedBackward_(ctx),
@@ -155,12 +155,17 @@ void HashEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows, co
   if (params.offset % ctx_.properties().limits.minTexelBufferOffsetAlignment)
     throw Error("HashEncoding::recordForward: parameter offset " + std::to_string(params.offset) +
                 " is not a multiple of minTexelBufferOffsetAlignment");
+  const gpu::BufferRange* gather = rows.rowGather ? &*rows.rowGather : nullptr;
   forChunks(rows, params, "recordForward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& out, Push p, uint32_t groups, uint32_t c,
                 uint32_t chunkRows) {
-              if (c == 0) limited_.begin(rec, rowLimit, rows.count, chunkRows, {kLocal});
-              gpu::dispatchLimited(rec, forward_, {in, exactly(params), out}, p, limited_.rows(c, 0), groups,
-                                   "encode_hash");
+              if (c == 0) {
+                if (gather) gpu::requireGatherInOneChunk("HashEncoding::recordForward", *gather, rows.count, chunkRows);
+                limited_.begin(rec, rowLimit, rows.count, chunkRows, {kLocal});
+              }
+              p.gather = gather ? 1u : 0u;
+              gpu::dispatchLimited(rec, forward_, {in, exactly(params), out, gather ? *gather : out}, p,
+                                   limited_.rows(c, 0), groups, "encode_hash");
             });
 }
 

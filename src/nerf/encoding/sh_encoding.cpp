@@ -21,7 +21,8 @@ uint32_t checkedDegree(uint32_t degree) {
 ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
     : ctx_(ctx),
       degree_(checkedDegree(degree)),
-      kernel_(ctx, {gpu::shaders::encode_sh, {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push),
+      kernel_(ctx, {gpu::shaders::encode_sh, {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                    sizeof(Push),
                     {{glsl::ShSpec::DEGREE, degree}}}),
       limited_(ctx) {}
 
@@ -43,11 +44,14 @@ void ShEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows) {
   // Matrices beyond one binding are encoded in chunks of rows bound at their own offsets (the
   // directions are read as one texel per row).
   const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes, 1));
+  const gpu::BufferRange* gather = rows.rowGather ? &*rows.rowGather : nullptr;
+  if (gather) gpu::requireGatherInOneChunk("ShEncoding", *gather, count, chunk);
   limited_.begin(rec, rowLimit, count, chunk, {kLocal});
   gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {
-    gpu::dispatchLimited(rec, kernel_, {gpu::rowsOf(directions, 16, first, n), gpu::rowsOf(features, rowBytes, first, n)},
-                         Push{n, stride / 4, columnOffset / 4, 0}, limited_.rows(c, 0), gpu::groupsFor(n, kLocal),
-                         "encode_sh");
+    const gpu::BufferRange out = gpu::rowsOf(features, rowBytes, first, n);
+    gpu::dispatchLimited(rec, kernel_, {gpu::rowsOf(directions, 16, first, n), out, gather ? *gather : out},
+                         Push{n, stride / 4, columnOffset / 4, 0, gather ? 1u : 0u}, limited_.rows(c, 0),
+                         gpu::groupsFor(n, kLocal), "encode_sh");
   });
 }
 

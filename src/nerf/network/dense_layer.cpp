@@ -110,7 +110,7 @@ void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const 
     uint32_t act = uint32_t(s.act);
     std::vector<gpu::Binding> bindings(3, gpu::Binding::TexelRgba32f);
     bindings.insert(bindings.end(), {gpu::Binding::Storage, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
-                                     gpu::Binding::Storage, gpu::Binding::Storage});
+                                     gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage});
     kernel = forward_.try_emplace(mode,
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_dense, bindings,
                               sizeof(RowPush),
@@ -128,8 +128,10 @@ void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const 
   if (rowBias) gpu::requireBytes("MLP", "the bias table", rowBias->table, uint64_t(s.n4()) * 4);
   const Mat& bb = s.kb ? b : a;
   const auto bias = rowBiasBindings(rowBias, params);
-  gpu::dispatchLimited(rec, kernel->second, {a.range, bb.range, params, y.range, bias[0], bias[1], bias[2]},
-                       RowPush{count, a.stride / 4, bb.stride / 4, y.stride / 4, 0}, rows.limited,
+  const gpu::BufferRange* gather = rows.gather ? &*rows.gather : nullptr;
+  gpu::dispatchLimited(rec, kernel->second,
+                       {a.range, bb.range, params, y.range, bias[0], bias[1], bias[2], gather ? *gather : y.range},
+                       RowPush{count, a.stride / 4, bb.stride / 4, y.stride / 4, 0, gather ? 1u : 0u}, rows.limited,
                        gpu::groupsFor(count, rowsPerGroup()), rows.label);
 }
 

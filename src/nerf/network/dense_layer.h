@@ -101,7 +101,8 @@ class DenseLayer {
   const ref::DenseShape& shape() const { return shape_; }
 
   // y[rows][n4] = act(concat(a, b) W + bias (+ rowBias)); columns >= n are stored as 0. `b` is ignored
-  // when kb == 0. rows.limited: arguments recorded for rowsPerGroup() rows per workgroup; no gather.
+  // when kb == 0. rows.limited: arguments recorded for rowsPerGroup() rows per workgroup; rows.gather:
+  // row i is row gather[i] of a, b, y and the row bias.
   void recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
                      const Mat& b, const Mat& y, const RowBias* rowBias = nullptr);
   uint32_t rowsPerGroup() const { return t_.local * t_.rows; }

@@ -113,16 +113,20 @@ void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu:
   if (rowLimit && gpu::boundBytes(*rowLimit) < 4) throw Error("NeRF MLP: row limit binding holds no uint");
   if (keep && keep->capacity_ < count)
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
-  if (fusedForward(keep != nullptr)) return recordFusedForward(rec, rows, params, keep);
+  const gpu::BufferRange* rowGather = rows.rowGather ? &*rows.rowGather : nullptr;
+  // The fused kernel has no row index: a gathered forward goes layer by layer.
+  if (!rowGather && fusedForward(keep != nullptr)) return recordFusedForward(rec, rows, params, keep);
   Workspace& ws = keep ? *keep : inferenceScratch();
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
   const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, ws.capacity_);
+  if (rowGather && !keep) throw Error("NeRF MLP: a forward read through a row index keeps its activations");
+  if (rowGather) gpu::requireGatherInOneChunk("NeRF MLP forward", *rowGather, count, chunk);
   if (!head_) {
     const auto& h = shape_.head();
     head_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head,
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
-                               gpu::Binding::Storage, gpu::Binding::Storage},
+                               gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                               sizeof(HeadPush),
                               {{HeadSpec::LOCAL_SIZE_X, kHeadLocal},
                                {HeadSpec::K4, h.ka4()},
@@ -138,13 +142,15 @@ void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu:
     Mat o = Mat{out, 4}.rows(first, n);
     const gpu::LimitedRows L = limited_.rows(c, 0), head = limited_.rows(c, 1);
     Mat F = Mat{ws.f_, V + 4}.rows(row, n), C = Mat{ws.c_, W / 2}.rows(row, n);
-    const LayerRows layerRows{n, L};
+    LayerRows layerRows{n, L};
+    if (rowGather) layerRows.gather = *rowGather;  // one chunk: the gathered rows index the whole batch
     const Mat h = recordTrunk(rec, layerRows, params, p, ws, row);
     layers_[D].recordForward(rec, layerRows.as("nerf feature+sigma"), params, h, h, F);
     const std::optional<RowBias> bias = rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
     layers_[D + 1].recordForward(rec, layerRows.as("nerf colour"), params, F, d, C, bias ? &*bias : nullptr);
-    gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range}, HeadPush{n, C.stride / 4, F.stride / 4, 1, 0},
-                         head, gpu::groupsFor(n, kHeadLocal), "nerf head");
+    gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range, rowGather ? *rowGather : o.range},
+                         HeadPush{n, C.stride / 4, F.stride / 4, 1, 0, rowGather ? 1u : 0u}, head,
+                         gpu::groupsFor(n, kHeadLocal), "nerf head");
   });
 }
 
@@ -282,10 +288,7 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
                                {HeadBackwardSpec::DENSITY, uint32_t(config_.density)}}});
   }
   const uint32_t chunk = std::min(chunkRows_, ws.scratchRows_);
-  if (rowGather && count > chunk)
-    throw Error("NeRF MLP: a gathered backward of " + std::to_string(count) + " rows does not fit one chunk of " +
-                std::to_string(chunk));
-  if (rowGather) gpu::requireBytes("NeRF MLP backward", "rowGather", *rowGather, uint64_t(count) * 4);
+  if (rowGather) gpu::requireGatherInOneChunk("NeRF MLP backward", *rowGather, count, chunk);
   // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
   limitedBackward_.begin(rec, rowLimit, count, chunk, {layers_[0].dxRowsPerGroup(), kHeadLocal});
   gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t c) {

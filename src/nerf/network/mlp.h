@@ -46,6 +46,9 @@ struct NerfRows {
   gpu::BufferRange pos, dir, out;
   std::optional<gpu::BufferRange> rowLimit;
   std::optional<RowBias> colourBias;
+  // The forward alone, with kept activations, in one chunk: row i of the batch is row rowGather[i]
+  // of pos, dir, out, the activations and the colour bias (a uint per row); the other rows are left.
+  std::optional<gpu::BufferRange> rowGather;
 };
 
 // What a NeRF MLP's backward reads and writes besides the forward's rows: dOut (vec4 per row), the

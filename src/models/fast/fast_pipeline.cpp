@@ -24,11 +24,12 @@ constexpr float kMinTransmittance = RenderSettings{}.minTransmittance;
 constexpr uint32_t kFirstSegment = 32;
 
 // A training forward's segments (SegmentRows): each ray's first 4 samples, then samples [4, 8),
-// [8, 16) and the rest of the rays still short of their cut. Late in training a ray of the 800x800
-// object marches about 11 samples and keeps about 3. Resumed at step 5254 and timed over 100 steps,
-// its step took 104 ms with one forward over every sample and 92-94 ms with these segments; 2, 4, 8,
-// 16 and 3, 6, 12, 24 timed the same within the noise, and one cut at 4 or 8 less (docs/performance.md).
+// [8, 16) and the rest, of the rays still short of their cut; used once the last step kept at most
+// half of its marched samples. Measured on the 800x800 object (docs/performance.md, "The training
+// forward in segments"): late in training a ray marches about 11 samples and keeps about 3, and a
+// step takes 10% less time; early, when rays keep 90% of theirs, segments cost 4% more.
 constexpr std::array<uint32_t, 5> kTrainingSegments{0, 4, 8, 16, UINT32_MAX};
+constexpr double kSegmentsBelowKept = 0.5;
 
 // A render may march finer than training did; the per-ray sample cap follows.
 FastModel withOverrides(FastModel m, const RenderSettings& overrides) {
@@ -155,7 +156,8 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       wholeRays_(gpu::Buffer::zeros(ctx, 16)),
       segments_(ctx, rayCapacity_),
       renderMinTransmittance_(overrides.minTransmittance),
-      raysNext_(std::min(rayCapacity_, 1024u)) {
+      raysNext_(std::min(rayCapacity_, 1024u)),
+      segmentsBelowKept_(kSegmentsBelowKept) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
   // Checked against the photos when they are known (a model without the embedding: makeFieldPipeline).
   renderPhoto_ = overrides.appearancePhoto;
@@ -203,8 +205,11 @@ void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool kee
   const PackedSamples batch = marched_.view();
   points_.record(rec, count, rays.range, batch, box_, {f.positions, f.directions});
   const std::optional<RowBias> colourBias = recordAppearance(rec, keep);
-  if (!keep || !segmentRows_) return recordFieldRows(rec, batch.total(), std::nullopt, colourBias, keep);
-  // A training step, in segments: the field runs over the rows the compositor will read.
+  // A training step runs in segments, the field over the rows the compositor will read, once the
+  // last step kept few of its marched samples; while rays keep most of theirs (early in training),
+  // segments would only add dispatches.
+  if (!keep || !segmentRows_ || lastKeptFraction_ > segmentsBelowKept_)
+    return recordFieldRows(rec, batch.total(), std::nullopt, colourBias, keep);
   const float maxDepth = Compositor::maxOpticalDepth(kMinTransmittance);
   for (size_t s = 0; s + 1 < kTrainingSegments.size(); ++s) {
     segmentRows_->record(rec, rays.count, batch, gpu::BufferRange(f.field), maxDepth, kTrainingSegments[s],
@@ -471,6 +476,7 @@ FieldPipeline::StepSize FastPipeline::countTrainingStep() {
   // Next step: as many rays as this step's marched samples per ray say fit the sample budget.
   const double samplesPerRay = rays ? std::max(1.0, double(marchedCount) / rays) : 1.0;
   lastSamplesPerRay_ = rays ? double(marchedCount) / rays : 0.0;
+  lastKeptFraction_ = marchedCount ? double(samples) / marchedCount : 1.0;
   raysNext_ = uint32_t(std::clamp(double(model_.samplesPerBatch) / samplesPerRay, double(kRayAlign), double(rayCapacity_)));
   return {rays, samples};
 }

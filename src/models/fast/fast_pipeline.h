@@ -58,6 +58,9 @@ class FastPipeline final : public FieldPipeline {
   void recordQuery(gpu::Recorder& rec, uint32_t count) override { recordFieldAt(rec, field_, count); }
 
   float marchStep() const { return dt_; }
+  // A training step runs its forward in segments once the last step kept at most this fraction of
+  // its marched samples (default kSegmentsBelowKept; 1: always, below 0: never).
+  void segmentTrainingBelowKept(double fraction) { segmentsBelowKept_ = fraction; }
   OccupancyGrid& occupancy() { return grid_; }
   std::optional<OccupancyBits> occupancyBits() const override { return grid_.hostBits(); }
   // Samples a render has shaded (and composited) since the pipeline was built: with segments, the
@@ -162,6 +165,8 @@ class FastPipeline final : public FieldPipeline {
 
   uint32_t raysNext_;  // adaptive ray count of the next training step
   double lastSamplesPerRay_ = 0;
+  double lastKeptFraction_ = 1;  // of the last step's marched samples, those in front of the cut
+  double segmentsBelowKept_;
   uint32_t lastRays_ = 0, lastSamples_ = 0;
 };
 

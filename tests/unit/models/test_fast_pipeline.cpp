@@ -11,6 +11,7 @@
 #include "support/temp_dir.h"
 #include "models/fast/fast_pipeline.h"
 #include "support/held_out.h"
+#include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
@@ -204,6 +205,61 @@ TEST_F(FastPipelineTest, ARenderStopsEachRayWhereItIsOpaque) {
   // Recorded: the same first segment, in which every ray ends; only the roundings of the last
   // kernels' chunking may differ.
   expectSameImage(renderBlock(opaque, cam, count, false), segmented, 1e-6);
+}
+
+// A training step whose forward runs in segments (SegmentRows: the field over the rows the
+// compositor will read) composites exactly what one forward over every marched sample does: each
+// row it reads is computed by the same kernels with the same inputs, so the batch's colours, the
+// samples kept and the loss partials are equal bit for bit. The field is made dense enough (every
+// MLP parameter 0.3) that a ray keeps about 19 of its 64 samples: rays end in the later segments
+// too, and most rows are skipped.
+TEST_F(FastPipelineTest, ATrainingStepInSegmentsCompositesWhatOneForwardDoes) {
+  const Dataset& train = scene("train");
+  TrainConfig cfg = smallFast();
+  cfg.fastModel().marchSteps = 256;
+  cfg.fastModel().maxSamplesPerRay = 256;
+  cfg.fastModel().gridWarmupSteps = 0;
+  Context& ctx = test::context();
+  std::vector<uint64_t> pixelCounts;
+  for (const auto& cam : train.cameras) pixelCounts.push_back(uint64_t(cam.width) * cam.height);
+  nerf::TrainingPixels pixels(ctx, nerf::planPixelBindings(pixelCounts, nerf::pixelBytesPerBinding(ctx)));
+  for (uint32_t i = 0; i < train.images.size(); ++i) pixels.upload(i, train.images[i].rgba.data());
+  auto cameras = gpu::Buffer::of(ctx, nerf::packCameras(train.cameras, pixels.layout().images));
+  const nerf::TrainingData data{pixels.bindings(), &cameras, uint32_t(train.cameras.size()), true};
+  struct Step {
+    nerf::FieldPipeline::StepSize size;
+    std::vector<float> color, partials;
+    double samplesPerRay;
+  };
+  auto step = [&](double segmentsBelowKept) {
+    nerf::FastPipeline pipe(ctx, cfg, train.bounds, cfg.raysPerBatch, true);
+    pipe.segmentTrainingBelowKept(segmentsBelowKept);
+    pipe.setTrainingCameras(data.numCameras);
+    setNetworkParameters(pipe, 0.3f);
+    gpu::Recorder rec(ctx);
+    Step s;
+    s.size = pipe.trainStep(rec, data, nerf::OptimizerStep::at(0));
+    s.color = pipe.color().download<float>(size_t(s.size.rays) * 4);
+    s.partials = pipe.lossPartials().download<float>();
+    s.samplesPerRay = pipe.statistics().samplesPerRay;
+    return s;
+  };
+  const Step segmented = step(1.0), whole = step(-1.0);
+  ASSERT_GT(whole.size.rays, 0u);
+  const double marched = whole.samplesPerRay * whole.size.rays, kept = double(whole.size.samples);
+  std::printf("%u rays, %.1f samples a ray marched, %.1f kept\n", whole.size.rays, whole.samplesPerRay,
+              kept / whole.size.rays);
+  EXPECT_LT(kept, 0.5 * marched) << "the field is not dense enough: no row is skipped";
+  EXPECT_GT(kept, 4.0 * whole.size.rays) << "the rays end in the first segment: the later ones are not exercised";
+  EXPECT_EQ(segmented.size.rays, whole.size.rays);
+  EXPECT_EQ(segmented.size.samples, whole.size.samples);
+  EXPECT_EQ(segmented.samplesPerRay, whole.samplesPerRay);
+  ASSERT_EQ(segmented.color.size(), whole.color.size());
+  for (size_t i = 0; i < whole.color.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(whole.color[i])) << "colour float " << i;
+    ASSERT_EQ(segmented.color[i], whole.color[i]) << "colour float " << i;
+  }
+  EXPECT_EQ(segmented.partials, whole.partials);
 }
 
 TEST_F(FastPipelineTest, RenderSettingsOutOfRangeAreErrors) {

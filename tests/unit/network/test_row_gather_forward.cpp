@@ -18,6 +18,7 @@
 #include "nerf/network/mlp.h"
 #include "support/gpu_test.h"
 #include "support/random_values.h"
+#include "support/row_batches.h"
 #include "support/submit_once.h"
 #include "vknerf/error.h"
 
@@ -108,13 +109,7 @@ TEST_F(RowGatherForward, HashEncoding) {
 
 TEST_F(RowGatherForward, ShEncoding) {
   nerf::ShEncoding enc(ctx(), 4);
-  auto dirs = uniformFloats(4 * size_t(kRows), 3);
-  for (uint32_t r = 0; r < kRows; ++r) {
-    float* d = &dirs[4 * size_t(r)];
-    const float n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int k = 0; k < 3; ++k) d[k] /= n;
-  }
-  auto in = gpu::Buffer::of(ctx(), dirs);
+  auto in = gpu::Buffer::of(ctx(), test::unitDirections(kRows, 3));
   expectGathered(ctx(), 16, [&](gpu::Recorder& rec, const gpu::BufferRange& out, Gather g) {
     nerf::EncodedRows rows{kRows, in, out, 16, 0};
     if (g.limit) rows.rowLimit = *g.limit;
@@ -123,17 +118,12 @@ TEST_F(RowGatherForward, ShEncoding) {
   });
 }
 
-// The fast model's shape (one hidden layer, 16 features, trunc-exp density) and a deeper one with a
-// skip layer (two-input dense layers), activations kept as in training. The tuning keeps a training
+// The fast model's network and a deeper one with a skip layer, activations kept as in training. The tuning keeps a training
 // forward layer by layer (the fused kernel has no row index), so both runs use the same kernels.
 TEST_F(RowGatherForward, NerfMlpWithKeptActivations) {
-  std::vector<nerf::MlpConfig> configs(2);
-  configs[0].depth = 1, configs[0].width = 64, configs[0].skipLayer = 0, configs[0].posDims = 16, configs[0].dirDims = 16;
-  configs[0].density = DensityActivation::TruncExp, configs[0].featureWidth = 16;
-  configs[1].depth = 3, configs[1].width = 32, configs[1].skipLayer = 2, configs[1].posDims = 21, configs[1].dirDims = 9;
   nerf::MlpTuning tuning;
   tuning.fused = 1;  // inference fused, training layered
-  for (const auto& cfg : configs) {
+  for (const auto& cfg : test::fastAndDeepNetworks()) {
     SCOPED_TRACE(testing::Message() << "depth " << cfg.depth);
     nerf::NerfMlp mlp(ctx(), cfg, tuning);
     nerf::NerfMlp::Workspace ws(ctx(), mlp, kRows);

@@ -16,6 +16,7 @@
 #include "gpu/recorder.h"
 #include "support/gpu_test.h"
 #include "support/random_values.h"
+#include "support/row_batches.h"
 #include "support/submit_once.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
@@ -83,13 +84,7 @@ TEST_F(RowLimit, HashEncodingForward) {
 
 TEST_F(RowLimit, ShEncoding) {
   nerf::ShEncoding enc(ctx(), 4);
-  auto dirs = uniformFloats(4 * size_t(kRows), 3);
-  for (uint32_t r = 0; r < kRows; ++r) {
-    float* d = &dirs[4 * size_t(r)];
-    const float n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int k = 0; k < 3; ++k) d[k] /= n;
-  }
-  auto in = gpu::Buffer::of(ctx(), dirs);
+  auto in = gpu::Buffer::of(ctx(), test::unitDirections(kRows, 3));
   expectLimited(ctx(), 16,
                 [&](gpu::Recorder& rec, const gpu::BufferRange& out, const gpu::BufferRange* limit) {
                   nerf::EncodedRows rows{kRows, in, out, 16, 0};
@@ -103,11 +98,7 @@ TEST_F(RowLimit, ShEncoding) {
 // with and without a workspace, for the fast model's shape (one hidden layer, 16 features, trunc-exp
 // density: the fused kernel) and a deeper one with a skip layer (two-input dense layers, layer by layer).
 TEST_F(RowLimit, NerfMlpForwardInChunks) {
-  std::vector<nerf::MlpConfig> configs(2);
-  configs[0].depth = 1, configs[0].width = 64, configs[0].skipLayer = 0, configs[0].posDims = 16, configs[0].dirDims = 16;
-  configs[0].density = DensityActivation::TruncExp, configs[0].featureWidth = 16;
-  configs[1].depth = 3, configs[1].width = 32, configs[1].skipLayer = 2, configs[1].posDims = 21, configs[1].dirDims = 9;
-  for (const auto& cfg : configs) {
+  for (const auto& cfg : test::fastAndDeepNetworks()) {
     for (bool keep : {false, true}) {
       SCOPED_TRACE(testing::Message() << "depth " << cfg.depth << (keep ? ", with a workspace" : ", inference"));
       nerf::NerfMlp mlp(ctx(), cfg);

@@ -17,6 +17,7 @@
 #include "nerf/network/mlp.h"
 #include "support/gpu_test.h"
 #include "support/random_values.h"
+#include "support/row_batches.h"
 #include "support/submit_once.h"
 #include "vknerf/error.h"
 
@@ -42,13 +43,7 @@ void expectNearSums(const std::vector<float>& got, const std::vector<float>& wan
 }
 
 // The fast model's network (one 64-wide layer, a 16-wide feature) and a deeper one with a skip layer.
-std::vector<nerf::MlpConfig> fastAndDeepNetworks() {
-  std::vector<nerf::MlpConfig> c(2);
-  c[0].depth = 1, c[0].width = 64, c[0].skipLayer = 0, c[0].posDims = 16, c[0].dirDims = 16, c[0].featureWidth = 16;
-  c[0].density = DensityActivation::TruncExp;
-  c[1].depth = 3, c[1].width = 32, c[1].skipLayer = 2, c[1].posDims = 21, c[1].dirDims = 9;
-  return c;
-}
+using test::fastAndDeepNetworks;
 
 }  // namespace
 

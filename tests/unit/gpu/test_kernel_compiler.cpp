@@ -79,7 +79,8 @@ TEST_F(KernelCompilerTest, EachVariantCompilesOnceBeforeItsSubmission) {
   // Degree 3, which no model uses: compiled by this test alone. Directions in a buffer of a
   // power-of-two size (16 texels) and in one of another size (17 texels): two variants.
   gpu::Kernel sh(ctx(), {gpu::shaders::encode_sh,
-                         {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage},
+                         {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage,
+                          gpu::Binding::Storage},
                          sizeof(ShPush),
                          {{glsl::ShSpec::DEGREE, 3}}});
   const std::vector<float> dirs = {0.6f, 0.0f, 0.8f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f};  // two unit directions
@@ -87,19 +88,20 @@ TEST_F(KernelCompilerTest, EachVariantCompilesOnceBeforeItsSubmission) {
   std::copy(dirs.begin(), dirs.end(), pow2.begin());
   std::copy(dirs.begin(), dirs.end(), other.begin());
   auto dirsPow2 = gpu::Buffer::of(ctx(), pow2), dirsOther = gpu::Buffer::of(ctx(), other);
-  auto limit = gpu::Buffer::zeros(ctx(), 16);
+  auto limit = gpu::Buffer::zeros(ctx(), 16), noGather = gpu::Buffer::zeros(ctx(), 16);
   gpu::Buffer outPow2(ctx(), 2 * 3 * 16), outOther(ctx(), 2 * 3 * 16);  // 9 coefficients: 3 vec4 per row
-  const ShPush push{2, 3, 0, 0xffffffffu};
+  const ShPush push{2, 3, 0, 0xffffffffu, 0};
 
   const CompileStats before = ctx().compileStats();
   gpu::Recorder rec(ctx());
   auto record = [&] {
     rec.begin();
-    rec.dispatch(sh, {dirsPow2, outPow2, limit}, push, 1);
-    rec.dispatch(sh, {dirsOther, outOther, limit}, push, 1);
+    rec.dispatch(sh, {dirsPow2, outPow2, noGather, limit}, push, 1);
+    rec.dispatch(sh, {dirsOther, outOther, noGather, limit}, push, 1);
     rec.end();
   };
-  const std::vector<gpu::BufferRange> withPow2{dirsPow2, outPow2, limit}, withOther{dirsOther, outOther, limit};
+  const std::vector<gpu::BufferRange> withPow2{dirsPow2, outPow2, noGather, limit},
+      withOther{dirsOther, outOther, noGather, limit};
   EXPECT_TRUE(compiler.cold(sh, withPow2));
   EXPECT_TRUE(compiler.cold(sh, withOther));
   record();  // starts both compiles

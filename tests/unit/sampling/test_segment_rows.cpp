@@ -86,7 +86,8 @@ TEST_F(SegmentRowsTest, ListsTheRowsTheCompositorReadsSegmentBySegment) {
     auto field = gpu::Buffer::of(ctx(), b.field);
     const nerf::PackedSamples packed{offsets, samples, offsets, offsets};
     std::vector<uint32_t> listedOnce;
-    for (auto [from, to] : {std::pair{0u, 4u}, {4u, 8u}, {8u, 16u}, {16u, UINT32_MAX}, {3u, 5u}}) {
+    for (const auto& segment : {std::pair{0u, 4u}, {4u, 8u}, {8u, 16u}, {16u, UINT32_MAX}, {3u, 5u}}) {
+      const uint32_t from = segment.first, to = segment.second;  // plain names: a lambda captures them
       SCOPED_TRACE(testing::Message() << "segment [" << from << ", " << to << ")");
       test::submitOnce(ctx(), [&](gpu::Recorder& rec) { segments.record(rec, rays, packed, field, maxDepth, from, to); });
       const uint32_t count = segments.count().buffer->download<uint32_t>(1)[0];

@@ -16,9 +16,18 @@ AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
   return ac;
 }
 
+std::vector<ParameterRange> usedPartsOf(const HashEncoding& hash) {
+  std::vector<ParameterRange> parts;
+  for (const ref::TableRun& r : ref::hashGridUsedRuns(hash.config())) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
+  return parts;
+}
+
 TrainableParameters::TrainableParameters(Context& ctx, std::string name, const std::vector<float>& initial,
-                                         const std::optional<AdamConfig>& adam)
-    : name_(std::move(name)), count_(initial.size()), params_(gpu::Buffer::of(ctx, initial, "the trainable parameters")) {
+                                         const std::optional<AdamConfig>& adam, std::vector<ParameterRange> stepped)
+    : name_(std::move(name)),
+      count_(initial.size()),
+      params_(gpu::Buffer::of(ctx, initial, "the trainable parameters")),
+      stepped_(std::move(stepped)) {
   if (!adam) return;
   const VkDeviceSize bytes = count_ * sizeof(float);
   grads_ = gpu::Buffer::zeros(ctx, bytes, "the parameter gradients");
@@ -29,7 +38,7 @@ TrainableParameters::TrainableParameters(Context& ctx, std::string name, const s
 
 void TrainableParameters::recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) {
   // Adam counts steps from 1 (bias correction); the rate schedule from 0.
-  adam_->record(rec, {uint32_t(count_), params_, grads_, m_, v_}, at.step + 1, adam_->config().learningRate(at.rateStep));
+  adam_->record(rec, {uint32_t(count_), params_, grads_, m_, v_, stepped_}, at.step + 1, adam_->config().learningRate(at.rateStep));
 }
 
 void TrainableParameters::appendState(std::vector<StateArray>& out) {

@@ -8,6 +8,7 @@
 #include "gpu/buffer.h"
 #include "gpu/recorder.h"
 #include "models/field_pipeline.h"
+#include "nerf/encoding/hash_encoding.h"
 #include "nerf/optim/adam.h"
 
 namespace vknerf::nerf {
@@ -17,11 +18,17 @@ namespace vknerf::nerf {
 // `rateScale`.
 AdamConfig adamConfigOf(const TrainConfig& config, float rateScale = 1.0f);
 
+// The parts of a hash table that a lookup can reach (ref::hashGridUsedRuns), as
+// TrainableParameters' `stepped`: Adam's dense step would otherwise run over the unused end of each
+// dense level's slot too (2^17 entries a level on the 800x800 object: 27% of the table).
+std::vector<ParameterRange> usedPartsOf(const HashEncoding& hash);
+
 class TrainableParameters {
  public:
-  // Without `adam`: parameters only (inference). Gradients and moments start at zero.
+  // Without `adam`: parameters only (inference). Gradients and moments start at zero. `stepped`:
+  // the parts Adam steps (AdamState::stepped; empty: all), where the rest is never given a gradient.
   TrainableParameters(Context& ctx, std::string name, const std::vector<float>& initial,
-                      const std::optional<AdamConfig>& adam);
+                      const std::optional<AdamConfig>& adam, std::vector<ParameterRange> stepped = {});
 
   size_t count() const { return count_; }
   gpu::Buffer& params() { return params_; }
@@ -37,6 +44,7 @@ class TrainableParameters {
   size_t count_;
   gpu::Buffer params_, grads_, m_, v_;
   std::optional<Adam> adam_;
+  std::vector<ParameterRange> stepped_;
 };
 
 }  // namespace vknerf::nerf

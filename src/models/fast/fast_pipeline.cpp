@@ -139,7 +139,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
                           .featureWidth = model_.featureWidth},
            mlpTuningFor(ctx, training)),
       table_(ctx, "encoding", hash_.initialParameters(config.seed),
-             training ? std::optional(fieldTableAdamOf(config, hashGridConfigFor(model_))) : std::nullopt),
+             training ? std::optional(fieldTableAdamOf(config, hashGridConfigFor(model_))) : std::nullopt, usedPartsOf(hash_)),
       network_(ctx, "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),
       grid_(ctx, model_.gridResolution, model_.cascades),
       // The per-photo gradients (camera refinement, appearance) are summed over each photo's run of rays.

@@ -6,13 +6,14 @@
 #include <cstdint>
 
 #include <memory>
+#include <vector>
 
 #include "gpu/kernel.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
 
 namespace vknerf::glsl {
-struct AdamSparsePush;
+struct AdamPush;
 }
 
 namespace vknerf::nerf {
@@ -49,12 +50,23 @@ struct OptimizerStep {
   static OptimizerStep at(uint32_t step) { return {step, step}; }
 };
 
+// A part of a parameter set that a step updates: floats [first, first + count), first a multiple of 4.
+struct ParameterRange {
+  uint32_t first = 0, count = 0;
+};
+
 // What one Adam step updates, as one value: `count` parameters and their gradients and first and
 // second moments, each a range of `count` floats (offsets multiples of 16 bytes and of the device's
 // storage and texel offset alignments; each buffer extends at least 16 bytes past its offset).
+// `stepped`: the parts stepped, in order and apart, each start's byte offset a multiple of those
+// alignments (empty: all). A parameter outside them keeps p, m, v and its gradient, so it is for
+// parameters no backward ever writes: a hash table's dense levels leave the end of their slot
+// unused (HashEncoding::usedRanges), and a step over it would cost the dense step as much as a used
+// part.
 struct AdamState {
   uint32_t count = 0;
   gpu::BufferRange params, grads, m, v;
+  std::vector<ParameterRange> stepped;
 };
 
 class Adam {
@@ -65,9 +77,15 @@ class Adam {
   void record(gpu::Recorder& rec, const AdamState& state, uint32_t step, float lr);
 
  private:
-  // The vec4s [first4, full4) of `state`, those with a nonzero gradient alone.
-  void recordSparse(gpu::Recorder& rec, const AdamState& state, uint32_t first4, uint32_t full4,
-                    glsl::AdamSparsePush push);
+  // The dense step over one part and its leftovers; returns the vec4s [first4, end4) of `whole`
+  // past skipZeroGradientsFrom, which the touched list steps.
+  struct SparseSpan {
+    uint32_t first4 = 0, end4 = 0;
+  };
+  SparseSpan recordDense(gpu::Recorder& rec, const AdamState& whole, const ParameterRange& part, const glsl::AdamPush& base);
+  // The listed vec4s of `spans`, those with a nonzero gradient alone.
+  void recordSparse(gpu::Recorder& rec, const AdamState& whole, const std::vector<SparseSpan>& spans,
+                    const glsl::AdamPush& base);
 
   Context& ctx_;
   AdamConfig config_;

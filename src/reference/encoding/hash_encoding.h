@@ -47,6 +47,27 @@ inline size_t hashGridParameterCount(const HashGridConfig& c) {
   return size_t(c.levels) * (size_t(1) << c.log2TableSize) * c.featuresPerLevel;
 }
 
+// The part of the table a lookup can reach, as runs of floats [first, first + count) in order: a
+// dense level's (res_l + 1)^3 entries at the start of its slot, a hashed level's whole slot; runs
+// that meet are merged. Nothing outside them is ever read or given a gradient.
+struct TableRun {
+  size_t first = 0, count = 0;
+};
+inline std::vector<TableRun> hashGridUsedRuns(const HashGridConfig& c) {
+  std::vector<TableRun> runs;
+  const size_t slot = size_t(1) << c.log2TableSize;
+  for (uint32_t l = 0; l < c.levels; ++l) {
+    const uint64_t vertices = uint64_t(hashGridResolution(c, l)) + 1;
+    const size_t entries = hashGridDense(c, l) ? size_t(vertices * vertices * vertices) : slot;
+    const size_t first = l * slot * c.featuresPerLevel, count = entries * c.featuresPerLevel;
+    if (!runs.empty() && runs.back().first + runs.back().count == first)
+      runs.back().count += count;
+    else
+      runs.push_back({first, count});
+  }
+  return runs;
+}
+
 inline uint32_t hashGridIndex(uint32_t res, bool dense, uint32_t log2Table, uint32_t vx, uint32_t vy, uint32_t vz) {
   if (dense) return vx + (res + 1) * (vy + (res + 1) * vz);
   return (vx * 1u ^ vy * 2654435761u ^ vz * 805459861u) & ((1u << log2Table) - 1u);

@@ -1,6 +1,7 @@
 // encode_hash.comp / encode_hash_backward.comp against the CPU reference (src/reference/encoding/hash_encoding.h),
 // and the reference against first principles (vertex lookup, affine reproduction, finite differences).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -228,6 +229,38 @@ TEST(HashEncodingReference, ResolutionsAndDenseLevels) {
   // b = 2 is exact: 4 * 2^5 = 128 must not floor to 127.
   EXPECT_EQ(ref::hashGridResolution(kPow2, 5), 128u);
   EXPECT_EQ(ref::hashGridResolution(kOdd, 2), 5u);  // floor(3 * 1.37^2) = floor(5.6307)
+}
+
+// The used runs (what Adam steps): every entry a lookup reaches lies inside them, including the box's
+// far corner (u = 1) and clamped outside points; a dense level's run is exactly its (res + 1)^3
+// entries, so its slot's end is left out; the hashed levels' slots merge into one run.
+TEST(HashEncodingReference, UsedRunsHoldEveryReachableEntry) {
+  const HashGridConfig c{8, 2, 13, 4, 1.6};  // 4, 6, 10, 16 dense ((res + 1)^3 <= 8192), then 26.. hashed
+  const auto runs = ref::hashGridUsedRuns(c);
+  ASSERT_EQ(runs.size(), 5u);
+  for (uint32_t l = 0; l < 4; ++l) {
+    ASSERT_TRUE(ref::hashGridDense(c, l)) << l;
+    const size_t vertices = ref::hashGridResolution(c, l) + 1;
+    EXPECT_EQ(runs[l].first, size_t(l) * 8192 * 2) << l;
+    EXPECT_EQ(runs[l].count, vertices * vertices * vertices * 2) << l;
+  }
+  EXPECT_FALSE(ref::hashGridDense(c, 4));
+  EXPECT_EQ(runs[4].first, size_t(4) * 8192 * 2);
+  EXPECT_EQ(runs[4].first + runs[4].count, ref::hashGridParameterCount(c));
+  auto used = [&](size_t f) {
+    for (const auto& r : runs)
+      if (f >= r.first && f < r.first + r.count) return true;
+    return false;
+  };
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  std::vector<std::array<double, 3>> points = {{1, 1, 1}, {-1, -1, -1}, {1, -1, 1}};
+  for (int i = 0; i < 2000; ++i) points.push_back({u(gen), u(gen), u(gen)});
+  for (const auto& p : points)
+    for (uint32_t l = 0; l < c.levels; ++l)
+      for (const auto& k : ref::hashGridCorners<double>(c, l, p.data()))
+        for (uint32_t f = 0; f < c.featuresPerLevel; ++f)
+          ASSERT_TRUE(used(size_t(k.entry) * c.featuresPerLevel + f)) << "level " << l << " entry " << k.entry;
 }
 
 TEST(HashEncodingReference, VertexReturnsItsTableEntry) {

@@ -1,6 +1,7 @@
 // adam.comp against the CPU reference (src/reference/optim/adam.h).
 #include <cmath>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -254,6 +255,64 @@ TEST_F(Adam, SparsePartStepsEachTouchedParameterOnce) {
       stepped += pr.p[i] != before[i];
     }
     EXPECT_GT(stepped, n / 5);  // the test must see steps
+  }
+}
+
+// AdamState::stepped: only the listed parts are stepped, each as the reference steps it (its skip
+// index counted from the whole set's start); outside them p, m, v and even a nonzero gradient keep
+// their bits. The parts end with leftovers (not whole vec4s), and skipZeroGradientsFrom falls
+// inside the second, so a part can be half dense, half through the touched list.
+TEST_F(Adam, StepsOnlyTheStatesParts) {
+  const size_t n = 700;
+  // Starts at multiples of 64 floats: 256 bytes, the largest offset alignment Vulkan allows.
+  const std::vector<nerf::ParameterRange> parts = {{0, 37}, {128, 203}, {448, 65}};
+  auto p0 = randomVector(n, 4, 1), m0 = randomVector(n, 5, 0.1f), v0 = randomVector(n, 6, 0.01f);
+  for (auto& x : v0) x = std::fabs(x);
+  const auto g = randomVector(n, 7, 0.5f, 0.3f);
+  const float lr = 1e-3f;
+  for (const uint32_t from : {nerf::AdamConfig::kNever, 0u, 256u}) {
+    SCOPED_TRACE(testing::Message() << "skipped from " << from);
+    nerf::AdamConfig cfg;
+    cfg.skipZeroGradientsFrom = from;
+    nerf::Adam adam(ctx(), cfg);
+    gpu::Buffer pb = gpu::Buffer::of(ctx(), p0), gb = gpu::Buffer::of(ctx(), g), mb = gpu::Buffer::of(ctx(), m0),
+                vb = gpu::Buffer::of(ctx(), v0);
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) { adam.record(rec, {uint32_t(n), pb, gb, mb, vb, parts}, 2, lr); });
+    const auto p = pb.download<float>(), gAfter = gb.download<float>(), m = mb.download<float>(), v = vb.download<float>();
+    std::vector<double> rp(p0.begin(), p0.end()), rg(g.begin(), g.end()), rm(m0.begin(), m0.end()), rv(v0.begin(), v0.end());
+    std::vector<bool> inside(n, false);
+    for (const nerf::ParameterRange& part : parts) {
+      ref::AdamParams<double> a = refParams(cfg);
+      a.skipZeroGradientsFrom = from > part.first ? from - part.first : 0;
+      auto span = [&](std::vector<double>& x) { return std::span<double>(x).subspan(part.first, part.count); };
+      ref::adamStep<double>(span(rp), span(rg), span(rm), span(rv), 2, double(lr), a);
+      for (uint32_t i = part.first; i < part.first + part.count; ++i) inside[i] = true;
+    }
+    size_t moved = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (!inside[i]) {
+        ASSERT_EQ(p[i], p0[i]) << i;
+        ASSERT_EQ(m[i], m0[i]) << i;
+        ASSERT_EQ(v[i], v0[i]) << i;
+        ASSERT_EQ(gAfter[i], g[i]) << i;
+        continue;
+      }
+      ASSERT_TRUE(paramNear(p[i], rp[i], lr, 1)) << i;
+      ASSERT_EQ(gAfter[i], 0.0f) << i;
+      if (rp[i] == double(p0[i])) ASSERT_EQ(p[i], p0[i]) << i;  // a skipped zero gradient, bit for bit
+      moved += p[i] != p0[i];
+    }
+    EXPECT_GT(moved, size_t(200));
+  }
+  // Parts that overlap, come out of order, end past the set or start off a bound offset are errors.
+  nerf::Adam adam(ctx(), {});
+  gpu::Buffer pb(ctx(), 4 * n), gb(ctx(), 4 * n), mb(ctx(), 4 * n), vb(ctx(), 4 * n);
+  for (const std::vector<nerf::ParameterRange>& bad : std::vector<std::vector<nerf::ParameterRange>>{
+           {{0, 100}, {64, 10}}, {{128, 10}, {0, 10}}, {{640, 61}}, {{2, 10}}}) {
+    SCOPED_TRACE(testing::Message() << "first part [" << bad[0].first << ", +" << bad[0].count << ")");
+    EXPECT_THROW(
+        test::submitOnce(ctx(), [&](gpu::Recorder& rec) { adam.record(rec, {uint32_t(n), pb, gb, mb, vb, bad}, 1, 1e-3f); }),
+        Error);
   }
 }
 

@@ -61,6 +61,7 @@ Adam::Adam(Context& ctx, AdamConfig config)
       kernel_(ctx, {gpu::shaders::adam,
                     {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
                      gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+                     gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
                      gpu::Binding::Storage},
                     sizeof(Push),
                     {}}),
@@ -131,7 +132,8 @@ Adam::SparseSpan Adam::recordDense(gpu::Recorder& rec, const AdamState& whole, c
   if (invocations)
     rec.dispatch(kernel_,
                  {body(whole.params), body(whole.grads), body(whole.m), body(whole.v), tail(whole.params),
-                  tail(whole.grads), tail(whole.m), tail(whole.v)},
+                  tail(whole.grads), tail(whole.m), tail(whole.v), body(whole.params), body(whole.grads), body(whole.m),
+                  body(whole.v)},
                  p, gpu::groupsFor(invocations, kLocal), 1, 1, "adam");
   return {part.first / 4 + sparseFrom4, part.first / 4 + uint32_t(full)};
 }
@@ -153,7 +155,8 @@ void Adam::recordSparse(gpu::Recorder& rec, const AdamState& whole, const std::v
     sparse_ = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::adam_sparse,
                               {Binding::TexelRgba32f, Binding::TexelRgba32f, Binding::TexelRgba32f, Binding::TexelRgba32f,
-                               Binding::Storage, Binding::Storage},
+                               Binding::Storage, Binding::Storage, Binding::Storage, Binding::Storage, Binding::Storage,
+                               Binding::Storage},
                               sizeof(glsl::AdamSparsePush), {}});
     listCount_ = std::make_unique<gpu::Buffer>(gpu::Buffer::zeros(ctx_, 16));
     limited_ = std::make_unique<gpu::LimitedDispatch>(ctx_);
@@ -172,8 +175,9 @@ void Adam::recordSparse(gpu::Recorder& rec, const AdamState& whole, const std::v
   const gpu::BufferRange count(*listCount_, 0, 4);
   limited_->begin(rec, &count, capacity, capacity, {kLocal});
   gpu::dispatchLimited(rec, *sparse_,
-                       {body(whole.params), body(whole.grads), body(whole.m), body(whole.v), *list_}, sp,
-                       limited_->rows(0, 0), gpu::groupsFor(capacity, kLocal), "adam sparse");
+                       {body(whole.params), body(whole.grads), body(whole.m), body(whole.v), *list_, body(whole.params),
+                        body(whole.grads), body(whole.m), body(whole.v)},
+                       sp, limited_->rows(0, 0), gpu::groupsFor(capacity, kLocal), "adam sparse");
 }
 
 }  // namespace vknerf::nerf

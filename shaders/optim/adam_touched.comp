@@ -6,8 +6,10 @@
 // and counts them in touchedCount (zeroed before). adam_sparse.comp then steps the listed vec4s
 // alone. A skip inside one kernel over the whole table saves nothing on lavapipe: a hash level's
 // touched entries are scattered, so nearly every 8-lane slice holds one and runs the whole update
-// under a mask; the list packs them. Each workgroup lists its 1024 vec4s in order at an offset it
-// takes with one atomic; the workgroups' order varies, the list's content does not.
+// under a mask; the list packs them. Each invocation lists its 16 vec4s in order at an offset it
+// takes with one atomic; the invocations' order varies, the list's content does not. (A workgroup
+// once summed its invocations' counts to take one offset for all: the scan's barriers, each a
+// coroutine switch on lavapipe, took the pass over the sample scene's 2^19 table from 4.6 to 6.7 ms.)
 layout(local_size_x = 64) in;
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer G4;
@@ -17,10 +19,6 @@ layout(std430, binding = 2) buffer TouchedCount { uint touchedCount; };
 #include "optim/adam_touched_shared.h"
 
 const uint kInvocations = 64u, kPerInvocation = 16u;
-
-// The invocations' counts, scanned as scan_blocks.comp does (Hillis-Steele, no subgroup operations).
-shared uint partial[kInvocations];
-shared uint blockBase;
 
 void main() {
   uint lid = gl_LocalInvocationID.x;
@@ -32,19 +30,8 @@ void main() {
     live |= t ? 1u << j : 0u;
     n += t ? 1u : 0u;
   }
-  partial[lid] = n;
-  barrier();
-  for (uint step = 1u; step < kInvocations; step <<= 1u) {
-    uint add = lid >= step ? partial[lid - step] : 0u;
-    barrier();
-    partial[lid] += add;
-    barrier();
-  }
-  uint total = partial[kInvocations - 1u];
-  if (lid == kInvocations - 1u && total > 0u) blockBase = atomicAdd(touchedCount, total);
-  barrier();
-  if (total == 0u) return;
-  uint at = blockBase + partial[lid] - n;
+  if (n == 0u) return;
+  uint at = atomicAdd(touchedCount, n);
   [[unroll]] for (uint j = 0u; j < kPerInvocation; ++j)
     if ((live & (1u << j)) != 0u) touched[at++] = pc.first4 + base + j;
 }

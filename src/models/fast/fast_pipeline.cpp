@@ -12,7 +12,7 @@ namespace vknerf::nerf {
 
 namespace {
 
-constexpr float kOccupancyDecay = 0.95f;       // instant-ngp's EMA factor per update
+constexpr float kOccupancyDecay = 0.95f;       // instant-ngp's EMA factor per update of a quarter of the cells
 constexpr float kOccupancyThickness = 0.01f;   // a cell is empty when one step through it is < 1% opaque
 constexpr uint32_t kMaxOccupancyPoints = 1u << 18;
 constexpr uint32_t kRayAlign = 64;             // sub-batches start at multiples of this (binding offsets)
@@ -322,7 +322,8 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   // The density alone: the colour branch would cost more than the trunk and is not looked at.
   hash_.recordForward(rec, {count, occPositions_, occFeatures_, mlp_.posStride(), 0}, table_.params());
   mlp_.recordDensity(rec, count, network_.params(), occFeatures_, occDensity_);
-  grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {kOccupancyDecay, threshold, true});
+  const float decay = OccupancyGrid::decayFor(kOccupancyDecay, count, grid_.numCells());
+  grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {decay, threshold, true});
 }
 
 FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {

@@ -1,5 +1,6 @@
 #include "nerf/occupancy/occupancy_grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -102,6 +103,11 @@ void OccupancyGrid::recordRandomCellPoints(gpu::Recorder& rec, uint32_t seed, ui
   requireBytes("cells", cells, uint64_t(count) * 4);
   PointsPush p{resolution_, count, seed, 1, cascades_};
   rec.dispatchFlat(points_, {positions, cells}, p, count, kPointsLocal, "occupancy_points");
+}
+
+float OccupancyGrid::decayFor(float decayPerQuarter, uint32_t measured, uint32_t cells) {
+  const double share = cells ? std::min(1.0, 4.0 * double(measured) / double(cells)) : 1.0;
+  return float(std::pow(double(decayPerQuarter), share));
 }
 
 void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const Measured& measured, const Update& update) {

@@ -197,6 +197,24 @@ TEST_F(Occupancy, RejectsBadArguments) {
   EXPECT_FLOAT_EQ(nerf::OccupancyGrid::densityThreshold(0.01f, 0.002f), 5.0f);
 }
 
+TEST(OccupancyDecay, EveryCellDecaysAsMuchBetweenTwoOfItsMeasurements) {
+  using nerf::OccupancyGrid;
+  // A quarter of the cells or more a time: instant-ngp's decay per update, unchanged.
+  EXPECT_EQ(OccupancyGrid::decayFor(0.95f, 1u << 16, 1u << 18), 0.95f);
+  EXPECT_EQ(OccupancyGrid::decayFor(0.95f, 1u << 18, 1u << 18), 0.95f);
+  EXPECT_EQ(OccupancyGrid::decayFor(0.95f, 1u << 18, 1u << 17), 0.95f);
+  // Fewer: a cell is measured once in cells / measured updates on average, and over those it must
+  // decay as a cell measured once in 4 updates does (0.95^4). The factor is a float: its rounding
+  // (relative 6e-8) raised to the 256th power (2^24 cells) is a relative 1.5e-5 of 0.81.
+  for (uint32_t cells : {1u << 19, 1u << 21, 1u << 24}) {
+    const uint32_t measured = 1u << 16;
+    const double perUpdate = OccupancyGrid::decayFor(0.95f, measured, cells);
+    EXPECT_LT(perUpdate, 1.0);
+    EXPECT_GT(perUpdate, 0.95);
+    EXPECT_NEAR(std::pow(perUpdate, double(cells) / measured), std::pow(0.95, 4.0), 3e-5) << cells << " cells";
+  }
+}
+
 TEST_F(Occupancy, StridedDensityReadsTheChosenComponent) {
   // The fast pipeline feeds sigma straight out of the field's vec4 (r, g, b, sigma): stride 4,
   // component 3 must give exactly what the same densities give packed one per point.

@@ -45,7 +45,8 @@ struct FastModel {
   // 0: width, as models saved before this field): instant-ngp passes 16 (15 and the density).
   uint32_t featureWidth = 16;
   DensityActivation density = DensityActivation::TruncExp;
-  uint32_t gridResolution = 64;       // occupancy cells per axis of each cascade
+  // Occupancy cells per axis of each cascade; 0: from the march steps (src/models/fast/fast_capacity.h).
+  uint32_t gridResolution = 64;
   // Nested occupancy cascades (instant-ngp): the outermost covers the scene box, each one inside it
   // half the side about its centre, all at gridResolution; more than one marches with cone steps
   // that grow with distance. 0: from the dataset (1 + ceil(log2(aabb_scale)), 1 without one).

@@ -86,7 +86,8 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     // The march steps follow the pixel footprint there too (0: 128 for the sample scene, 256 for
     // photos whose pixels are 8 times finer than a step of 128, as the 800x800 object's).
     m.hashLevels = 8;
-    m.gridResolution = 64;
+    // 0: half the march steps per axis, 64^3 at 128 steps, 128^3 at 256 (src/models/fast/fast_capacity.h).
+    m.gridResolution = 0;
     m.marchSteps = 0;
     m.maxSamplesPerRay = 0;
     // With cascades (unbounded scenes), instant-ngp's 1/256 marches ~300 points per ray through a
@@ -124,8 +125,9 @@ std::string TrainConfig::describe() const {
     os << " N=" << m->hashBaseResolution << " b=";
     if (m->hashGrowth != 0) os << m->hashGrowth; else os << "auto";
     os << ", MLP " << m->depth << "x" << m->width << " (feature " << (m->featureWidth ? m->featureWidth : m->width) << ")"
-       << ", SH degree " << m->shDegree << ", occupancy " << m->gridResolution << "^3 x "
-       << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
+       << ", SH degree " << m->shDegree << ", occupancy ";
+    if (m->gridResolution) os << m->gridResolution << "^3"; else os << "auto";  // auto: from the march steps
+    os << " x " << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
        << "), near " << (m->nearDistance > 0 ? std::to_string(m->nearDistance) : std::string("auto")) << ", "
        << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, "
        << (m->samplesPerBatch ? "~" + std::to_string(m->samplesPerBatch) : std::string("auto")) << " samples/step";

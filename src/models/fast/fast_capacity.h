@@ -1,7 +1,7 @@
 #pragma once
 // The fast model's capacity from the training data, where its configuration leaves it open
-// (FastModel::hashLog2Size, hashGrowth, marchSteps, maxSamplesPerRay, samplesPerBatch or nearDistance 0; a value
-// set explicitly is kept):
+// (FastModel::hashLog2Size, hashGrowth, marchSteps, maxSamplesPerRay, samplesPerBatch, gridResolution
+// or nearDistance 0; a value set explicitly is kept):
 //   - finest hash-grid resolution: two cells (Nyquist) per pixel footprint at the typical camera
 //     distance over the inner cascade's side, N = 2 * inner / (distance / focal), the medians over
 //     the cameras of their distance to the box centre and of distance / focal; rounded up to a power
@@ -15,6 +15,8 @@
 //     CPU; at most as many samples per ray (maxSamplesPerRay), where that is open too.
 //   - a training step's samples (FastModel::samplesPerBatch): 2^14 at 128 march steps, in proportion
 //     to the march steps beyond, so that a step's rays stay the same with a finer march.
+//   - the occupancy grid (FastModel::gridResolution): half the march steps cells per axis, so that
+//     a cell spans about one step, within [64, 256], [64, 128] on a CPU.
 //   - where rays start (FastModel::nearDistance): 5% of the inner cascade's side, so that it means
 //     the same in any units.
 //   - table entries per level: a parameter per training pixel at most, 2^T <= pixels / (levels x

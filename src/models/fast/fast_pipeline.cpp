@@ -40,6 +40,7 @@ FastModel withOverrides(FastModel m, const RenderSettings& overrides) {
 // One cascade unless the configuration asks for more (0, "from the dataset", is resolved by the trainer).
 FastModel checked(FastModel m, bool training) {
   if (m.marchSteps == 0 || m.maxSamplesPerRay == 0) throw Error("fast model: march steps and samples per ray must be > 0");
+  if (m.gridResolution == 0) throw Error("fast model: the occupancy grid's resolution is left to the march steps (0); a Trainer sets it");
   if (training && m.samplesPerBatch == 0)
     throw Error("fast model: the samples per training step are left to the dataset (0); a Trainer sets them");
   m.cascades = std::max(m.cascades, 1u);

@@ -193,3 +193,26 @@ TEST(FastCapacity, SamplesPerStepFollowTheMarchSteps) {
   EXPECT_EQ(samplesFor(100, 60), std::pair(100u, 1u << 14));   // under 128 steps: the floor
   EXPECT_EQ(samplesFor(0, 17.5f, 5000), std::pair(256u, 5000u));
 }
+
+// The occupancy grid, left open: half the march steps per axis (the steps resolved first, or as
+// configured), within 64..128 on a CPU and 64..256 elsewhere; a set value is kept.
+TEST(FastCapacity, OccupancyGridFollowsTheMarchSteps) {
+  auto gridFor = [](uint32_t marchSteps, float fovX, bool cpu, uint32_t gridResolution = 0) {
+    FastModel m = openModel();
+    m.marchSteps = marchSteps;
+    m.maxSamplesPerRay = 0;
+    m.gridResolution = gridResolution;
+    const std::string note = nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4), cpu);
+    if (gridResolution == 0)
+      EXPECT_NE(note.find("occupancy grid: " + std::to_string(m.gridResolution) + "^3"), std::string::npos) << note;
+    else
+      EXPECT_EQ(note.find("occupancy grid"), std::string::npos) << note;
+    return std::pair{m.marchSteps, m.gridResolution};
+  };
+  EXPECT_EQ(gridFor(0, 60, true), std::pair(128u, 64u));      // coarse pixels: 128 steps, 64^3
+  EXPECT_EQ(gridFor(0, 17.5f, true), std::pair(256u, 128u));  // the 800x800 object's 256 steps
+  EXPECT_EQ(gridFor(0, 4.6f, true), std::pair(512u, 128u));   // the CPU's cap
+  EXPECT_EQ(gridFor(0, 4.6f, false), std::pair(1024u, 256u));
+  EXPECT_EQ(gridFor(64, 60, true), std::pair(64u, 64u));      // a coarser march: the floor
+  EXPECT_EQ(gridFor(0, 17.5f, true, 32), std::pair(256u, 32u));
+}

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "models/fast/fast_capacity.h"
@@ -40,6 +41,22 @@ FastModel openModel() {
 
 double finestOf(const FastModel& m) {
   return m.hashBaseResolution * std::pow(double(m.hashGrowth), double(m.hashLevels - 1));
+}
+
+// The open model with `marchSteps` (0: open, from the footprint) and what `set` changes, resolved
+// for 4 views of 400x400 at `fovX` degrees on a circle of radius 4; with the note it printed.
+struct Resolved {
+  FastModel m;
+  std::string note;
+};
+template <class Set>
+Resolved resolvedAt(uint32_t marchSteps, float fovX, bool cpu, Set set) {
+  Resolved r{openModel(), {}};
+  r.m.marchSteps = marchSteps;
+  r.m.maxSamplesPerRay = 0;
+  set(r.m);
+  r.note = nerf::resolveFastCapacity(r.m, ring(4, 400, 400, fovX, 4), cpu);
+  return r;
 }
 
 }  // namespace
@@ -178,14 +195,10 @@ TEST(FastCapacity, NearDistanceFollowsTheInnerCube) {
 // march steps resolved first, from the footprint, or as configured); a set value is kept.
 TEST(FastCapacity, SamplesPerStepFollowTheMarchSteps) {
   auto samplesFor = [](uint32_t marchSteps, float fovX, uint32_t samplesPerBatch = 0) {
-    FastModel m = openModel();
-    m.marchSteps = marchSteps;
-    m.maxSamplesPerRay = 0;
-    m.samplesPerBatch = samplesPerBatch;
-    const std::string note = nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4), true);
+    const Resolved r = resolvedAt(marchSteps, fovX, true, [&](FastModel& m) { m.samplesPerBatch = samplesPerBatch; });
     if (samplesPerBatch == 0)
-      EXPECT_NE(note.find("about " + std::to_string(m.samplesPerBatch) + " marched samples"), std::string::npos) << note;
-    return std::pair{m.marchSteps, m.samplesPerBatch};
+      EXPECT_NE(r.note.find("about " + std::to_string(r.m.samplesPerBatch) + " marched samples"), std::string::npos) << r.note;
+    return std::pair{r.m.marchSteps, r.m.samplesPerBatch};
   };
   EXPECT_EQ(samplesFor(0, 60), std::pair(128u, 1u << 14));     // coarse pixels: 128 steps
   EXPECT_EQ(samplesFor(0, 17.5f), std::pair(256u, 1u << 15));  // 256 steps: twice the samples
@@ -198,16 +211,12 @@ TEST(FastCapacity, SamplesPerStepFollowTheMarchSteps) {
 // configured), within 64..128 on a CPU and 64..256 elsewhere; a set value is kept.
 TEST(FastCapacity, OccupancyGridFollowsTheMarchSteps) {
   auto gridFor = [](uint32_t marchSteps, float fovX, bool cpu, uint32_t gridResolution = 0) {
-    FastModel m = openModel();
-    m.marchSteps = marchSteps;
-    m.maxSamplesPerRay = 0;
-    m.gridResolution = gridResolution;
-    const std::string note = nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4), cpu);
+    const Resolved r = resolvedAt(marchSteps, fovX, cpu, [&](FastModel& m) { m.gridResolution = gridResolution; });
     if (gridResolution == 0)
-      EXPECT_NE(note.find("occupancy grid: " + std::to_string(m.gridResolution) + "^3"), std::string::npos) << note;
+      EXPECT_NE(r.note.find("occupancy grid: " + std::to_string(r.m.gridResolution) + "^3"), std::string::npos) << r.note;
     else
-      EXPECT_EQ(note.find("occupancy grid"), std::string::npos) << note;
-    return std::pair{m.marchSteps, m.gridResolution};
+      EXPECT_EQ(r.note.find("occupancy grid"), std::string::npos) << r.note;
+    return std::pair{r.m.marchSteps, r.m.gridResolution};
   };
   EXPECT_EQ(gridFor(0, 60, true), std::pair(128u, 64u));      // coarse pixels: 128 steps, 64^3
   EXPECT_EQ(gridFor(0, 17.5f, true), std::pair(256u, 128u));  // the 800x800 object's 256 steps

@@ -45,9 +45,11 @@ constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen sh
 // default): half the march steps per diagonal, so that a cell spans about one step (1.15: an axis is
 // the diagonal over sqrt(3)) whatever the march, and a ray that enters an occupied cell marches few
 // empty samples before its surface; within [64, 256], [64, 128] on a CPU. Measured at 600 s on the
-// 800x800 object (256 steps): 128^3 beat 64^3 on every held-out view, by 0.43 dB on average, once
-// the occupancy update decayed each cell per measurement of it (OccupancyGrid::decayFor); before
-// that it lost 0.58 to 0.81 dB (docs/performance.md, "The occupancy grid follows the march step").
+// 800x800 object (256 steps): 128^3 beat two runs of 64^3 on every held-out view, by 0.26 and 0.43
+// dB on average, once the occupancy update decayed each cell per measurement of it
+// (OccupancyGrid::decayFor); before that it lost 0.58 to 0.81 dB. At 128 steps 128^3 did not pay:
+// the cup even, the fruit (six cascades) -3.9 dB (docs/performance.md, "The occupancy grid follows
+// the march step").
 constexpr uint32_t kMarchStepsPerCell = 2;
 constexpr uint32_t kMinGrid = 64, kMaxGrid = 256, kMaxGridCpu = 128;
 // Where rays start, as a share of the inner cube's side: the same in any units. The vanilla model's

@@ -45,9 +45,10 @@ constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen sh
 // default): half the march steps per diagonal, so that a cell spans about one step (1.15: an axis is
 // the diagonal over sqrt(3)) whatever the march, and a ray that enters an occupied cell marches few
 // empty samples before its surface; within [64, 256], [64, 128] on a CPU. Measured at 600 s on the
-// 800x800 object (256 steps): 128^3 beat two runs of 64^3 on every held-out view, by 0.26 and 0.43
-// dB on average, once the occupancy update decayed each cell per measurement of it
-// (OccupancyGrid::decayFor); before that it lost 0.58 to 0.81 dB. At 128 steps 128^3 did not pay:
+// 800x800 object (256 steps): two runs of 128^3 averaged 25.30 dB against 25.08 for two of 64^3
+// (about +0.2 dB, the run-to-run spread), with more of the thin wires kept, once the occupancy
+// update decayed each cell per measurement of it (OccupancyGrid::decayFor); before that it lost
+// 0.58 to 0.81 dB. At 128 steps 128^3 did not pay:
 // the cup even, the fruit (six cascades) -3.9 dB (docs/performance.md, "The occupancy grid follows
 // the march step").
 constexpr uint32_t kMarchStepsPerCell = 2;

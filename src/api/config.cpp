@@ -85,6 +85,8 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     // capacity rule of src/models/fast/fast_capacity.h gives the sample scene that table and 256 cells).
     // The march steps follow the pixel footprint there too (0: 128 for the sample scene, 256 for
     // photos whose pixels are 8 times finer than a step of 128, as the 800x800 object's).
+    // 16 levels over the same range did not pay there either: 25.39 dB at 600 s against 25.19 and
+    // 25.41 for 8, in 5,955 steps against 8,241 and 9,720 (docs/performance.md, "Sixteen hash levels").
     m.hashLevels = 8;
     // 0: half the march steps per axis, 64^3 at 128 steps, 128^3 at 256 (src/models/fast/fast_capacity.h).
     m.gridResolution = 0;

@@ -48,9 +48,8 @@ constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen sh
 // 800x800 object (256 steps): two runs of 128^3 averaged 25.30 dB against 25.08 for two of 64^3
 // (about +0.2 dB, the run-to-run spread), with more of the thin wires kept, once the occupancy
 // update decayed each cell per measurement of it (OccupancyGrid::decayFor); before that it lost
-// 0.58 to 0.81 dB. At 128 steps 128^3 did not pay:
-// the cup even, the fruit (six cascades) -3.9 dB (docs/performance.md, "The occupancy grid follows
-// the march step").
+// 0.58 to 0.81 dB. At 128 steps 128^3 did not pay: the cup even, the fruit (six cascades) -3.9 dB
+// (docs/performance.md, "The occupancy grid follows the march step").
 constexpr uint32_t kMarchStepsPerCell = 2;
 constexpr uint32_t kMinGrid = 64, kMaxGrid = 256, kMaxGridCpu = 128;
 // Where rays start, as a share of the inner cube's side: the same in any units. The vanilla model's

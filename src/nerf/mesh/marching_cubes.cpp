@@ -16,17 +16,21 @@ using Push = glsl::MarchingCubesPush;
 constexpr uint32_t kLocal = 256;  // shaders/mesh/marching_cubes.glsl
 constexpr uint32_t kAlign = 1024;  // chunks start at multiples of this (binding offset alignment)
 
-uint32_t chunkFor(Context& ctx, uint32_t limit) {
-  // One dispatch of kLocal-wide groups, and PrefixSum's single scan_add dispatch for chunk + 1.
-  const uint64_t reach = uint64_t(ctx.properties().limits.maxComputeWorkGroupCount[0]) * kLocal - 1;
+std::vector<gpu::Binding> storage(int count) { return std::vector<gpu::Binding>(count, gpu::Binding::Storage); }
+
+}  // namespace
+
+uint32_t MarchingCubes::chunkFor(const VkPhysicalDeviceLimits& limits, uint32_t limit) {
+  // One dispatch of kLocal-wide groups, and PrefixSum's single scan_add dispatch for chunk + 1,
+  // within the device's group count; a flags buffer within its storage range; and at most
+  // kMaxChunk, since a device whose group count is 2^31 - 1 (NVIDIA) would otherwise get a chunk
+  // past 32 bits (a 16 GiB flags buffer) where 2^24 samples already keep the dispatches full.
+  const uint64_t reach = std::min<uint64_t>(uint64_t(limits.maxComputeWorkGroupCount[0]) * kLocal - 1,
+                                            std::min<uint64_t>(kMaxChunk, limits.maxStorageBufferRange / 4));
   const uint64_t chunk = std::min<uint64_t>(limit ? limit : reach, reach) / kAlign * kAlign;
   if (chunk == 0) throw Error("marching cubes: chunks must hold at least " + std::to_string(kAlign) + " elements");
   return uint32_t(chunk);
 }
-
-std::vector<gpu::Binding> storage(int count) { return std::vector<gpu::Binding>(count, gpu::Binding::Storage); }
-
-}  // namespace
 
 uint64_t MarchingCubes::maxPoints(Context& ctx) {
   const uint64_t range = ctx.properties().limits.maxStorageBufferRange;
@@ -36,7 +40,7 @@ uint64_t MarchingCubes::maxPoints(Context& ctx) {
 
 MarchingCubes::MarchingCubes(Context& ctx, uint32_t chunkLimit)
     : ctx_(ctx),
-      chunk_(chunkFor(ctx, chunkLimit)),
+      chunk_(chunkFor(ctx.properties().limits, chunkLimit)),
       scan_(ctx, chunk_ + 1),
       table_(gpu::Buffer::of(ctx, ref::marchingCubesTable())),
       flags_(ctx, VkDeviceSize(chunk_) * 4, "the marching-cubes flags"),

@@ -20,6 +20,11 @@ namespace vknerf::nerf {
 
 class MarchingCubes {
  public:
+  // Samples per chunk (a multiple of 1024) on a device with `limits`, at most `limit` (0: no limit
+  // of the caller's): 2^24 at most (64 MiB of flags), the device's group count and storage range
+  // permitting.
+  static constexpr uint64_t kMaxChunk = 1u << 24;
+  static uint32_t chunkFor(const VkPhysicalDeviceLimits& limits, uint32_t limit);
   // chunkLimit: elements per scanned chunk, at most what one dispatch covers (tests lower it to
   // cover several chunks cheaply); 0: the most.
   explicit MarchingCubes(Context& ctx, uint32_t chunkLimit = 0);

@@ -137,3 +137,38 @@ TEST_F(MarchingCubesDevice, EmptyGridGivesNoTriangles) {
 }
 
 }  // namespace
+
+namespace {
+
+// The chunk on a device's limits: the group counts NVIDIA reports (2^31 - 1 along x) once made the
+// chunk (2^31 - 1) * 256, truncated to 32 bits (a 16 GiB flags buffer, and blocksFor(chunk + 1)
+// wrapping). Whatever the limits, the chunk's dispatches fit them, its flags fit the storage
+// range, and it is never larger than on a device with 65,535 groups.
+VkPhysicalDeviceLimits limitsWithGroups(uint32_t groups, uint32_t storageRange) {
+  VkPhysicalDeviceLimits l{};
+  l.maxComputeWorkGroupCount[0] = l.maxComputeWorkGroupCount[1] = l.maxComputeWorkGroupCount[2] = 65535;
+  l.maxComputeWorkGroupCount[0] = groups;
+  l.maxStorageBufferRange = storageRange;
+  return l;
+}
+
+TEST(MarchingCubesChunk, FitsEveryDevicesLimits) {
+  const uint64_t kLocal = 256;  // shaders/mesh/marching_cubes.glsl
+  const uint64_t onCommonLimits = nerf::MarchingCubes::chunkFor(limitsWithGroups(65535, 1u << 27), 0);
+  EXPECT_EQ(onCommonLimits, (65535 * kLocal - 1) / 1024 * 1024);
+  for (uint32_t groups : {65535u, 1u << 20, 2147483647u, 4294967295u})
+    for (uint32_t range : {1u << 27, 4294967295u}) {
+      const auto l = limitsWithGroups(groups, range);
+      const uint64_t chunk = nerf::MarchingCubes::chunkFor(l, 0);
+      SCOPED_TRACE(std::to_string(groups) + " groups, storage range " + std::to_string(range));
+      EXPECT_GT(chunk, 0u);
+      EXPECT_EQ(chunk % 1024, 0u);
+      EXPECT_LE(chunk, nerf::MarchingCubes::kMaxChunk);
+      EXPECT_LE((chunk + 1 + kLocal - 1) / kLocal, groups);  // the scan of chunk + 1 in one dispatch
+      EXPECT_LE(chunk * 4, range);                            // the flags in one binding
+      EXPECT_LE(chunk, onCommonLimits + 1024);                // no more memory than at 65,535 groups
+    }
+  EXPECT_EQ(nerf::MarchingCubes::chunkFor(limitsWithGroups(2147483647u, 4294967295u), 5000), 4096u);
+}
+
+}  // namespace

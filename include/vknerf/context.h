@@ -19,6 +19,11 @@ struct ContextOptions {
   // Enable VK_LAYER_KHRONOS_validation and count its messages. Also enabled by VKNERF_VALIDATION=1,
   // in which case a missing layer is an error (so a CI run cannot silently skip validation).
   bool validation = false;
+  // Make the device behave like another class of device (`vknerf info` lists the profiles:
+  // minimum, nvidia, amd-rdna2, intel-xe-lp, mali, apple): its missing features hidden, its limits
+  // and memory model in force, new buffers filled with NaN bytes. Empty: the VKNERF_DEVICE_PROFILE
+  // environment variable, else the device as it is. For testing the paths other devices take.
+  std::string profile;
 };
 
 // Handles owned by the embedding application. The queue must support compute.
@@ -73,6 +78,11 @@ class Context {
   bool isCpu() const;
   bool floatAtomics() const;
   bool owned() const;
+  // The device profile in force ("" for none) and one line each on the features, limits and memory
+  // model vknerf works with and the fallbacks they select.
+  std::string profile() const;
+  std::vector<std::string> capabilities() const;
+  static std::vector<std::string> profileNames();
 
   // Kernels compile before they first run. On lavapipe, which compiles a pipeline at its first
   // dispatch, the kernels a submission is about to run for the first time are compiled just before

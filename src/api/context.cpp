@@ -37,6 +37,13 @@ std::string Context::deviceName() const { return properties().deviceName; }
 bool Context::isCpu() const { return properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 bool Context::floatAtomics() const { return device_->floatAtomics(); }
 bool Context::owned() const { return device_->owned(); }
+std::string Context::profile() const { return device_->profile() ? device_->profile()->name : ""; }
+std::vector<std::string> Context::capabilities() const { return device_->describeCapabilities(); }
+std::vector<std::string> Context::profileNames() {
+  std::vector<std::string> names;
+  for (const auto& p : gpu::deviceProfiles()) names.push_back(p.name);
+  return names;
+}
 void Context::setCompileProgress(std::function<void(uint64_t, uint64_t)> progress) {
   device_->compiler().setProgress(std::move(progress));
 }
@@ -48,7 +55,8 @@ std::string Context::describe() const {
   const auto& p = properties();
   std::ostringstream os;
   os << p.deviceName << " [" << gpu::typeName(p.deviceType) << ", Vulkan " << VK_API_VERSION_MAJOR(p.apiVersion) << "."
-     << VK_API_VERSION_MINOR(p.apiVersion) << (floatAtomics() ? ", float atomics" : "") << "]";
+     << VK_API_VERSION_MINOR(p.apiVersion) << (floatAtomics() ? ", float atomics" : "")
+     << (profile().empty() ? "" : ", as " + profile()) << "]";
   return os.str();
 }
 

@@ -45,8 +45,10 @@ class Buffer {
   VkDeviceSize handleSize() const { return std::max(size_, kMinBytes); }
   uint64_t id() const { return id_; }  // unique per allocation; keys descriptor caches
   bool valid() const { return buffer_ != VK_NULL_HANDLE; }
-  // Host pointer of a mapped (unified-memory) buffer; nullptr on discrete GPUs.
+  // Host pointer of a mapped (unified-memory) buffer; nullptr on discrete GPUs. Where the memory is
+  // not host-coherent, reads and writes through it need invalidate() and flush().
   void* mapped() const { return mapped_; }
+  bool hostCoherent() const { return coherent_; }
 
   void upload(const void* src, VkDeviceSize bytes, VkDeviceSize offset = 0);
   void download(void* dst, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
@@ -66,6 +68,7 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
+  bool coherent_ = true;  // false: mapped memory flushed after host writes, invalidated before host reads
   uint64_t id_ = 0;
   std::shared_ptr<MemoryAccount> account_;  // charged with the allocation while it lives
 };

@@ -10,7 +10,10 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
+#include "gpu/device_profile.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {
@@ -21,11 +24,22 @@ class KernelCompiler;
 struct KernelFeatures {
   bool shaderInt64 = false;
   bool bufferFloatAtomicAdd = false, sharedFloatAtomicAdd = false;  // VK_EXT_shader_atomic_float
+  // VkPhysicalDeviceSubgroupProperties in compute: Vulkan 1.1 promises only the basic operations.
+  bool subgroupArithmetic = false, subgroupVote = false;
+  uint32_t subgroupSize = 0;
 };
 KernelFeatures supportedKernelFeatures(VkPhysicalDevice physical);
+// `f` less what `profile` says its class lacks.
+KernelFeatures profiledFeatures(KernelFeatures f, const DeviceProfile& profile);
 // A VkDevice with one queue of `queueFamily` and exactly `features` enabled: vknerf's own device,
 // and the private devices that compile kernels ahead (kernel_compiler.h).
 VkDevice createComputeDevice(VkPhysicalDevice physical, uint32_t queueFamily, const KernelFeatures& features);
+
+// The stages vknerf's commands run in: compute dispatches and transfers.
+constexpr VkPipelineStageFlags kDeviceStages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+// A global memory barrier from the writes of `src` to the accesses of `dst` (compute, transfer,
+// indirect-command reads, host reads: whichever stages `dst` names).
+void recordMemoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkPipelineStageFlags dst);
 
 class Device {
  public:
@@ -50,8 +64,29 @@ class Device {
 
   // Memory type with all of `required`; -1 if none.
   int findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
+  // The memory types with all of `required`, best first: those of the largest heap, then with fewer
+  // of `avoid`'s flags. Allocation tries them in turn, so an out-of-memory heap falls back to the next.
+  std::vector<uint32_t> memoryTypesFor(uint32_t typeBits, VkMemoryPropertyFlags required,
+                                       VkMemoryPropertyFlags prefer = 0) const;
+  const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memProps_; }
   // True when device memory is host-visible (lavapipe, integrated GPUs): buffers are mapped, no staging.
   bool unifiedMemory() const { return unified_; }
+  // False where mapped memory must be flushed after host writes and invalidated before host reads
+  // (a profile can force it; the flushes are then made on every device).
+  bool hostCoherent() const { return hostCoherent_; }
+  // New buffers are filled with NaN bytes (0xFF) before use, as a GPU's garbage would read (profiles).
+  bool fillsNewBuffers() const { return profile_ != nullptr; }
+  // The device profile in force (device_profile.h); nullptr: the device as it is.
+  const DeviceProfile* profile() const { return profile_; }
+  // Texel-buffer bindings are bound as storage buffers (the kernels' storage variants) because the
+  // device's texel buffers are too small for vknerf's tables (maxTexelBufferElements).
+  bool texelsAsStorage() const { return texelsAsStorage_; }
+  // The most rgba32f elements one "texel" binding holds, whichever way it is bound.
+  uint64_t maxTexelElements() const;
+  // Live VkDeviceMemory allocations, checked against maxMemoryAllocationCount.
+  std::atomic<uint32_t>& allocations() { return allocations_; }
+  // One-line summaries of the features, limits and memory model in force (`vknerf info`).
+  std::vector<std::string> describeCapabilities() const;
 
   // Records `fn` into a one-time command buffer, submits it and waits. For uploads and setup only.
   void runOnce(const std::function<void(VkCommandBuffer)>& record);
@@ -67,6 +102,7 @@ class Device {
   Device() = default;
   void initDevice(int physicalIndex);
   void initCommon();
+  void requireVknerfLimits() const;
   // Context befriends Device so that this, and nothing public, can reach a Context's device.
   static Device& of(Context& ctx) { return *ctx.device_; }
   static const Device& of(const Context& ctx) { return *ctx.device_; }
@@ -88,6 +124,10 @@ class Device {
   bool ownsDevice_ = false;
   bool floatAtomics_ = false;
   bool unified_ = false;
+  bool hostCoherent_ = true;
+  bool texelsAsStorage_ = false;
+  const DeviceProfile* profile_ = nullptr;
+  std::atomic<uint32_t> allocations_{0};
   std::atomic<uint32_t> validationMessages_{0};  // the debug messenger's callback counts into this
 };
 

@@ -5,6 +5,7 @@
 
 #include "gpu/device.h"
 #include "gpu/kernel_compiler.h"
+#include "gpu/kernel_limits.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -94,8 +95,9 @@ void PipelineObjects::destroy(VkDevice dev) {
   *this = {};
 }
 
-Kernel::Kernel(Context& ctx, KernelDesc desc) : ctx_(&ctx), desc_(std::move(desc)) {
+Kernel::Kernel(Context& ctx, KernelDesc desc) : ctx_(&ctx), desc_(adaptToDevice(device(ctx), std::move(desc))) {
   if (!desc_.shader.words) throw Error("kernel without a shader");
+  checkKernelLimits(ctx.properties().limits, desc_);
   // Drivers other than lavapipe compile here: the time counts as compiling (KernelCompiler).
   const auto start = std::chrono::steady_clock::now();
   objects_ = PipelineObjects::create(ctx.device(), device(ctx).pipelineCache(), desc_);
@@ -181,6 +183,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
     writes[i].dstBinding = uint32_t(i);
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = descriptorType(desc_.bindings[i]);
+    checkBindingOffset(limits, desc_.shader.name, i, desc_.bindings[i], b.offset);
     if (desc_.bindings[i] == Binding::Storage) {
       range = storageRange(*ctx_, desc_, i, b, b.buffer->size());
       infos[i] = {b.buffer->handle(), b.offset, range};
@@ -243,6 +246,7 @@ VkDescriptorSet Kernel::transientSet(std::span<const BufferRange> bindings) {
     switch (desc_.bindings[i]) {
       case Binding::Storage: {
         if (b.image || !b.handle()) throw Error(where + " needs a buffer");
+        checkBindingOffset(ctx_->properties().limits, desc_.shader.name, i, Binding::Storage, b.offset);
         if (!b.buffer && b.range == VK_WHOLE_SIZE) throw Error(where + ": a caller's buffer binds an explicit range");
         const VkDeviceSize range = storageRange(*ctx_, desc_, i, b, b.buffer ? b.buffer->size() : b.range);
         buffers[i] = {b.handle(), b.offset, range};

@@ -60,17 +60,49 @@ bool layerAvailable(const char* name) {
   return false;
 }
 
+std::vector<std::string> availableInstanceExtensions() {
+  uint32_t n = 0;
+  vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
+  std::vector<VkExtensionProperties> props(n);
+  vkEnumerateInstanceExtensionProperties(nullptr, &n, props.data());
+  std::vector<std::string> names;
+  for (const auto& p : props) names.emplace_back(p.extensionName);
+  return names;
+}
+
+InstanceRequest instanceRequest(const std::vector<std::string>& available, bool validation) {
+  auto has = [&](const char* name) { return std::find(available.begin(), available.end(), name) != available.end(); };
+  InstanceRequest r;
+  if (validation) r.extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  // A loader from 1.3.216 on lists portability drivers (MoltenVK) only to an instance that asks
+  // for them; vknerf keeps to what the portability subset allows (gpu::createComputeDevice).
+  if (has(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME)) {
+    r.extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
+    r.flags |= VK_INSTANCE_CREATE_ENUMERATE_PORTABILITY_BIT_KHR;
+  }
+  return r;
+}
+
+std::vector<const char*> deviceExtensionsFor(const std::vector<std::string>& available, bool floatAtomics) {
+  auto has = [&](const char* name) { return std::find(available.begin(), available.end(), name) != available.end(); };
+  std::vector<const char*> exts;
+  if (floatAtomics) exts.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+  // A device that lists VK_KHR_portability_subset must have it enabled (VUID-VkDeviceCreateInfo-pProperties-04451).
+  if (has("VK_KHR_portability_subset")) exts.push_back("VK_KHR_portability_subset");
+  return exts;
+}
+
 VkInstance createInstance(bool validation) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "vknerf";
   app.pEngineName = "vknerf";
   app.apiVersion = VK_API_VERSION_1_2;
-  std::vector<const char*> layers, exts;
-  if (validation) {
-    layers.push_back("VK_LAYER_KHRONOS_validation");
-    exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-  }
+  std::vector<const char*> layers;
+  if (validation) layers.push_back("VK_LAYER_KHRONOS_validation");
+  const InstanceRequest request = instanceRequest(availableInstanceExtensions(), validation);
+  const std::vector<const char*>& exts = request.extensions;
   VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ci.flags = request.flags;
   ci.pApplicationInfo = &app;
   ci.enabledLayerCount = uint32_t(layers.size());
   ci.ppEnabledLayerNames = layers.data();

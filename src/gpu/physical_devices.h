@@ -10,6 +10,19 @@
 
 namespace vknerf::gpu {
 
+// The instance extensions and flags vknerf asks for, given those the loader offers: debug utils
+// with validation, and portability enumeration where offered, so that MoltenVK is listed.
+struct InstanceRequest {
+  std::vector<const char*> extensions;
+  VkInstanceCreateFlags flags = 0;
+};
+InstanceRequest instanceRequest(const std::vector<std::string>& available, bool validation);
+std::vector<std::string> availableInstanceExtensions();
+// The device extensions vknerf enables, given those the device offers: the float-atomic extension
+// when its add is used, and VK_KHR_portability_subset wherever the device lists it (the spec
+// requires it enabled then).
+std::vector<const char*> deviceExtensionsFor(const std::vector<std::string>& available, bool floatAtomics);
+
 // A Vulkan 1.2 instance, with VK_LAYER_KHRONOS_validation and debug utils when `validation`.
 // Throws vknerf::Error naming the missing driver package when there is no Vulkan driver at all.
 VkInstance createInstance(bool validation);

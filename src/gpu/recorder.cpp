@@ -5,6 +5,7 @@
 
 #include "gpu/device.h"
 #include "gpu/kernel_compiler.h"
+#include "gpu/kernel_limits.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -45,7 +46,9 @@ void Recorder::begin() {
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
   labels_.clear();
-  pending_ = false;
+  // Submission order is no memory dependency: the first command waits behind a barrier for what
+  // earlier submissions (uploads, the previous step) wrote.
+  pending_ = true;
   if (queries_) vkCmdResetQueryPool(cmd_, queries_, 0, 2 * maxTimestamps_);
 }
 
@@ -53,16 +56,8 @@ void Recorder::begin() {
 // consecutive commands is the simple correct rule, and it costs nothing measurable (LAVAPIPE.md).
 void Recorder::barrierIfNeeded(bool indirectNext) {
   if (!pending_) return;
-  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                     VK_ACCESS_TRANSFER_WRITE_BIT;
-  VkPipelineStageFlags src = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, dst = src;
-  if (indirectNext) {  // dispatch arguments written by a shader are read by the indirect-command stage
-    mb.dstAccessMask |= VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
-    dst |= VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
-  }
-  vkCmdPipelineBarrier(cmd_, src, dst, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  // Dispatch arguments written by a shader are read by the indirect-command stage.
+  recordMemoryBarrier(cmd_, kDeviceStages, kDeviceStages | (indirectNext ? VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT : 0));
   pending_ = false;
 }
 
@@ -97,6 +92,7 @@ void Recorder::recordKernel(const BoundKernel& bound, bool indirect, const std::
 void Recorder::dispatch(Kernel& k, std::span<const BufferRange> bindings, const void* push, uint32_t pushBytes,
                         uint32_t gx, uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;  // empty batch: nothing to do, nothing to wait for
+  checkGroupCounts(ctx_.properties().limits, k.desc().shader.name, gx, gy, gz);
   recordKernel({k, bindings, cachedSet(k, bindings), push, pushBytes, label}, false,
                [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
@@ -116,6 +112,7 @@ void Recorder::dispatchFlat(Kernel& k, std::initializer_list<BufferRange> bindin
 void Recorder::dispatchWithSet(Kernel& k, VkDescriptorSet set, const void* push, uint32_t pushBytes, uint32_t gx,
                                uint32_t gy, uint32_t gz, const char* label) {
   if (gx == 0 || gy == 0 || gz == 0) return;
+  checkGroupCounts(ctx_.properties().limits, k.desc().shader.name, gx, gy, gz);
   recordKernel({k, {}, set, push, pushBytes, label}, false, [&] { vkCmdDispatch(cmd_, gx, gy, gz); });
 }
 
@@ -153,6 +150,9 @@ void Recorder::update(Buffer& dst, VkDeviceSize offset, const void* data, VkDevi
 
 void Recorder::end() {
   if (!owned_) return;
+  // The host reads what this recording wrote once its fence signals: the writes are made visible
+  // to host reads here (a fence alone does not make them available on a non-coherent device).
+  recordMemoryBarrier(cmd_, kDeviceStages, VK_PIPELINE_STAGE_HOST_BIT);
   check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
 }
 

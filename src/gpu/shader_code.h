@@ -10,6 +10,9 @@ struct ShaderCode {
   const char* name = "";
   const uint32_t* words = nullptr;
   size_t wordCount = 0;
+  // The same source with its texel buffers as storage buffers (cmake/texels_as_storage.cmake).
+  const uint32_t* storageWords = nullptr;
+  size_t storageWordCount = 0;
 };
 
 }  // namespace vknerf::gpu

@@ -77,6 +77,15 @@ KernelFeatures supportedKernelFeatures(VkPhysicalDevice physical) {
   f.shaderInt64 = supported.features.shaderInt64;
   f.bufferFloatAtomicAdd = hasAtomicFloat && atomicFloat.shaderBufferFloat32AtomicAdd;
   f.sharedFloatAtomicAdd = f.bufferFloatAtomicAdd && atomicFloat.shaderSharedFloat32AtomicAdd;
+  // Subgroup operations are properties, not features to enable.
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  props.pNext = &subgroup;
+  vkGetPhysicalDeviceProperties2(physical, &props);
+  const bool compute = subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT;
+  f.subgroupArithmetic = compute && (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
+  f.subgroupVote = compute && (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_VOTE_BIT);
+  f.subgroupSize = subgroup.subgroupSize;
   return f;
 }
 

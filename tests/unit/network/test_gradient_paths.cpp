@@ -2,7 +2,8 @@
 // and each path's SPIR-V free of the capabilities its features may lack. A pipeline declaring a
 // capability the device does not support is invalid even where the code using it never runs, and
 // lavapipe supports them all, so the modules are checked here word by word: the paths' results are
-// checked against the CPU reference in tests/unit/network/test_mlp.cpp (MlpNerfPaths, MlpDensePaths).
+// checked against the CPU reference in tests/unit/network/test_mlp.cpp (MlpNerfPaths, MlpDensePaths)
+// and tests/unit/encoding/test_hash_encoding.cpp (every HashBackwardMode).
 #include <gtest/gtest.h>
 
 #include <set>
@@ -87,4 +88,29 @@ TEST(GradientPaths, WeightGradientModulesDeclareOnlyTheirPathsCapabilities) {
       EXPECT_EQ(hasSubgroupOperations(code), subgroup != 0);
       EXPECT_EQ(capabilities(code).count(kSubgroupArithmetic), subgroup);
     }
+}
+
+// The hash table's scatter without merging declares no subgroup operations (merged, it declares
+// vote and arithmetic); SortReduce's kernels and the prefix sum they use need neither float atomics
+// nor subgroup operations, nor does the separate position gradient SortReduce runs.
+TEST(GradientPaths, HashBackwardModulesDeclareOnlyTheirPathsCapabilities) {
+  for (const gpu::ShaderCode* code : {&gpu::shaders::encode_hash_backward, &gpu::shaders::encode_hash_backward_position}) {
+    SCOPED_TRACE(code->name);
+    EXPECT_TRUE(hasFloatAtomics(*code));
+    EXPECT_FALSE(hasSubgroupOperations(*code));
+  }
+  for (const gpu::ShaderCode* code :
+       {&gpu::shaders::encode_hash_backward_merged, &gpu::shaders::encode_hash_backward_position_merged}) {
+    SCOPED_TRACE(code->name);
+    EXPECT_EQ(capabilities(*code).count(kSubgroupVote), 1u);
+    EXPECT_EQ(capabilities(*code).count(kSubgroupArithmetic), 1u);
+  }
+  for (const gpu::ShaderCode* code :
+       {&gpu::shaders::encode_hash_backward_count, &gpu::shaders::encode_hash_backward_scatter,
+        &gpu::shaders::encode_hash_backward_reduce, &gpu::shaders::scan_blocks, &gpu::shaders::scan_add,
+        &gpu::shaders::encode_hash_position_gradient}) {
+    SCOPED_TRACE(code->name);
+    EXPECT_FALSE(hasFloatAtomics(*code));
+    EXPECT_FALSE(hasSubgroupOperations(*code));
+  }
 }

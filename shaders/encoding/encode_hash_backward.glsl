@@ -1,14 +1,19 @@
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_atomic_float : require
+#ifdef HASH_SUBGROUP_MERGE
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_vote : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 // Multiresolution hash encoding, backward to the table: one invocation per sample scatters
 // weight * dL/dfeature into the 8 corner entries of each level with float atomics; grads are
 // accumulated (the caller zeroes them once per step). Layouts: src/reference/encoding/hash_encoding.h.
-// MERGE = 1: when all active lanes of a subgroup hit the same entry (consecutive samples of a ray
-// in a coarse level), they add with subgroupAdd and one lane issues a single atomic.
+// With HASH_SUBGROUP_MERGE defined (HashBackwardMode::SubgroupMerged: encode_hash_backward_merged.comp,
+// encode_hash_backward_position_merged.comp): when all active lanes of a subgroup hit the same
+// entry (consecutive samples of a ray in a coarse level), they add with subgroupAdd and one lane
+// issues a single atomic. Modules of their own: the subgroup vote and arithmetic they declare are
+// optional in Vulkan (nerf/network/gradient_paths.h).
 // With HASH_POSITION_GRADIENT defined (encode_hash_backward_position.comp), the same pass also writes
 // dL/dp per sample, as encode_hash_position_gradient.comp does, from the corners it already visits.
 // The body of encode_hash_backward.comp and encode_hash_backward_position.comp.
@@ -17,7 +22,6 @@
 layout(local_size_x = 64) in;
 
 #include "encoding/hash_grid_shared.h"
-#include "encoding/encode_hash_backward_shared.h"
 // Levels in groups that read whole vec4s of dL/dfeatures (as encode_hash.comp), so nothing is an
 // array indexed by a loop counter.
 const uint GROUP = FEATURES >= 4u ? 1u : 4u / FEATURES;
@@ -40,12 +44,14 @@ layout(std430, binding = 4) writeonly buffer PositionGradient { vec4 dPositions[
 #include "encoding/encode_hash_shared.h"
 
 void scatter(uint index, float value) {
-  if (MERGE != 0u && subgroupAllEqual(index)) {
+#ifdef HASH_SUBGROUP_MERGE
+  if (subgroupAllEqual(index)) {
     float s = subgroupAdd(value);
     if (subgroupElect()) atomicAdd(grads[index], s);
-  } else {
-    atomicAdd(grads[index], value);
+    return;
   }
+#endif
+  atomicAdd(grads[index], value);
 }
 
 void main() {

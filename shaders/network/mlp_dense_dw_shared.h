@@ -1,5 +1,5 @@
-// The specialization and push constants of mlp_dense_dw.comp; on the host,
-// vknerf::glsl::MlpDenseDwSpec and MlpDenseDwPush.
+// The specialization and push constants of network/mlp_dense_dw.glsl (mlp_dense_dw*.comp); on the
+// host, vknerf::glsl::MlpDenseDwSpec and MlpDenseDwPush.
 #ifndef VKNERF_NETWORK_MLP_DENSE_DW_SHARED_H
 #define VKNERF_NETWORK_MLP_DENSE_DW_SHARED_H
 #include "common/shared_types.h"

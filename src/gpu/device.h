@@ -24,7 +24,8 @@ class KernelCompiler;
 struct KernelFeatures {
   bool shaderInt64 = false;
   bool bufferFloatAtomicAdd = false, sharedFloatAtomicAdd = false;  // VK_EXT_shader_atomic_float
-  // VkPhysicalDeviceSubgroupProperties in compute: Vulkan 1.1 promises only the basic operations.
+  // VkPhysicalDeviceSubgroupProperties in the compute stage (Vulkan 1.1 requires only the basic
+  // operations): the GL_KHR_shader_subgroup_arithmetic and _vote operations, and the subgroup size.
   bool subgroupArithmetic = false, subgroupVote = false;
   uint32_t subgroupSize = 0;
 };

@@ -4,9 +4,9 @@
 #include <string>
 
 #include "encoding/encode_hash_backward_reduce_shared.h"
-#include "encoding/encode_hash_backward_shared.h"
 #include "encoding/hash_grid_shared.h"
 #include "gpu/prefix_sum.h"
+#include "nerf/network/gradient_paths.h"
 #include "vknerf/error.h"
 
 namespace vknerf::nerf {
@@ -48,12 +48,16 @@ std::vector<gpu::SpecConstant> gridSpec(const HashGridConfig& c) {
   return {{Spec::LEVELS, c.levels}, {Spec::FEATURES, c.featuresPerLevel}, {Spec::LOG2_TABLE, c.log2TableSize}};
 }
 
-std::vector<gpu::SpecConstant> backwardSpec(const HashGridConfig& c, HashBackwardMode mode) {
-  std::vector<gpu::SpecConstant> spec = gridSpec(c);
-  spec.push_back({glsl::HashBackwardSpec::MERGE, uint32_t(mode)});
-  return spec;
+// The scatter's module (encoding/encode_hash_backward.glsl): with the position gradient or not,
+// a subgroup's adds merged (SubgroupMerged) or not.
+const gpu::ShaderCode& backwardShader(HashBackwardMode mode, bool position) {
+  if (mode == HashBackwardMode::SubgroupMerged)
+    return position ? gpu::shaders::encode_hash_backward_position_merged : gpu::shaders::encode_hash_backward_merged;
+  return position ? gpu::shaders::encode_hash_backward_position : gpu::shaders::encode_hash_backward;
 }
 }  // namespace
+
+HashEncoding::HashEncoding(Context& ctx, HashGridConfig config) : HashEncoding(ctx, config, gradientPathsFor(ctx).hash) {}
 
 HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode)
     : ctx_(ctx),
@@ -70,6 +74,8 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
     push_.res[l] = resolution(l);
     if (dense(l)) push_.denseMask |= 1u << l;
   }
+  if (mode_ == HashBackwardMode::SubgroupMerged && !gradientPathsFor(ctx).hashSubgroupMerge)
+    throw Error("HashEncoding: SubgroupMerged needs subgroup vote and arithmetic in compute shaders; use Atomic");
   if (mode_ == HashBackwardMode::SortReduce) {
     // Entries of one level are the unit of a pass: the prefix sum must hold 2^T of them.
     if ((uint64_t(1) << config_.log2TableSize) > scanCapacity(ctx))
@@ -95,11 +101,10 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
         kSortSlotBytes, ctx.properties().limits.maxStorageBufferRange) / slotBytes(config.featuresPerLevel)));
   } else if (ctx.floatAtomics()) {
     // Without float atomics the forward pass still works (inference); recordBackward says why not.
-    backward_ = gpu::Kernel(ctx, {gpu::shaders::encode_hash_backward,
+    backward_ = gpu::Kernel(ctx, {backwardShader(mode, false),
                                   {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                                    gpu::Binding::Storage},
-                                  sizeof(Push),
-                                  backwardSpec(config, mode)});
+                                  sizeof(Push), gridSpec(config)});
   }
 }
 
@@ -191,11 +196,11 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, c
   if (position) {
     checkPositionGradient(rows, position->params, position->dPositions, "recordBackward");
     if (!backwardWithPosition_)
-      backwardWithPosition_.emplace(ctx_, gpu::KernelDesc{gpu::shaders::encode_hash_backward_position,
+      backwardWithPosition_.emplace(ctx_, gpu::KernelDesc{backwardShader(mode_, true),
                                                           {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
                                                            gpu::Binding::Storage, gpu::Binding::TexelRgba32f,
                                                            gpu::Binding::Storage, gpu::Binding::Storage},
-                                                          sizeof(Push), backwardSpec(config_, mode_)});
+                                                          sizeof(Push), gridSpec(config_)});
   }
   forChunks(rows, grads, "recordBackward",
             [&](const gpu::BufferRange& in, const gpu::BufferRange& dF, Push p, uint32_t groups, uint32_t c,

@@ -26,7 +26,8 @@ namespace vknerf::nerf {
 
 using HashGridConfig = ref::HashGridConfig;
 
-// How the backward pass scatters into the table. Atomic is the default: on lavapipe it was the
+// How the backward pass scatters into the table. Atomic is the default where the device has float
+// atomics (nerf/network/gradient_paths.h), SortReduce elsewhere: on lavapipe Atomic was the
 // fastest in every same-run comparison (`vknerf bench hash`; the table and the reasons are in
 // docs/performance.md, "Hash-table gradient"): SubgroupMerged took 1.1-1.5x its time, SortReduce
 // 2.0-3.0x at F = 2 and 1.6-1.9x at F = 8. An atomic there is a scalar loop over the lanes, uint or
@@ -37,6 +38,7 @@ using HashGridConfig = ref::HashGridConfig;
 enum class HashBackwardMode : uint32_t {
   Atomic = 0,          // one float atomicAdd per lane, corner and feature (none for an all-zero level group)
   SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic
+                       // (needs subgroup vote and arithmetic as well)
   // Counting sort of the contributions by table entry (uint atomics), then a per-entry sum in exact
   // fixed point: deterministic, no float atomics (so also on devices without them). A non-finite
   // term makes its entry's gradient non-finite (NaN). Needs 2^T at most the prefix sum's capacity
@@ -54,7 +56,9 @@ class HashEncoding {
  public:
   // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 2..24, N_min >= 1, b >= 1, and the whole table
   // within one storage binding (maxStorageBufferRange: 128 MiB on lavapipe, e.g. L=16 F=2 T=20).
-  HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode = HashBackwardMode::Atomic);
+  // Without a mode: the device's (gradientPathsFor(ctx).hash).
+  HashEncoding(Context& ctx, HashGridConfig config);
+  HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode mode);
   ~HashEncoding();
 
   const HashGridConfig& config() const { return config_; }

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "nerf/network/gradient_paths.h"
 #include "vknerf/error.h"
 #include "network/mlp_dense_shared.h"
 #include "network/mlp_dense_dx_shared.h"
@@ -36,6 +37,9 @@ uint32_t u32(uint64_t v, const char* what) {
 
 MlpTuning MlpTuning::forDevice(const Context& ctx) {
   MlpTuning t;
+  const GradientPaths paths = gradientPathsFor(ctx);
+  t.dwFloatAtomics = paths.dwFloatAtomics ? 1 : 0;
+  t.dwSubgroup = paths.dwSubgroupReduce ? 1 : 0;
   if (!ctx.isCpu()) {  // a GPU: one row per lane, many lanes, shorter weight-gradient reductions
     t.local = 128;
     t.rows = 1;
@@ -53,7 +57,8 @@ MlpTuning MlpTuning::forDevice(const Context& ctx) {
                                             {"dxBlock", &t.dxBlock}, {"dwLocal", &t.dwLocal}, {"dwKT", &t.dwKT},
                                             {"dwNT", &t.dwNT},     {"dwU", &t.dwU},         {"dwRows", &t.dwRows},
                                             {"fused", &t.fused},   {"fusedRows", &t.fusedRows},
-                                            {"fusedBlock", &t.fusedBlock}, {"fusedUnroll", &t.fusedUnroll}};
+                                            {"fusedBlock", &t.fusedBlock}, {"fusedUnroll", &t.fusedUnroll},
+                                            {"dwFloatAtomics", &t.dwFloatAtomics}, {"dwSubgroup", &t.dwSubgroup}};
     std::string spec = env;
     for (size_t at = 0; at < spec.size();) {
       size_t end = std::min(spec.find(',', at), spec.size()), eq = spec.find('=', at);
@@ -68,6 +73,11 @@ MlpTuning MlpTuning::forDevice(const Context& ctx) {
       throw Error("VKNERF_MLP_TUNING: blocks and tiles must be multiples of 4, row counts positive");
   }
   return t;
+}
+
+const gpu::ShaderCode& weightGradientShader(const MlpTuning& t) {
+  if (t.dwSubgroup) return t.dwFloatAtomics ? gpu::shaders::mlp_dense_dw : gpu::shaders::mlp_dense_dw_cas;
+  return t.dwFloatAtomics ? gpu::shaders::mlp_dense_dw_workgroup : gpu::shaders::mlp_dense_dw_workgroup_cas;
 }
 
 Mat Mat::rows(uint32_t first, uint32_t count) const {
@@ -97,6 +107,14 @@ std::array<gpu::BufferRange, 3> rowBiasBindings(const RowBias* bias, const gpu::
 DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning)
     : ctx_(ctx), shape_(shape), t_(tuning) {
   if (shape.offset % 4) throw Error("MLP: layer weights must start on a multiple of 4 floats");
+  const GradientPaths paths = gradientPathsFor(ctx);
+  if (tuning.dwFloatAtomics && !paths.dwFloatAtomics)
+    throw Error("MLP: the weight gradient's float atomics (shaderBufferFloat32AtomicAdd) are not on this device");
+  if (tuning.dwSubgroup && !paths.dwSubgroupReduce)
+    throw Error("MLP: the weight gradient's subgroupAdd (subgroup arithmetic) is not on this device");
+  // The workgroup reduction's rounds fill 4096 floats of shared memory (network/mlp_dense_dw.glsl).
+  if (!tuning.dwSubgroup && (tuning.dwLocal == 0 || tuning.dwLocal > 4096))
+    throw Error("MLP: the weight gradient's workgroup reduction needs 1..4096 invocations a workgroup");
 }
 
 void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
@@ -185,7 +203,7 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
   uint32_t nMain = s.n4() / nt * nt;
   auto add = [&](uint32_t n0, uint32_t nw, uint32_t ntile) {
     if (nw == 0) return;
-    gpu::KernelDesc d{gpu::shaders::mlp_dense_dw,
+    gpu::KernelDesc d{weightGradientShader(t_),
                       {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                        gpu::Binding::Storage, gpu::Binding::Storage},
                       sizeof(DwPush),

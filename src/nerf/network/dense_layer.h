@@ -1,6 +1,6 @@
 #pragma once
 // One dense layer y = act(concat(a, b) W + bias) on the device: forward (mlp_dense.comp), backward to
-// the inputs (mlp_dense_dx.comp) and to the weights (mlp_dense_dw.comp). The networks in
+// the inputs (mlp_dense_dx.comp) and to the weights (mlp_dense_dw*.comp). The networks in
 // nerf/network/mlp.h are sequences of these. Kernels are built on first use, so a forward-only user never
 // pays the JIT time of the backward pipelines.
 #include <array>
@@ -13,6 +13,7 @@
 #include "gpu/kernel.h"
 #include "gpu/limited_dispatch.h"
 #include "gpu/recorder.h"
+#include "gpu/shader_code.h"
 #include "reference/network/mlp.h"
 
 namespace vknerf::nerf {
@@ -29,6 +30,10 @@ struct MlpTuning {
   uint32_t dwKT = 16, dwNT = 16;  // weight-gradient tile per invocation (multiples of 4)
   uint32_t dwU = 2;          // rows summed per loop iteration
   uint32_t dwRows = 512;     // rows per invocation (a multiple of dwU)
+  // How the weight gradient reduces and adds (network/mlp_dense_dw.glsl): 1: float atomicAdd, 0: a
+  // compare-and-swap loop; 1: subgroupAdd first, 0: a workgroup reduction in shared memory.
+  // forDevice takes them from the device (nerf/network/gradient_paths.h); tests set each.
+  uint32_t dwFloatAtomics = 1, dwSubgroup = 1;
   // Bit 0: a narrow NeRF MLP's inference (rendering, exporters' queries) runs as one kernel
   // (mlp_nerf_fused.comp), bit 1: its forward with the activations kept (training) too. On
   // lavapipe the fused inference is ~1.35x faster than the layers; with the activations kept it
@@ -66,6 +71,9 @@ struct RowBias {
 uint32_t rowBiasMode(const RowBias* bias);
 std::array<gpu::BufferRange, 3> rowBiasBindings(const RowBias* bias, const gpu::BufferRange& unused);
 
+// The weight-gradient module for the tuning's dwFloatAtomics and dwSubgroup.
+const gpu::ShaderCode& weightGradientShader(const MlpTuning& tuning);
+
 enum class GradMode : uint32_t { Skip = 0, Store = 1, StoreReluMasked = 2, Add = 3 };
 
 // The rows one layer call runs over, as one value: `count` rows, uncut or cut on the device to a
@@ -97,6 +105,7 @@ struct InputGradients {
 
 class DenseLayer {
  public:
+  // Throws where the tuning's weight-gradient path needs what the device lacks.
   DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning);
   const ref::DenseShape& shape() const { return shape_; }
 
@@ -112,7 +121,7 @@ class DenseLayer {
   void recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& dz,
                            const Mat& a, const InputGradients& grads);
   uint32_t dxRowsPerGroup() const { return t_.local * t_.dxRows; }
-  // grads[W, bias] += concat(a, b)^T dz, sum(dz) (float atomics: accumulates). rows.limited: only its
+  // grads[W, bias] += concat(a, b)^T dz, sum(dz) (accumulates, in any order). rows.limited: only its
   // limit and base are used (the reduction is dispatched for rows.count rows, the rows at and past the
   // limit add nothing and the sweep stops there). With rows.gather, a and b are read through it.
   void recordBackwardWeights(gpu::Recorder& rec, const LayerRows& rows, const Mat& a, const Mat& b, const Mat& dz,

@@ -82,7 +82,6 @@ NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config) : NerfMlp(ctx, config, M
 
 NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning)
     : ctx_(ctx), config_(config), shape_(nerfShape(config)), tuning_(tuning), limited_(ctx), limitedBackward_(ctx) {
-  if (!ctx.floatAtomics()) throw Error("NeRF MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
   for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
   chunkRows_ = deviceChunkRows(ctx, std::max({posStride(), dirStride(), config.width + 4}));
 }
@@ -356,7 +355,6 @@ DenseMlp::DenseMlp(Context& ctx, const DenseMlpConfig& config) : DenseMlp(ctx, c
 
 DenseMlp::DenseMlp(Context& ctx, const DenseMlpConfig& config, const MlpTuning& tuning)
     : ctx_(ctx), config_(config), shape_(denseShape(config)), tuning_(tuning), uncut_(ctx) {
-  if (!ctx.floatAtomics()) throw Error("dense MLP: the device lacks float atomics (shaderBufferFloat32AtomicAdd)");
   for (const auto& l : shape_.layers) layers_.emplace_back(ctx, l, tuning_);
   chunkRows_ = deviceChunkRows(ctx, std::max({inputStride(), outputStride(), config.width}));
 }

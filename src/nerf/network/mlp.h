@@ -8,8 +8,8 @@
 //   dOut: vec4 dL/d(r, g, b, sigma) per row
 //   params: ONE flat float buffer, parameterCount() floats, layout in src/reference/network/mlp.h (each layer
 //           W row-major [ka4 + kb4][n4] then bias [n4]; padding entries zero and never updated)
-//   grads:  same size as params. recordBackward ACCUMULATES into it (float atomics): zero it first
-//           (e.g. Recorder::fill) once per step.
+//   grads:  same size as params. recordBackward ACCUMULATES into it (atomics, in any order): zero it
+//           first (e.g. Recorder::fill) once per step.
 // Batches of any size (0 included) are split into chunks whose bindings stay within the device's
 // maxStorageBufferRange / maxTexelBufferElements; buffers are bound at row offsets.
 #include <memory>

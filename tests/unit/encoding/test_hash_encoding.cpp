@@ -514,11 +514,12 @@ TEST_F(HashEncoding, EmptyBatchesAndBadLayouts) {
 
 TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
   // The same device adopted as if the caller had not enabled shaderBufferFloat32AtomicAdd: the
-  // forward pass (inference) still works, the backward pass refuses with an Error, not a bad shader.
+  // forward pass (inference) still works, the Atomic backward pass refuses with an Error, not a bad
+  // shader.
   auto adopted = Context::adopt({ctx().instance(), ctx().physicalDevice(), ctx().device(), ctx().queueFamily(),
                                  ctx().queue(), false});
   ASSERT_FALSE(adopted->floatAtomics());
-  nerf::HashEncoding enc(*adopted, kOdd);
+  nerf::HashEncoding enc(*adopted, kOdd, nerf::HashBackwardMode::Atomic);
   auto table = randomTable(kOdd, 3);
   auto pos = hardPositions(10, 1);
   auto m = forward(*adopted, enc, pos, table, 4, 0);
@@ -535,9 +536,14 @@ TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
     EXPECT_NE(std::string(e.what()).find("float atomics"), std::string::npos) << e.what();
   }
   rec.end();
-  // SortReduce needs no float atomics: on the same device it computes the gradient.
-  nerf::HashEncoding sorted(*adopted, kPow2, nerf::HashBackwardMode::SortReduce);
+  // SortReduce needs no float atomics: on the same device it computes the gradient, and it is what
+  // that device gets without asking (nerf/network/gradient_paths.h).
+  nerf::HashEncoding sorted(*adopted, kPow2);
+  EXPECT_EQ(sorted.backwardMode(), nerf::HashBackwardMode::SortReduce);
   expectBackwardMatches(*adopted, sorted, 300, 40, true);
+  // A device with them gets Atomic, the faster there.
+  EXPECT_EQ(nerf::HashEncoding(ctx(), kPow2).backwardMode(),
+            ctx().floatAtomics() ? nerf::HashBackwardMode::Atomic : nerf::HashBackwardMode::SortReduce);
 }
 
 TEST_F(HashEncoding, TableInsideALargerBuffer) {

@@ -1,6 +1,7 @@
 // The MLP kernels (mlp_*.comp through nerf/network/mlp.h) against the CPU reference (src/reference/network/mlp.h).
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -11,6 +12,7 @@
 #include "reference/encoding/appearance.h"
 #include "reference/network/mlp.h"
 #include "reference/rng.h"
+#include "vknerf/error.h"
 
 using namespace vknerf;
 
@@ -29,10 +31,11 @@ std::vector<float> features(uint32_t rows, uint32_t dims, uint32_t stride, uint3
 // magnitudes, which for these O(1) inputs and PyTorch-scaled weights is a few times the result.
 // Over the chain: ~5e-5; the reference runs in double.
 constexpr double kFwdRel = 2e-4, kFwdAbs = 2e-5;
-// Gradient tolerance. An entry of dW sums B ~ 300 per-sample products (atomics: any order), each
-// after a backward chain like the forward one; the float error is ~(B + 6K) u sum|terms|. With
-// cancellation between samples the sum of magnitudes can exceed the entry, so the absolute part
-// scales with the largest gradient of the buffer: 1e-4 * max|g|, 1e-3 relative.
+// Gradient tolerance. An entry of dW sums B ~ 300 per-sample products (in an order the path and the
+// atomics choose), each after a backward chain like the forward one; the float error is
+// ~(B + 6K) u sum|terms| for any order of the sum, so one tolerance holds for every weight-gradient
+// path. With cancellation between samples the sum of magnitudes can exceed the entry, so the
+// absolute part scales with the largest gradient of the buffer: 1e-4 * max|g|, 1e-3 relative.
 constexpr double kGradRel = 1e-3, kGradAbsScale = 1e-4;
 
 struct NerfRun {
@@ -134,8 +137,8 @@ double maxAbs(const std::vector<double>& v) {
   return m;
 }
 
-void checkNerf(Context& ctx, const NerfCase& c) {
-  nerf::NerfMlp mlp(ctx, c.cfg);
+void checkNerf(Context& ctx, const NerfCase& c, const nerf::MlpTuning& tuning) {
+  nerf::NerfMlp mlp(ctx, c.cfg, tuning);
   if (c.chunkRows) mlp.setChunkRows(c.chunkRows);
   auto data = makeData(mlp, c);
   auto gpu = runNerf(ctx, mlp, c, data);
@@ -157,6 +160,8 @@ void checkNerf(Context& ctx, const NerfCase& c) {
   expectNear(gpu.dDir, ref.dDir, kGradRel, dDirAbs, "dDir");
 }
 
+void checkNerf(Context& ctx, const NerfCase& c) { checkNerf(ctx, c, nerf::MlpTuning::forDevice(ctx)); }
+
 nerf::MlpConfig smallNerf(DensityActivation density = DensityActivation::Relu) {
   nerf::MlpConfig c;
   c.depth = 4;
@@ -170,10 +175,31 @@ nerf::MlpConfig smallNerf(DensityActivation density = DensityActivation::Relu) {
 class MlpNerf : public test::GpuTest {};
 class MlpDense : public test::GpuTest {};
 
+// The weight gradient's paths (nerf/network/gradient_paths.h): float atomicAdd or compare-and-swap
+// adds, after subgroupAdd or a workgroup reduction in shared memory. lavapipe has every feature,
+// so every path runs here; each must match the reference as the device's default does.
+struct DwPath {
+  uint32_t floatAtomics, subgroup;
+};
+class MlpPaths : public test::GpuTest, public testing::WithParamInterface<DwPath> {
+ protected:
+  nerf::MlpTuning tuning() {
+    nerf::MlpTuning t = nerf::MlpTuning::forDevice(ctx());
+    t.dwFloatAtomics = GetParam().floatAtomics, t.dwSubgroup = GetParam().subgroup;
+    return t;
+  }
+};
+std::string dwPathName(const testing::TestParamInfo<DwPath>& info) {
+  return std::string(info.param.floatAtomics ? "FloatAtomic" : "CompareSwap") +
+         (info.param.subgroup ? "AfterSubgroupAdd" : "AfterWorkgroupReduce");
+}
+class MlpNerfPaths : public MlpPaths {};
+class MlpDensePaths : public MlpPaths {};
+
 }  // namespace
 
 // 300 rows: not a multiple of any workgroup size, exercising the clamped tail rows.
-TEST_F(MlpNerf, ForwardAndBackwardMatchReference) { checkNerf(ctx(), {smallNerf(), 300}); }
+TEST_P(MlpNerfPaths, ForwardAndBackwardMatchReference) { checkNerf(ctx(), {smallNerf(), 300}, tuning()); }
 
 // The direction input's gradient from a column on (an appearance vector's, after SH(d)'s).
 TEST_F(MlpNerf, DirectionGradientFromAColumnOn) {
@@ -188,26 +214,52 @@ TEST_F(MlpNerf, TruncExpAndSoftplusDensities) {
   checkNerf(ctx(), {smallNerf(DensityActivation::Softplus), 70});
 }
 
-TEST_F(MlpNerf, NoSkipLayerAndSingleRow) {
+TEST_P(MlpNerfPaths, NoSkipLayerAndSingleRow) {
   auto cfg = smallNerf();
   cfg.skipLayer = 0;
   cfg.depth = 2;
-  checkNerf(ctx(), {cfg, 1});
+  checkNerf(ctx(), {cfg, 1}, tuning());
 }
 
 // A feature narrower than the trunk: the fast model's (64 wide, 16 features + the density) and
 // one whose feature + density columns (13) fill an exact 16-column block.
-TEST_F(MlpNerf, NarrowFeatureMatchesReference) {
+TEST_P(MlpNerfPaths, NarrowFeatureMatchesReference) {
   auto cfg = smallNerf(DensityActivation::TruncExp);
   cfg.featureWidth = 12;
-  checkNerf(ctx(), {cfg, 131});
+  checkNerf(ctx(), {cfg, 131}, tuning());
   cfg.depth = 1, cfg.skipLayer = 0, cfg.width = 64, cfg.posDims = 16, cfg.dirDims = 16, cfg.featureWidth = 16;
-  checkNerf(ctx(), {cfg, 200});
+  checkNerf(ctx(), {cfg, 200}, tuning());
 }
 
-TEST_F(MlpNerf, ChunkedBatchMatchesReference) {
+TEST_P(MlpNerfPaths, ChunkedBatchMatchesReference) {
   // 64-row chunks: 4 chunks, the last one partial; bindings at row offsets, gradients accumulated.
-  checkNerf(ctx(), {smallNerf(), 229, 1.0f, 1.0f, 64});
+  checkNerf(ctx(), {smallNerf(), 229, 1.0f, 1.0f, 64}, tuning());
+}
+
+// A GPU's weight-gradient shape (MlpTuning::forDevice off the CPU: 128 invocations a workgroup,
+// 4 x 4 tiles, 4 rows an iteration), one iteration an invocation so that 1500 rows span three
+// workgroups along the rows: they add into every entry concurrently (the compare-and-swap loop's
+// retries), and the workgroup reduction's one round holds the whole tile. 1500 rows in the error
+// bound above: ~(1500 + 6K) u ~ 1.3e-4 of the sum of magnitudes, within the same tolerance.
+TEST_P(MlpNerfPaths, GpuWeightGradientShapeMatchesReference) {
+  nerf::MlpTuning t = tuning();
+  t.dwLocal = 128, t.dwKT = t.dwNT = 4, t.dwU = 4, t.dwRows = 4;
+  checkNerf(ctx(), {smallNerf(), 1500}, t);
+}
+
+// A device without float atomics (the same device adopted as if the caller had not enabled
+// shaderBufferFloat32AtomicAdd) trains: its tuning adds by compare-and-swap, and the gradients match
+// the reference with the same tolerance.
+TEST_F(MlpNerf, DeviceWithoutFloatAtomicsAddsByCompareAndSwap) {
+  auto adopted = Context::adopt({ctx().instance(), ctx().physicalDevice(), ctx().device(), ctx().queueFamily(),
+                                 ctx().queue(), false});
+  ASSERT_FALSE(adopted->floatAtomics());
+  const nerf::MlpTuning t = nerf::MlpTuning::forDevice(*adopted);
+  EXPECT_EQ(t.dwFloatAtomics, 0u);
+  checkNerf(*adopted, {smallNerf(), 300}, t);
+  nerf::MlpTuning atomic = t;
+  atomic.dwFloatAtomics = 1;
+  EXPECT_THROW(nerf::NerfMlp(*adopted, smallNerf(), atomic), Error);
 }
 
 TEST_F(MlpNerf, EmptyBatchDispatchesNothing) {
@@ -404,10 +456,10 @@ TEST_F(MlpNerf, FusedForwardMatchesTheLayeredOne) {
   EXPECT_FALSE(nerf::NerfMlp(ctx(), nerf::MlpConfig{}).fusedForward(false));
 }
 
-TEST_F(MlpDense, ForwardAndBackwardMatchReference) {
+TEST_P(MlpDensePaths, ForwardAndBackwardMatchReference) {
   // The fit-image shape: gamma(u, v) with 10 levels (42 dims, stride 44) -> 2 x 32 -> rgb.
   nerf::DenseMlpConfig cfg{42, 32, 2, 3, 17};
-  nerf::DenseMlp mlp(ctx(), cfg);
+  nerf::DenseMlp mlp(ctx(), cfg, tuning());
   const uint32_t count = 333;
   auto params = mlp.initialParameters();
   auto in = features(count, cfg.inputs, mlp.inputStride(), 1);
@@ -547,3 +599,8 @@ TEST_F(MlpNerf, ColourBiasIsTheVectorAsInputColumns) {
     expectNear(out.download<float>(size_t(kRows) * 4), one.out, kFwdRel, kFwdAbs, "out");
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(DwPaths, MlpNerfPaths,
+                         testing::Values(DwPath{1, 1}, DwPath{0, 1}, DwPath{1, 0}, DwPath{0, 0}), dwPathName);
+INSTANTIATE_TEST_SUITE_P(DwPaths, MlpDensePaths,
+                         testing::Values(DwPath{1, 1}, DwPath{0, 1}, DwPath{1, 0}, DwPath{0, 0}), dwPathName);

@@ -121,7 +121,7 @@ TEST_F(RowGatherForward, ShEncoding) {
 // The fast model's network and a deeper one with a skip layer, activations kept as in training. The tuning keeps a training
 // forward layer by layer (the fused kernel has no row index), so both runs use the same kernels.
 TEST_F(RowGatherForward, NerfMlpWithKeptActivations) {
-  nerf::MlpTuning tuning;
+  nerf::MlpTuning tuning = nerf::MlpTuning::forDevice(ctx());
   tuning.fused = 1;  // inference fused, training layered
   for (const auto& cfg : test::fastAndDeepNetworks()) {
     SCOPED_TRACE(testing::Message() << "depth " << cfg.depth);

@@ -45,30 +45,28 @@ void expectNearSums(const std::vector<float>& got, const std::vector<float>& wan
 // The fast model's network (one 64-wide layer, a 16-wide feature) and a deeper one with a skip layer.
 using test::fastAndDeepNetworks;
 
-}  // namespace
-
-// The NeRF MLP in chunks of 256 rows.
-TEST_F(RowLimitBackward, NerfMlpEqualsTheBackwardOverTheTotal) {
+// The NeRF MLP in chunks of 256 rows, with the tuning's weight-gradient path.
+void expectNerfMlpCutEqualsTheTotal(Context& ctx, const nerf::MlpTuning& tuning) {
   for (const auto& cfg : fastAndDeepNetworks()) {
-    nerf::NerfMlp mlp(ctx(), cfg);
+    nerf::NerfMlp mlp(ctx, cfg, tuning);
     mlp.setChunkRows(256);
-    nerf::NerfMlp::Workspace ws(ctx(), mlp, kRows);
-    auto params = gpu::Buffer::of(ctx(), mlp.initialParameters());
-    auto pos = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * mlp.posStride(), 4));
-    auto dir = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * mlp.dirStride(), 5));
-    auto dOut = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * 4, 6));
-    gpu::Buffer out(ctx(), VkDeviceSize(kRows) * 16);
-    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    nerf::NerfMlp::Workspace ws(ctx, mlp, kRows);
+    auto params = gpu::Buffer::of(ctx, mlp.initialParameters());
+    auto pos = gpu::Buffer::of(ctx, uniformFloats(size_t(kRows) * mlp.posStride(), 4));
+    auto dir = gpu::Buffer::of(ctx, uniformFloats(size_t(kRows) * mlp.dirStride(), 5));
+    auto dOut = gpu::Buffer::of(ctx, uniformFloats(size_t(kRows) * 4, 6));
+    gpu::Buffer out(ctx, VkDeviceSize(kRows) * 16);
+    test::submitOnce(ctx, [&](gpu::Recorder& rec) {
       mlp.recordForward(rec, {kRows, pos, dir, out}, params, &ws);
     });
     // Backward over `rows` rows, cut to `limit` on the device when given: (grads, dPos).
     auto backward = [&](uint32_t rows, const uint32_t* limit) {
-      auto grads = gpu::Buffer::zeros(ctx(), VkDeviceSize(mlp.parameterCount()) * 4);
-      auto dPos = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * mlp.posStride(), kSentinel));
-      auto word = gpu::Buffer::of(ctx(), std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
+      auto grads = gpu::Buffer::zeros(ctx, VkDeviceSize(mlp.parameterCount()) * 4);
+      auto dPos = gpu::Buffer::of(ctx, std::vector<float>(size_t(kRows) * mlp.posStride(), kSentinel));
+      auto word = gpu::Buffer::of(ctx, std::vector<uint32_t>{limit ? *limit : 0u, 0, 0, 0});
       nerf::NerfRows batch{rows, pos, dir, out};
       if (limit) batch.rowLimit = gpu::BufferRange(word, 0, 4);
-      test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      test::submitOnce(ctx, [&](gpu::Recorder& rec) {
         mlp.recordBackward(rec, batch, params, {dOut, grads, gpu::BufferRange(dPos)}, ws);
       });
       return std::make_pair(grads.download<float>(), dPos.download<float>());
@@ -91,6 +89,26 @@ TEST_F(RowLimitBackward, NerfMlpEqualsTheBackwardOverTheTotal) {
     for (float d : untouched) ASSERT_EQ(d, kSentinel);
     expectNearSums(backward(kRows, &past).first, backward(kRows, nullptr).first, "dW (limit past the batch)");
   }
+}
+
+}  // namespace
+
+TEST_F(RowLimitBackward, NerfMlpEqualsTheBackwardOverTheTotal) {
+  expectNerfMlpCutEqualsTheTotal(ctx(), nerf::MlpTuning::forDevice(ctx()));
+}
+
+// The weight gradient's other paths (nerf/network/gradient_paths.h) under the cut: the workgroup
+// reduction keeps the lanes past the limit at its barriers, and only a whole workgroup past it
+// leaves (a limit of 0).
+TEST_F(RowLimitBackward, NerfMlpEqualsTheBackwardOverTheTotalOnEveryWeightGradientPath) {
+  for (uint32_t floatAtomics : {0u, 1u})
+    for (uint32_t subgroup : {0u, 1u}) {
+      if (floatAtomics && subgroup) continue;  // lavapipe's default: the test above
+      SCOPED_TRACE(testing::Message() << "float atomics " << floatAtomics << ", subgroup " << subgroup);
+      nerf::MlpTuning t = nerf::MlpTuning::forDevice(ctx());
+      t.dwFloatAtomics = floatAtomics, t.dwSubgroup = subgroup;
+      expectNerfMlpCutEqualsTheTotal(ctx(), t);
+    }
 }
 
 // Every backward mode; SortReduce also in passes smaller than the batch (a pass boundary inside

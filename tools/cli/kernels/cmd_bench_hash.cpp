@@ -18,6 +18,7 @@
 #include "gpu/recorder.h"
 #include "models/fast/fast_pipeline.h"  // hashGridConfigFor
 #include "nerf/encoding/hash_encoding.h"
+#include "nerf/network/gradient_paths.h"
 #include "vknerf/config.h"
 
 namespace vknerf::cli {
@@ -85,9 +86,12 @@ int run(const Options& o, Context& ctx) {
     wide.featuresPerLevel = 8;
     grids.push_back({label(wide, ""), wide});
   }
+  // Only the modes the device can run (nerf/network/gradient_paths.h).
+  const nerf::GradientPaths paths = nerf::gradientPathsFor(ctx);
   std::vector<HashBackwardMode> modes{HashBackwardMode::SortReduce};
-  if (ctx.floatAtomics()) modes.insert(modes.begin(), {HashBackwardMode::Atomic, HashBackwardMode::SubgroupMerged});
-  else std::printf("device without float atomics: SortReduce only\n");
+  if (paths.hash == HashBackwardMode::Atomic) modes.insert(modes.begin(), HashBackwardMode::Atomic);
+  if (paths.hashSubgroupMerge) modes.insert(modes.begin() + 1, HashBackwardMode::SubgroupMerged);
+  if (modes.size() == 1) std::printf("device without float atomics: SortReduce only\n");
   const uint32_t n = o.samples;
   std::printf("hash encoding backward, %u samples, best of %u (us per sample; ratio = time / Atomic's)\n", n, o.repeats);
   std::printf("%-20s %-9s %-15s %10s %10s %8s\n", "grid", "points", "mode", "ms", "us/sample", "ratio");

@@ -1,0 +1,25 @@
+#include "nerf/network/gradient_paths.h"
+
+#include "nerf/encoding/hash_encoding.h"
+
+namespace vknerf::nerf {
+
+GradientPaths gradientPathsFor(const gpu::KernelFeatures& f) {
+  GradientPaths p;
+  // Where the device has them, float atomics and subgroupAdd. On lavapipe the dW's compare-and-swap
+  // adds after subgroupAdd were as fast (an uncontended one is a scalar atomic, as atomicAdd is:
+  // 39-47 against 37-40 GFLOP/s at widths 64 and 128, `VKNERF_MLP_TUNING=dwFloatAtomics=0 vknerf
+  // bench mlp`), the workgroup reduction 10-20% slower (30-37, `dwSubgroup=0`); SortReduce took
+  // 2.2-3.3x Atomic's time (`vknerf bench hash`).
+  p.dwFloatAtomics = f.bufferFloatAtomicAdd;
+  p.dwSubgroupReduce = f.subgroupArithmetic;
+  p.hash = f.bufferFloatAtomicAdd ? HashBackwardMode::Atomic : HashBackwardMode::SortReduce;
+  p.hashSubgroupMerge = f.bufferFloatAtomicAdd && f.subgroupArithmetic && f.subgroupVote;
+  return p;
+}
+
+GradientPaths gradientPathsFor(const Context& ctx) {
+  return gradientPathsFor(gpu::device(ctx).features());
+}
+
+}  // namespace vknerf::nerf

@@ -22,7 +22,8 @@ struct ContextOptions {
   // Make the device behave like another class of device (`vknerf info` lists the profiles:
   // minimum, nvidia, amd-rdna2, intel-xe-lp, mali, apple): its missing features hidden, its limits
   // and memory model in force, new buffers filled with NaN bytes. Empty: the VKNERF_DEVICE_PROFILE
-  // environment variable, else the device as it is. For testing the paths other devices take.
+  // environment variable, else the device as it is; "none": the device as it is, whatever the
+  // environment says. For testing the paths other devices take.
   std::string profile;
 };
 

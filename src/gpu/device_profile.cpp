@@ -70,9 +70,9 @@ const DeviceProfile& deviceProfile(const std::string& name) {
 }
 
 std::string requestedProfile(const std::string& option) {
-  if (!option.empty()) return option;
   const char* env = std::getenv("VKNERF_DEVICE_PROFILE");
-  return env ? env : "";
+  const std::string name = !option.empty() ? option : env ? env : "";
+  return name == "none" ? "" : name;
 }
 
 void applyProfileLimits(const DeviceProfile& p, VkPhysicalDeviceLimits& l) {

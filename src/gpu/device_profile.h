@@ -43,7 +43,8 @@ struct DeviceProfile {
 // The profile named `name`; throws vknerf::Error listing the names when there is none.
 const DeviceProfile& deviceProfile(const std::string& name);
 const std::vector<DeviceProfile>& deviceProfiles();
-// ContextOptions::profile if set, else VKNERF_DEVICE_PROFILE, else "" (the device as it is).
+// ContextOptions::profile if set, else VKNERF_DEVICE_PROFILE, else "" (the device as it is; so is
+// "none" in either).
 std::string requestedProfile(const std::string& option);
 
 // The limits lowered (and alignments raised) to the profile's.

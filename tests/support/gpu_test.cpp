@@ -2,6 +2,9 @@
 
 #include <cstdio>
 
+#include "gpu/device.h"
+#include "nerf/encoding/hash_encoding.h"
+
 namespace vknerf::test {
 
 Context& context() {
@@ -15,5 +18,20 @@ Context& context() {
 }
 
 std::shared_ptr<Context> sharedContext() { return std::shared_ptr<Context>(&context(), [](Context*) {}); }
+
+bool deviceRuns(bool floatAtomics, bool subgroupArithmetic, bool subgroupVote) {
+  const gpu::KernelFeatures& f = gpu::device(context()).features();
+  return (!floatAtomics || f.bufferFloatAtomicAdd) && (!subgroupArithmetic || f.subgroupArithmetic) &&
+         (!subgroupVote || f.subgroupVote);
+}
+
+bool deviceRuns(nerf::HashBackwardMode mode) {
+  switch (mode) {
+    case nerf::HashBackwardMode::Atomic: return deviceRuns(true, false);
+    case nerf::HashBackwardMode::SubgroupMerged: return deviceRuns(true, true, true);
+    case nerf::HashBackwardMode::SortReduce: return true;
+  }
+  return false;
+}
 
 }  // namespace vknerf::test

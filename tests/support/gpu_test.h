@@ -5,10 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 
 #include "vknerf/context.h"
+
+namespace vknerf::nerf {
+enum class HashBackwardMode : uint32_t;  // nerf/encoding/hash_encoding.h
+}
 
 namespace vknerf::test {
 
@@ -16,6 +21,13 @@ Context& context();
 // The same context as a shared_ptr, for the APIs that take one (Trainer, Model::load). It does not
 // own the context: the harness keeps it for the whole process.
 std::shared_ptr<Context> sharedContext();
+
+// Whether this device runs a kernel path needing these optional features. Under a device profile
+// (VKNERF_DEVICE_PROFILE) the device may lack what a path forced by a test needs; lavapipe as it
+// is runs every path, a profile's run those of its class.
+bool deviceRuns(bool floatAtomics, bool subgroupArithmetic, bool subgroupVote = false);
+// The same for a hash-grid backward mode.
+bool deviceRuns(nerf::HashBackwardMode mode);
 
 class GpuTest : public ::testing::Test {
  protected:

@@ -141,6 +141,7 @@ TEST_F(HashPositionGradient, FromTheBackwardPassLeavesTheTableGradient) {
   for (const auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged,
                           nerf::HashBackwardMode::SortReduce}) {
     SCOPED_TRACE(testing::Message() << "mode " << uint32_t(mode));
+    if (!test::deviceRuns(mode)) continue;
     nerf::HashEncoding enc(ctx(), c, mode);
     const uint32_t n = 200, stride = enc.paddedDims();
     std::mt19937 gen(3);

@@ -83,6 +83,8 @@ TEST_F(KernelCompilerTest, EachVariantCompilesOnceBeforeItsSubmission) {
                           gpu::Binding::Storage},
                          sizeof(ShPush),
                          {{glsl::ShSpec::DEGREE, 3}}});
+  if (sh.desc().bindings[0] != gpu::Binding::TexelRgba32f)
+    GTEST_SKIP() << "texel tables are storage buffers under this device's maxTexelBufferElements: one variant";
   const std::vector<float> dirs = {0.6f, 0.0f, 0.8f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f};  // two unit directions
   std::vector<float> pow2(16 * 4, 0.0f), other(17 * 4, 0.0f);
   std::copy(dirs.begin(), dirs.end(), pow2.begin());

@@ -183,6 +183,11 @@ struct DwPath {
 };
 class MlpPaths : public test::GpuTest, public testing::WithParamInterface<DwPath> {
  protected:
+  void SetUp() override {
+    test::GpuTest::SetUp();
+    if (!test::deviceRuns(GetParam().floatAtomics, GetParam().subgroup))
+      GTEST_SKIP() << "this device (its profile) lacks the path's float atomics or subgroup arithmetic";
+  }
   nerf::MlpTuning tuning() {
     nerf::MlpTuning t = nerf::MlpTuning::forDevice(ctx());
     t.dwFloatAtomics = GetParam().floatAtomics, t.dwSubgroup = GetParam().subgroup;

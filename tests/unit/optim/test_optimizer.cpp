@@ -1,4 +1,5 @@
 // adam.comp against the CPU reference (src/reference/optim/adam.h).
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <span>
@@ -363,7 +364,9 @@ TEST_F(Adam, SubRangesAndTinyCounts) {
   nerf::AdamConfig cfg;
   nerf::Adam adam(ctx(), cfg);
   for (uint32_t count : {1u, 3u, 4u, 5u}) {
-    const uint32_t offset = 16, total = offset + count + 9;  // floats
+    // floats: 16, or the device's storage offset alignment where larger (up to 256 bytes on GPUs)
+    const uint32_t offset = std::max<uint32_t>(16, uint32_t(ctx().properties().limits.minStorageBufferOffsetAlignment / 4)),
+                   total = offset + count + 9;
     auto p = randomVector(total, count, 1), g = randomVector(total, 100 + count, 1);
     std::vector<float> mv(total, 0.5f);
     auto pb = gpu::Buffer::of(ctx(), p), gb = gpu::Buffer::of(ctx(), g), mb = gpu::Buffer::of(ctx(), mv),

@@ -60,7 +60,7 @@ void main() {
   uint begin = chunk * CHUNK;
   // The slots filled: all of the pass's contributions, or fewer when rows past a device row limit
   // contributed nothing (the last entry's end; the rest of the range holds stale slots).
-  uint filled = min(pc.slots, cursor[cursor.length() - 1]);
+  uint filled = min(pc.slots, cursor[pc.entries - 1u]);
   if (begin >= filled) return;
   uint end = min(begin + CHUNK, filled);
 

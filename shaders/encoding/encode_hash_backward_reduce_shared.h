@@ -13,6 +13,7 @@ SPEC_CONSTANTS_END
 PUSH_CONSTANTS_BEGIN(HashReducePush)
   uint slots;      // slots of this pass
   uint entryBase;  // table entry of the pass's entry 0
+  uint entries;    // entries of this pass: cursor's length (its binding may be longer)
 PUSH_CONSTANTS_END
 
 #endif

@@ -1,5 +1,6 @@
 #include "gpu/kernel.h"
 
+#include <bit>
 #include <chrono>
 #include <utility>
 
@@ -27,6 +28,20 @@ VkDeviceSize storageRange(const Context& ctx, const KernelDesc& d, size_t i, con
     throw Error(std::string("kernel ") + d.shader.name + ": binding " + std::to_string(i) + " spans " + std::to_string(range) +
                 " bytes, over maxStorageBufferRange " + std::to_string(limit) + "; split the batch");
   return range;
+}
+
+// The range a cached set binds: the requested one rounded up to a power of two, within the buffer
+// and the device's limits. A training step binds ranges sized by its ray and sample counts; keyed
+// by the exact range, the cache would add a set (and its texel views) for every new count, without
+// bound over a long run. Rounded, a (buffer, offset) pair has a few dozen ranges at most. Kernels
+// read only the rows their counts name (row limits, push constants), never the binding's length.
+VkDeviceSize cachedRange(const Context& ctx, Binding kind, const BufferRange& b) {
+  if (b.range == VK_WHOLE_SIZE || b.offset >= b.buffer->size()) return b.range;
+  const auto& limits = ctx.properties().limits;
+  const VkDeviceSize limit =
+      kind == Binding::Storage ? limits.maxStorageBufferRange : VkDeviceSize(limits.maxTexelBufferElements) * 16;
+  const VkDeviceSize rounded = std::min({std::bit_ceil(std::max<VkDeviceSize>(b.range, 16)), b.buffer->size() - b.offset, limit});
+  return std::max(rounded, b.range);  // a range over a limit stays as it is, for its error below
 }
 }  // namespace
 
@@ -109,6 +124,7 @@ Kernel::~Kernel() { destroy(); }
 void Kernel::destroy() {
   if (!ctx_) return;
   VkDevice dev = ctx_->device();
+  device(*ctx_).cachedDescriptorSets() -= sets_.size();
   for (auto v : views_) vkDestroyBufferView(dev, v, nullptr);
   for (auto p : pools_) vkDestroyDescriptorPool(dev, p, nullptr);
   if (transientPool_) vkDestroyDescriptorPool(dev, transientPool_, nullptr);
@@ -145,8 +161,12 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
     if (bindings[i].isExternal() || desc_.bindings[i] == Binding::StorageImage)
       throw Error(std::string("kernel ") + desc_.shader.name + ": binding " + std::to_string(i) +
                   " is a caller's resource; bind it through Kernel::transientSet");
+  std::vector<BufferRange> bound(bindings.begin(), bindings.end());
   std::vector<uint64_t> key;
-  for (auto& b : bindings) key.insert(key.end(), {b.buffer->id(), b.offset, b.range});
+  for (size_t i = 0; i < bound.size(); ++i) {
+    bound[i].range = cachedRange(*ctx_, desc_.bindings[i], bound[i]);
+    key.insert(key.end(), {bound[i].buffer->id(), bound[i].offset, bound[i].range});
+  }
   if (auto it = sets_.find(key); it != sets_.end()) return it->second;
 
   VkDevice dev = ctx_->device();
@@ -174,8 +194,8 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
   std::vector<VkDescriptorBufferInfo> infos(bindings.size());
   std::vector<VkBufferView> views(bindings.size(), VK_NULL_HANDLE);
   std::vector<VkWriteDescriptorSet> writes(bindings.size());
-  for (size_t i = 0; i < bindings.size(); ++i) {
-    const BufferRange& b = bindings[i];
+  for (size_t i = 0; i < bound.size(); ++i) {
+    const BufferRange& b = bound[i];
     VkDeviceSize range = b.range == VK_WHOLE_SIZE ? b.buffer->size() - b.offset : b.range;
     range = std::max<VkDeviceSize>(range, 16);  // empty arrays bind a valid minimal range
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -205,6 +225,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
   }
   vkUpdateDescriptorSets(dev, uint32_t(writes.size()), writes.data(), 0, nullptr);
   sets_.emplace(std::move(key), set);
+  device(*ctx_).cachedDescriptorSets()++;
   return set;
 }
 

@@ -304,7 +304,7 @@ void HashEncoding::recordSortReduce(gpu::Recorder& rec, const gpu::BufferRange& 
       scan_->record(rec, counts, entries, cursor, entries);
       rec.dispatch(scatter_, {positions, dFeatures, cursor, slotRange, limited.limit}, sp,
                    gpu::groupsFor(sp.count, kLocal), 1, 1, "encode_hash_backward_scatter");
-      const glsl::HashReducePush reducePush{slots, l0 << T};
+      const glsl::HashReducePush reducePush{slots, l0 << T, entries};
       const uint32_t groups = gpu::groupsFor(gpu::groupsFor(slots, kChunk), kLocal);
       for (auto& k : reduce_)
         rec.dispatch(k, {cursor, slotRange, exactly(grads), spanMax_, spanAcc_}, reducePush, groups, 1, 1,

@@ -133,15 +133,22 @@ constexpr uint32_t kFreshBytes = 0xFFFFFFFFu;
 
 }  // namespace
 
-Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const char* what) : ctx_(&ctx), size_(bytes), id_(nextBufferId++) {
+Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const char* what) : Buffer(ctx, bytes, what, false) {}
+
+Buffer Buffer::hostReadable(Context& ctx, VkDeviceSize bytes, const char* what) { return Buffer(ctx, bytes, what, true); }
+
+Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const char* what, bool hostReadable)
+    : ctx_(&ctx), size_(bytes), id_(nextBufferId++) {
   // Vulkan forbids empty buffers; an empty array still gets a valid (unused) handle.
   VkDeviceSize alloc = std::max(bytes, kMinBytes);
   Device& dev = device(ctx);
   const bool unified = dev.unifiedMemory();
   // Unified: any host-visible type, device-local first. Discrete: device-local first, and host
-  // memory the device reads over the bus when the device-local heap is full.
-  Raw raw = unified ? allocate(ctx, alloc, kUsage, kHostVisible, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, what)
-                    : allocate(ctx, alloc, kUsage, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, false, what);
+  // memory the device reads over the bus when the device-local heap is full. Host-readable: any
+  // host-visible type, cached first (host reads of uncached memory are slow).
+  Raw raw = hostReadable ? allocate(ctx, alloc, kUsage, kHostVisible, VK_MEMORY_PROPERTY_HOST_CACHED_BIT, true, what)
+            : unified    ? allocate(ctx, alloc, kUsage, kHostVisible, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, what)
+                         : allocate(ctx, alloc, kUsage, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, false, what);
   buffer_ = raw.buffer;
   memory_ = raw.memory;
   mapped_ = raw.mapped;

@@ -32,6 +32,12 @@ class Buffer {
     return of(ctx, std::span<const T>(data), what);
   }
   static Buffer zeros(Context& ctx, VkDeviceSize bytes, const char* what = kUnnamed);
+  // A buffer in host-visible memory (cached where the device has such a type), mapped, on every
+  // device: the device copies what the host will read into it within a recording, and the host
+  // reads it after that recording's fence with no transfer of its own (download() on a discrete
+  // device's buffer is a submission and a wait). Small buffers only: the device reads and writes
+  // it over the bus on a discrete GPU.
+  static Buffer hostReadable(Context& ctx, VkDeviceSize bytes, const char* what = kUnnamed);
   ~Buffer();
   Buffer(Buffer&& o) noexcept { *this = std::move(o); }
   Buffer& operator=(Buffer&& o) noexcept;
@@ -63,6 +69,7 @@ class Buffer {
   void zero();
 
  private:
+  Buffer(Context& ctx, VkDeviceSize bytes, const char* what, bool hostReadable);
   Context* ctx_ = nullptr;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;

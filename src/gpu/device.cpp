@@ -323,6 +323,7 @@ void Device::runOnce(const std::function<void(VkCommandBuffer)>& record) {
   si.pCommandBuffers = &cmd;
   VkResult r = vkQueueSubmit(queue_, 1, &si, fence);
   if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+  ++hostWaits_;
   vkDestroyFence(device_, fence, nullptr);
   vkFreeCommandBuffers(device_, pool_, 1, &cmd);
   check(r, "vkQueueSubmit/vkWaitForFences");

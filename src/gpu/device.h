@@ -86,6 +86,12 @@ class Device {
   uint64_t maxTexelElements() const;
   // Live VkDeviceMemory allocations, checked against maxMemoryAllocationCount.
   std::atomic<uint32_t>& allocations() { return allocations_; }
+  // Live descriptor sets in the kernels' caches (Kernel::descriptorSet): bounded, however many
+  // steps a training runs (tests/unit/models/test_fast_pipeline.cpp).
+  std::atomic<uint64_t>& cachedDescriptorSets() { return cachedSets_; }
+  // The host's waits for the device (fences waited on: one-time submissions, recordings): how a
+  // training step's stalls are counted (tests/unit/models/test_fast_pipeline.cpp).
+  std::atomic<uint64_t>& hostWaits() { return hostWaits_; }
   // One-line summaries of the features, limits and memory model in force (`vknerf info`).
   std::vector<std::string> describeCapabilities() const;
 
@@ -129,6 +135,8 @@ class Device {
   bool texelsAsStorage_ = false;
   const DeviceProfile* profile_ = nullptr;
   std::atomic<uint32_t> allocations_{0};
+  std::atomic<uint64_t> cachedSets_{0};
+  std::atomic<uint64_t> hostWaits_{0};
   std::atomic<uint32_t> validationMessages_{0};  // the debug messenger's callback counts into this
 };
 

@@ -166,6 +166,7 @@ void Recorder::submitAndWait() {
   const auto submitted = std::chrono::steady_clock::now();
   check(vkQueueSubmit(ctx_.queue(), 1, &si, fence_), "vkQueueSubmit");
   check(vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  device(ctx_).hostWaits()++;
   const auto waited = std::chrono::steady_clock::now();
   using Ms = std::chrono::duration<double, std::milli>;
   if (logging_) log_.push_back({Ms(submitted - lastWait_).count(), Ms(waited - submitted).count(), timings()});

@@ -188,6 +188,7 @@ void FastPipeline::allocateTraining(Context& ctx) {
                                     "the occupancy update's position encodings");
   occDensity_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4, "the occupancy update's densities");
   occCells_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4);
+  stepCounts_ = gpu::Buffer::hostReadable(ctx, 16, "a training step's counts");
   if (model_.earlyTermination) {
     kept_.emplace(ctx, rayCapacity_, sampleCapacity_);
     gatherBackward_ = sampleCapacity_ <= mlp_.chunkRows();
@@ -354,6 +355,7 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   if (farField_) farField_->recordOptimizerStep(rec, at);
   if (cameras_) cameras_->recordOptimizerStep(rec, at);
   if (appearance_) appearance_->recordOptimizerStep(rec, at);
+  recordStepCounts(rec, batch.count);
   rec.end();
   rec.submitAndWait();
   return countTrainingStep();
@@ -458,19 +460,26 @@ std::vector<std::array<float, 6>> FastPipeline::cameraCorrections() {
   return cameras_ ? cameras_->corrections() : std::vector<std::array<float, 6>>{};
 }
 
+void FastPipeline::recordStepCounts(gpu::Recorder& rec, uint32_t R) {
+  // What the host reads of a step, copied within the step's own recording into host-readable
+  // memory: after the step's fence the host reads three words with no transfer of its own (a
+  // download of a discrete GPU's buffer is a submission and a wait each), and the per-ray kept
+  // counts are summed on the device, not read back (up to 1 MB a step).
+  rec.copy(wholeRays_, stepCounts_, 4, 0, 0);
+  rec.copy(marched_.totals, stepCounts_, 4, 0, 4);
+  if (!model_.earlyTermination) return;
+  if (!gatherBackward_) kept_->recordTotal(rec, R);  // else the backward's packing made it
+  rec.copy(kept_->totals(), stepCounts_, 4, 0, 8);
+}
+
 FieldPipeline::StepSize FastPipeline::countTrainingStep() {
-  // The step's counts, read after its own wait (mapped memory: no further stall).
-  const uint32_t rays = wholeRays_.download<uint32_t>(1)[0];
-  uint32_t samples = marched_.totals.download<uint32_t>(1)[0];
-  const uint32_t marchedCount = samples;
-  marchedSamples_ += samples;
+  // The step's counts (recordStepCounts), read after its own wait.
+  const auto counts = stepCounts_.download<uint32_t>(3);
+  const uint32_t rays = counts[0], marchedCount = counts[1];
+  marchedSamples_ += marchedCount;
   marchedRays_ += rays;
   // The samples the loss saw (all marched ones without early termination).
-  if (model_.earlyTermination) {
-    const auto counts = kept_->counts().download<uint32_t>(rays);
-    samples = 0;
-    for (uint32_t c : counts) samples += c;
-  }
+  const uint32_t samples = model_.earlyTermination ? counts[2] : marchedCount;
   keptSamples_ += samples;
 
   lastRays_ = rays;

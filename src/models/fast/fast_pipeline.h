@@ -83,6 +83,7 @@ class FastPipeline final : public FieldPipeline {
   // [rowOffsets[r], rowOffsets[r + 1])), carried to the cameras that made the batch's rays.
   void recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const gpu::BufferRange& rowOffsets);
   // After the step's wait: the rays and samples it trained on; sets the next step's ray count.
+  void recordStepCounts(gpu::Recorder& rec, uint32_t R);
   StepSize countTrainingStep();
   // The uint the device writes: how many of the batch's rays fit the sample capacity whole.
   gpu::BufferRange wholeRayCount() const { return gpu::BufferRange(wholeRays_, 0, sizeof(uint32_t)); }
@@ -154,6 +155,7 @@ class FastPipeline final : public FieldPipeline {
   Packed marched_;
   FieldBatch field_;
   gpu::Buffer weights_, dPos_;
+  gpu::Buffer stepCounts_;  // host-readable: rays, marched and kept samples of the last step
   gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
   SegmentAccumulator segments_;  // a render's rays, marched segment by segment
   float renderMinTransmittance_;  // where a render's ray stops (RenderSettings)

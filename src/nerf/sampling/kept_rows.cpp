@@ -34,9 +34,17 @@ void KeptRows::record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRan
   gpu::requireBytes("KeptRows", "rayOffsets", rayOffsets, (uint64_t(numRays) + 1) * 4);
   gpu::requireBytes("KeptRows", "positions", positions, uint64_t(capacity_) * 16);
   if (numRays == 0) return;
-  layout_.recordOffsetsAndTotals(rec, numRays, capacity_, offsets_, totals_);
+  recordTotal(rec, numRays);
   rec.dispatch(kernel_, {rayOffsets, offsets_, positions, rows_, positions_}, Push{numRays},
                gpu::groupsFor(numRays, kLocal), 1, 1, "kept_rows");
+}
+
+void KeptRows::recordTotal(gpu::Recorder& rec, uint32_t numRays) {
+  if (numRays > maxRays_)
+    throw Error("KeptRows: " + std::to_string(numRays) + " rays, over the " + std::to_string(maxRays_) +
+                " it was built for");
+  if (numRays == 0) return rec.fill(totals_, 0, 0, 4);
+  layout_.recordOffsetsAndTotals(rec, numRays, capacity_, offsets_, totals_);
 }
 
 }  // namespace vknerf::nerf

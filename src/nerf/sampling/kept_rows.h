@@ -27,10 +27,14 @@ class KeptRows {
   void record(gpu::Recorder& rec, uint32_t numRays, const gpu::BufferRange& rayOffsets,
               const gpu::BufferRange& positions);
 
+  // The total alone (offsets and total(), no packing): for a step whose backward does not gather.
+  void recordTotal(gpu::Recorder& rec, uint32_t numRays);
+
   const gpu::Buffer& rows() const { return rows_; }            // uint per packed row
   const gpu::Buffer& offsets() const { return offsets_; }      // numRays + 1: ray r's rows [off[r], off[r+1])
   const gpu::Buffer& positions() const { return positions_; }  // vec4 per packed row
   gpu::BufferRange total() const { return {totals_, 0, 4}; }   // uint: the packed rows
+  const gpu::Buffer& totals() const { return totals_; }        // total() at byte 0
 
  private:
   uint32_t maxRays_, capacity_;

@@ -1,6 +1,8 @@
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
+#ifndef HASH_COMPARE_SWAP
 #extension GL_EXT_shader_atomic_float : require
+#endif
 #ifdef HASH_SUBGROUP_MERGE
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_vote : require
@@ -14,6 +16,9 @@
 // entry (consecutive samples of a ray in a coarse level), they add with subgroupAdd and one lane
 // issues a single atomic. Modules of their own: the subgroup vote and arithmetic they declare are
 // optional in Vulkan (nerf/network/gradient_paths.h).
+// With HASH_COMPARE_SWAP defined (HashBackwardMode::CompareSwap: encode_hash_backward_cas.comp,
+// encode_hash_backward_position_cas.comp): each add is a compare-and-swap loop on the float's bits
+// (gpu/float_bits_add.glsl), for devices without float atomics.
 // With HASH_POSITION_GRADIENT defined (encode_hash_backward_position.comp), the same pass also writes
 // dL/dp per sample, as encode_hash_position_gradient.comp does, from the corners it already visits.
 // The body of encode_hash_backward.comp and encode_hash_backward_position.comp.
@@ -30,7 +35,12 @@ const uint GROUPS = (LEVELS + GROUP - 1u) / GROUP;
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer positions;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer dFeatures;
+#ifdef HASH_COMPARE_SWAP
+layout(std430, binding = 2) buffer Grads { uint grads[]; };  // float bits
+#include "gpu/float_bits_add.glsl"
+#else
 layout(std430, binding = 2) buffer Grads { float grads[]; };
+#endif
 #ifdef HASH_POSITION_GRADIENT
 layout(binding = 3, rgba32f) uniform readonly imageBuffer table;
 layout(std430, binding = 4) writeonly buffer PositionGradient { vec4 dPositions[]; };
@@ -51,7 +61,11 @@ void scatter(uint index, float value) {
     return;
   }
 #endif
+#ifdef HASH_COMPARE_SWAP
+  FLOAT_BITS_ADD(grads, index, value)
+#else
   atomicAdd(grads[index], value);
+#endif
 }
 
 void main() {

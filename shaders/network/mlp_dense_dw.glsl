@@ -24,6 +24,7 @@
 #endif
 
 #include "network/mlp_dense_dw_shared.h"
+#include "gpu/float_bits_add.glsl"
 
 layout(binding = 0, rgba32f) uniform readonly imageBuffer X;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer DZ;
@@ -42,11 +43,7 @@ layout(std430, binding = 2) buffer Grads { float g[]; };
 // retries only when another subgroup won the race.
 void addGradient(uint i, float s) {
 #ifdef DW_COMPARE_SWAP
-  uint seen, old = g[i];
-  do {
-    seen = old;
-    old = atomicCompSwap(g[i], seen, floatBitsToUint(uintBitsToFloat(seen) + s));
-  } while (old != seen);
+  FLOAT_BITS_ADD(g, i, s)
 #else
   atomicAdd(g[i], s);
 #endif

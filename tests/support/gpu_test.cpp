@@ -29,7 +29,8 @@ bool deviceRuns(nerf::HashBackwardMode mode) {
   switch (mode) {
     case nerf::HashBackwardMode::Atomic: return deviceRuns(true, false);
     case nerf::HashBackwardMode::SubgroupMerged: return deviceRuns(true, true, true);
-    case nerf::HashBackwardMode::SortReduce: return true;
+    case nerf::HashBackwardMode::SortReduce:
+    case nerf::HashBackwardMode::CompareSwap: return true;
   }
   return false;
 }

@@ -49,10 +49,12 @@ std::vector<gpu::SpecConstant> gridSpec(const HashGridConfig& c) {
 }
 
 // The scatter's module (encoding/encode_hash_backward.glsl): with the position gradient or not,
-// a subgroup's adds merged (SubgroupMerged) or not.
+// a subgroup's adds merged (SubgroupMerged), compare-and-swap loops (CompareSwap) or float atomics.
 const gpu::ShaderCode& backwardShader(HashBackwardMode mode, bool position) {
   if (mode == HashBackwardMode::SubgroupMerged)
     return position ? gpu::shaders::encode_hash_backward_position_merged : gpu::shaders::encode_hash_backward_merged;
+  if (mode == HashBackwardMode::CompareSwap)
+    return position ? gpu::shaders::encode_hash_backward_position_cas : gpu::shaders::encode_hash_backward_cas;
   return position ? gpu::shaders::encode_hash_backward_position : gpu::shaders::encode_hash_backward;
 }
 }  // namespace
@@ -99,7 +101,7 @@ HashEncoding::HashEncoding(Context& ctx, HashGridConfig config, HashBackwardMode
                                           {glsl::HashReduceSpec::STAGE, stage}}});
     setSortSlotBudget(uint32_t(std::min<VkDeviceSize>(
         kSortSlotBytes, ctx.properties().limits.maxStorageBufferRange) / slotBytes(config.featuresPerLevel)));
-  } else if (ctx.floatAtomics()) {
+  } else if (ctx.floatAtomics() || mode_ == HashBackwardMode::CompareSwap) {
     // Without float atomics the forward pass still works (inference); recordBackward says why not.
     backward_ = gpu::Kernel(ctx, {backwardShader(mode, false),
                                   {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
@@ -189,10 +191,10 @@ void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, c
     if (position) recordPositionGradient(rec, rows, position->params, position->dPositions);
     return;
   }
-  if (!ctx_.floatAtomics())
+  if (!ctx_.floatAtomics() && mode_ != HashBackwardMode::CompareSwap)
     throw Error("HashEncoding::recordBackward: the device lacks float atomics (VK_EXT_shader_atomic_float "
                 "shaderBufferFloat32AtomicAdd), which the table gradient scatter needs (HashBackwardMode::SortReduce "
-                "does not)");
+                "and CompareSwap do not)");
   if (position) {
     checkPositionGradient(rows, position->params, position->dPositions, "recordBackward");
     if (!backwardWithPosition_)

@@ -27,14 +27,15 @@ namespace vknerf::nerf {
 using HashGridConfig = ref::HashGridConfig;
 
 // How the backward pass scatters into the table. Atomic is the default where the device has float
-// atomics (nerf/network/gradient_paths.h), SortReduce elsewhere: on lavapipe Atomic was the
+// atomics (nerf/network/gradient_paths.h), CompareSwap elsewhere: on lavapipe Atomic was the
 // fastest in every same-run comparison (`vknerf bench hash`; the table and the reasons are in
 // docs/performance.md, "Hash-table gradient"): SubgroupMerged took 1.1-1.5x its time, SortReduce
 // 2.0-3.0x at F = 2 and 1.6-1.9x at F = 8. An atomic there is a scalar loop over the lanes, uint or
 // float, contended or not, so the contention sorting removes costs nothing, while SortReduce pays
 // two uint atomics and a scattered 16-byte slot store per contribution, plus the reduce.
-// SortReduce is for devices without float atomics (it needs none) and where a deterministic
-// gradient matters; SubgroupMerged for devices where contended coarse-level atomics are slow.
+// CompareSwap (1.2-1.9x Atomic's time) and SortReduce are for devices without float atomics,
+// SortReduce where a deterministic gradient matters or contended swaps are slow; SubgroupMerged for
+// devices where contended coarse-level atomics are slow.
 enum class HashBackwardMode : uint32_t {
   Atomic = 0,          // one float atomicAdd per lane, corner and feature (none for an all-zero level group)
   SubgroupMerged = 1,  // lanes of a subgroup hitting the same entry add first, then one atomic
@@ -45,6 +46,10 @@ enum class HashBackwardMode : uint32_t {
   // (maxComputeWorkGroupCount[0] * 256: T <= 23 on lavapipe).
   // shaders/encoding/encode_hash_backward_{count,scatter,reduce}.comp.
   SortReduce = 2,
+  // Atomic's scatter with each add a compare-and-swap loop on the float's bits (core uint atomics):
+  // no float atomics either, and on lavapipe as fast as Atomic (an uncontended swap is one scalar
+  // atomic, as atomicAdd is). A contended coarse entry retries; SortReduce never does.
+  CompareSwap = 3,
 };
 
 // Where recordBackward also writes the position gradient (recordPositionGradient's arguments).

@@ -21,7 +21,8 @@ struct GradientPaths {
   // It sums a subgroup's invocations with subgroupAdd before adding, else a workgroup's in shared
   // memory.
   bool dwSubgroupReduce = false;
-  // The hash table's gradient: Atomic with float atomics, else SortReduce (no float atomics).
+  // The hash table's gradient: Atomic with float atomics, else CompareSwap (SortReduce, also
+  // without float atomics and deterministic, on request).
   HashBackwardMode hash{};
   // HashBackwardMode::SubgroupMerged can run (subgroup vote and arithmetic).
   bool hashSubgroupMerge = false;

@@ -380,7 +380,7 @@ TEST_F(HashEncoding, ForwardMatchesReference) {
 
 TEST_F(HashEncoding, BackwardMatchesReferenceAndAccumulates) {
   for (auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged,
-                    nerf::HashBackwardMode::SortReduce})
+                    nerf::HashBackwardMode::SortReduce, nerf::HashBackwardMode::CompareSwap})
     for (const auto& c : {kPow2, kOdd, kWide, kEight}) {
       if (!test::deviceRuns(mode)) continue;
       nerf::HashEncoding enc(ctx(), c, mode);
@@ -540,14 +540,16 @@ TEST_F(HashEncoding, BackwardWithoutFloatAtomicsFailsClearly) {
     EXPECT_NE(std::string(e.what()).find("float atomics"), std::string::npos) << e.what();
   }
   rec.end();
-  // SortReduce needs no float atomics: on the same device it computes the gradient, and it is what
-  // that device gets without asking (nerf/network/gradient_paths.h).
-  nerf::HashEncoding sorted(*adopted, kPow2);
-  EXPECT_EQ(sorted.backwardMode(), nerf::HashBackwardMode::SortReduce);
+  // SortReduce and CompareSwap need no float atomics: on the same device they compute the
+  // gradient, and CompareSwap is what that device gets without asking (nerf/network/gradient_paths.h).
+  nerf::HashEncoding sorted(*adopted, kPow2, nerf::HashBackwardMode::SortReduce);
   expectBackwardMatches(*adopted, sorted, 304, 40, true);
+  nerf::HashEncoding swapped(*adopted, kPow2);
+  EXPECT_EQ(swapped.backwardMode(), nerf::HashBackwardMode::CompareSwap);
+  expectBackwardMatches(*adopted, swapped, 304, 40, true);
   // A device with them gets Atomic, the faster there.
   EXPECT_EQ(nerf::HashEncoding(ctx(), kPow2).backwardMode(),
-            ctx().floatAtomics() ? nerf::HashBackwardMode::Atomic : nerf::HashBackwardMode::SortReduce);
+            ctx().floatAtomics() ? nerf::HashBackwardMode::Atomic : nerf::HashBackwardMode::CompareSwap);
 }
 
 TEST_F(HashEncoding, TableInsideALargerBuffer) {

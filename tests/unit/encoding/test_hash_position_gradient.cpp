@@ -139,7 +139,7 @@ INSTANTIATE_TEST_SUITE_P(Ways, HashPositionGradientWays, testing::Values(Way::Al
 TEST_F(HashPositionGradient, FromTheBackwardPassLeavesTheTableGradient) {
   const HashGridConfig& c = kConfigs[0];
   for (const auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged,
-                          nerf::HashBackwardMode::SortReduce}) {
+                          nerf::HashBackwardMode::SortReduce, nerf::HashBackwardMode::CompareSwap}) {
     SCOPED_TRACE(testing::Message() << "mode " << uint32_t(mode));
     if (!test::deviceRuns(mode)) continue;
     nerf::HashEncoding enc(ctx(), c, mode);

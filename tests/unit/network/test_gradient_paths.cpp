@@ -55,11 +55,11 @@ TEST(GradientPaths, ChosenFromTheFeatures) {
   auto all = nerf::gradientPathsFor(features(true, true, true));
   EXPECT_TRUE(all.dwFloatAtomics && all.dwSubgroupReduce && all.hashSubgroupMerge);
   EXPECT_EQ(all.hash, nerf::HashBackwardMode::Atomic);
-  // No float atomics on buffers (RDNA2, Tiger Lake, many mobile GPUs): compare-and-swap, sorting.
+  // No float atomics on buffers (RDNA2, Tiger Lake, many mobile GPUs): compare-and-swap adds.
   auto noAtomics = nerf::gradientPathsFor(features(false, true, true));
   EXPECT_FALSE(noAtomics.dwFloatAtomics);
   EXPECT_TRUE(noAtomics.dwSubgroupReduce);
-  EXPECT_EQ(noAtomics.hash, nerf::HashBackwardMode::SortReduce);
+  EXPECT_EQ(noAtomics.hash, nerf::HashBackwardMode::CompareSwap);
   EXPECT_FALSE(noAtomics.hashSubgroupMerge);
   // Float atomics without subgroup arithmetic or vote: the workgroup reduction, no merged scatter.
   for (auto f : {features(true, false, true), features(true, true, false)}) {
@@ -72,7 +72,7 @@ TEST(GradientPaths, ChosenFromTheFeatures) {
   // What Vulkan 1.2 requires and no more.
   auto none = nerf::gradientPathsFor(gpu::KernelFeatures{});
   EXPECT_FALSE(none.dwFloatAtomics || none.dwSubgroupReduce || none.hashSubgroupMerge);
-  EXPECT_EQ(none.hash, nerf::HashBackwardMode::SortReduce);
+  EXPECT_EQ(none.hash, nerf::HashBackwardMode::CompareSwap);
 }
 
 // The weight gradient's module for each path declares float atomics only where it adds with them,
@@ -92,7 +92,8 @@ TEST(GradientPaths, WeightGradientModulesDeclareOnlyTheirPathsCapabilities) {
 
 // The hash table's scatter without merging declares no subgroup operations (merged, it declares
 // vote and arithmetic); SortReduce's kernels and the prefix sum they use need neither float atomics
-// nor subgroup operations, nor does the separate position gradient SortReduce runs.
+// nor subgroup operations, nor does the separate position gradient SortReduce runs, nor
+// CompareSwap's scatter.
 TEST(GradientPaths, HashBackwardModulesDeclareOnlyTheirPathsCapabilities) {
   for (const gpu::ShaderCode* code : {&gpu::shaders::encode_hash_backward, &gpu::shaders::encode_hash_backward_position}) {
     SCOPED_TRACE(code->name);
@@ -108,7 +109,8 @@ TEST(GradientPaths, HashBackwardModulesDeclareOnlyTheirPathsCapabilities) {
   for (const gpu::ShaderCode* code :
        {&gpu::shaders::encode_hash_backward_count, &gpu::shaders::encode_hash_backward_scatter,
         &gpu::shaders::encode_hash_backward_reduce, &gpu::shaders::scan_blocks, &gpu::shaders::scan_add,
-        &gpu::shaders::encode_hash_position_gradient}) {
+        &gpu::shaders::encode_hash_position_gradient, &gpu::shaders::encode_hash_backward_cas,
+        &gpu::shaders::encode_hash_backward_position_cas}) {
     SCOPED_TRACE(code->name);
     EXPECT_FALSE(hasFloatAtomics(*code));
     EXPECT_FALSE(hasSubgroupOperations(*code));

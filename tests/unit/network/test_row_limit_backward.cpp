@@ -120,7 +120,7 @@ TEST_F(RowLimitBackward, HashGridEqualsTheBackwardOverTheTotal) {
   const uint32_t stride = 20;
   auto dF = gpu::Buffer::of(ctx(), uniformFloats(size_t(kRows) * stride, 2));
   for (auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SubgroupMerged,
-                    nerf::HashBackwardMode::SortReduce}) {
+                    nerf::HashBackwardMode::SortReduce, nerf::HashBackwardMode::CompareSwap}) {
     for (uint32_t budget : {0u, 8u * 300u}) {
       if ((budget && mode != nerf::HashBackwardMode::SortReduce) || !test::deviceRuns(mode)) continue;
       nerf::HashEncoding enc(ctx(), config, mode);

@@ -59,6 +59,7 @@ const char* modeName(nerf::HashBackwardMode m) {
     case nerf::HashBackwardMode::Atomic: return "Atomic";
     case nerf::HashBackwardMode::SubgroupMerged: return "SubgroupMerged";
     case nerf::HashBackwardMode::SortReduce: return "SortReduce";
+    case nerf::HashBackwardMode::CompareSwap: return "CompareSwap";
   }
   return "?";
 }
@@ -88,10 +89,10 @@ int run(const Options& o, Context& ctx) {
   }
   // Only the modes the device can run (nerf/network/gradient_paths.h).
   const nerf::GradientPaths paths = nerf::gradientPathsFor(ctx);
-  std::vector<HashBackwardMode> modes{HashBackwardMode::SortReduce};
+  std::vector<HashBackwardMode> modes{HashBackwardMode::CompareSwap, HashBackwardMode::SortReduce};
   if (paths.hash == HashBackwardMode::Atomic) modes.insert(modes.begin(), HashBackwardMode::Atomic);
   if (paths.hashSubgroupMerge) modes.insert(modes.begin() + 1, HashBackwardMode::SubgroupMerged);
-  if (modes.size() == 1) std::printf("device without float atomics: SortReduce only\n");
+  if (modes.size() == 2) std::printf("device without float atomics: CompareSwap and SortReduce only\n");
   const uint32_t n = o.samples;
   std::printf("hash encoding backward, %u samples, best of %u (us per sample; ratio = time / Atomic's)\n", n, o.repeats);
   std::printf("%-20s %-9s %-15s %10s %10s %8s\n", "grid", "points", "mode", "ms", "us/sample", "ratio");

@@ -35,7 +35,9 @@ export LD_PRELOAD=$ROOT/$BUILD/keep_libraries_loaded.so
 # The install.consumer test configures a project of its own against the sanitized libvknerf.a:
 # CMake takes its initial flags from these.
 export CXXFLAGS="$FLAGS" LDFLAGS="-fsanitize=address,undefined"
-ctest --test-dir "$BUILD" -j2 --output-on-failure
+# The amd-rdna2 profile's host paths (staging copies, the fallbacks' kernels) are a subset of the
+# minimum profile's, which also flushes and invalidates: sanitized once is enough.
+ctest --test-dir "$BUILD" -j2 --output-on-failure -E '^amd-rdna2\.'
 
 if [ "$SUITE_ONLY" = 1 ]; then exit 0; fi
 

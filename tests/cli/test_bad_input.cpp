@@ -273,6 +273,61 @@ TEST(BadInput, AnOutputNeverReplacesAnInput) {
   EXPECT_FALSE(fs::exists(report));
 }
 
+// A scene's own files are never an output, whether or not the command was given the scene: every
+// format's files (transforms, COLMAP's model, poses_bounds.npy, photos in images/ and images_<n>/)
+// and a new split. Each is a usage error naming the file, and the file is left as it was.
+TEST(BadInput, SceneFilesAreNeverOutputs) {
+  const std::string model = tinyModel();
+  const std::string blender = mutatedScene("own_files", "transforms_train.json", [](json&) {});
+  // Another scene, known by its transforms.json only.
+  const fs::path other = temp("other_scene");
+  fs::create_directories(other);
+  std::ofstream(other / "transforms.json") << "{\"frames\": []}";
+  // A COLMAP text model in sparse/0/ beside images/, and an LLFF scene with its downscaled photos.
+  const fs::path colmap = temp("colmap_scene"), llff = temp("llff_scene");
+  fs::create_directories(colmap / "sparse" / "0");
+  fs::create_directories(colmap / "images");
+  for (const char* f : {"cameras.txt", "images.txt", "points3D.txt"}) std::ofstream(colmap / "sparse" / "0" / f) << "# model\n";
+  fs::create_directories(llff / "images");
+  fs::create_directories(llff / "images_4");
+  std::ofstream(llff / "poses_bounds.npy") << "not really a numpy file";
+  const std::vector<fs::path> kept = {fs::path(blender) / "transforms_train.json", fs::path(blender) / "transforms_test.json",
+                                      other / "transforms.json", colmap / "sparse" / "0" / "images.txt",
+                                      llff / "poses_bounds.npy"};
+  std::vector<std::string> before;
+  for (const fs::path& f : kept) before.push_back(bytesOf(f.string()));
+  const std::string cameras = "export cameras " + model + " -o ", npy = (llff / "poses_bounds.npy").string();
+  const std::string evalArgs = "eval " + model + " " + scene() + " --downscale 4 --limit 1 ";
+  const std::string fit = "fit-image " + scene() + "/train/r_0.png --steps 1 --every 0 -o ";
+  const auto own = [](const std::string& flag, const std::string& file) { return flag + " " + file + " is one of the files of the scene "; };
+  runCases({
+      {"cameras over the training poses", cameras + blender + "/transforms_train.json", 2,
+       own("-o", blender + "/transforms_train.json") + blender},
+      {"cameras over the test poses", cameras + blender + "/transforms_test.json", 2, own("-o", blender + "/transforms_test.json")},
+      {"cameras as a new split", cameras + blender + "/transforms_val.json", 2, own("-o", blender + "/transforms_val.json")},
+      {"cameras over another scene's poses", cameras + (other / "transforms.json").string(), 2,
+       own("-o", (other / "transforms.json").string())},
+      {"cameras over a COLMAP model", cameras + (colmap / "sparse" / "0" / "images.txt").string(), 2,
+       own("-o", (colmap / "sparse" / "0" / "images.txt").string())},
+      {"cameras over poses_bounds.npy", cameras + npy, 2, own("-o", npy)},
+      {"train summary over poses_bounds.npy", "train " + scene() + " -o " + temp("own.vknerf") + kTiny + " --steps 1 --summary " + npy,
+       2, own("--summary", npy)},
+      {"eval sheet over poses_bounds.npy", evalArgs + "--sheet " + npy, 2, own("--sheet", npy), "PSNR"},
+      {"eval JSON over poses_bounds.npy", evalArgs + "--json " + npy, 2, own("--json", npy), "PSNR"},
+      {"an image into LLFF's downscaled photos", fit + (llff / "images_4" / "new.png").string(), 2,
+       own("-o", (llff / "images_4" / "new.png").string())},
+      {"an image into COLMAP's photos", fit + (colmap / "images" / "new.png").string(), 2,
+       own("-o", (colmap / "images" / "new.png").string())},
+      {"frames into LLFF's photos", "render " + model + " --orbit 1 --size 8 -o " + (llff / "images_4").string(), 2,
+       "output folder " + (llff / "images_4").string() + " lies in the photos or model of the scene "},
+  });
+  for (size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(bytesOf(kept[i].string()), before[i]) << kept[i];
+  EXPECT_FALSE(fs::exists(fs::path(blender) / "transforms_val.json"));
+  EXPECT_FALSE(fs::exists(llff / "images_4" / "new.png"));
+  EXPECT_FALSE(fs::exists(colmap / "images" / "new.png"));
+  EXPECT_TRUE(fs::is_empty(llff / "images_4"));
+}
+
 // The video goes through the writer every output does: into a pipe or a device in place (not renamed
 // over it), and no temporary file or log is left when a signal ends the render; a good video stays.
 TEST(BadInput, VideoIsWrittenAsEveryOtherOutput) {

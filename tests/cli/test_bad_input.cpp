@@ -328,6 +328,40 @@ TEST(BadInput, SceneFilesAreNeverOutputs) {
   EXPECT_TRUE(fs::is_empty(llff / "images_4"));
 }
 
+// A value the loader would clamp, and a flag that would do nothing, are refused rather than
+// silently changed or ignored.
+TEST(BadInput, ClampsAndFlagsWithoutEffectAreRefused) {
+  // instant-ngp's cube in both splits (the box is the first file's that states one).
+  const auto cube = [](const std::string& name, double side) {
+    const auto toCube = [side](json& j) {
+      j.erase("aabb");
+      j["aabb_scale"] = side;
+    };
+    const std::string dir = mutatedScene(name, "transforms_train.json", toCube);
+    json test = json::parse(std::ifstream(dir + "/transforms_test.json"));
+    toCube(test);
+    std::ofstream(dir + "/transforms_test.json") << test.dump(2);
+    return dir;
+  };
+  const std::string out = " -o " + temp("clamps.vknerf") + " --steps 1";
+  const std::string fast = " --config fast --downscale 4";
+  const std::string evalArgs = "eval " + tinyModel() + " " + scene() + " --downscale 4 --limit 1";
+  runCases({
+      {"aabb_scale 256", "train " + cube("cube_256", 256) + out + kTiny, 1,
+       "transforms_train.json: field 'aabb_scale' must be at most 128 (instant-ngp's largest cube), got 256"},
+      {"aabb_scale 1e9", "train " + cube("cube_1e9", 1e9) + out + kTiny, 1, "field 'aabb_scale' must be at most 128"},
+      {"aabb_scale 128 trains", "train " + cube("cube_128", 128) + out + kTiny, 0, "done after 1 steps", ""},
+      {"--camera-lr without --refine-cameras", "train " + scene() + out + fast + " --camera-lr 0.01", 2,
+       "train: --camera-lr has no effect without --refine-cameras"},
+      {"--camera-penalty without --refine-cameras", "train " + scene() + out + fast + " --camera-penalty 1", 2,
+       "train: --camera-penalty has no effect without --refine-cameras"},
+      {"--profile-steps without --profile", "train " + scene() + out + kTiny + " --profile-steps 4", 2,
+       "train: --profile-steps has no effect without --profile"},
+      {"--sheet-views without --sheet", evalArgs + " --sheet-views 2", 2, "eval: --sheet-views has no effect without --sheet", "PSNR"},
+      {"--sheet-size without --sheet", evalArgs + " --sheet-size 64", 2, "eval: --sheet-size has no effect without --sheet", "PSNR"},
+  });
+}
+
 // The video goes through the writer every output does: into a pipe or a device in place (not renamed
 // over it), and no temporary file or log is left when a signal ends the render; a good video stays.
 TEST(BadInput, VideoIsWrittenAsEveryOtherOutput) {

@@ -72,9 +72,23 @@ const std::string& tinyModel() {
   return path;
 }
 
+// A tiny fast model with camera refinement and an appearance embedding (1 step), trained once per
+// test process.
+const std::string& tinyRefinedModel() {
+  static const std::string path = [] {
+    const std::string p = temp("tiny_refined.vknerf");
+    auto r = runCli("train " + scene() + " -o " + p + " --config fast --refine-cameras --appearance-dims 4 --downscale 4 "
+                    "--rays 128 --hash-levels 2 --grid 16 --steps 1");
+    EXPECT_EQ(r.code, 0) << r.output;
+    return p;
+  }();
+  return path;
+}
+
 // A copy of the tiny model with its config or parameters changed and the checksum recomputed.
-std::string craftedCheckpoint(const std::string& name, const std::function<void(vknerf::nerf::Checkpoint&)>& change) {
-  auto ck = vknerf::nerf::Checkpoint::load(tinyModel());
+std::string craftedCheckpoint(const std::string& name, const std::function<void(vknerf::nerf::Checkpoint&)>& change,
+                              const std::string& from = "") {
+  auto ck = vknerf::nerf::Checkpoint::load(from.empty() ? tinyModel() : from);
   change(ck);
   const std::string path = temp(name + ".vknerf");
   ck.save(path);
@@ -230,6 +244,38 @@ TEST(BadInput, CheckpointsAreCheckedBeyondTheirChecksum) {
       {"resume at another image size", "train " + scene() + " -o " + resumed + " --resume --downscale 2 --steps 1", 1,
        "it was trained on another scene or --downscale"},
   });
+}
+
+// A camera record is checked for what training can write, not only for finite numbers: a
+// correction within reach of the box, a recorded pose rigid. One line naming the field.
+TEST(BadInput, CameraRecordsAreCheckedForWhatTrainingWrites) {
+  const auto correction = [](const std::string& name, size_t index, float value) {
+    return craftedCheckpoint(name, [=](auto& ck) {
+      auto& bytes = ck.sections.at("cameras.params");
+      std::memcpy(bytes.data() + 4 * index, &value, 4);
+    }, tinyRefinedModel());
+  };
+  const std::string turned = correction("turned_camera", 1, 1e30f), shifted = correction("shifted_camera", 6 + 4, 1e30f);
+  const std::string scaled = craftedCheckpoint("scaled_pose", [](auto& ck) {
+    json j = json::parse(ck.config);
+    for (int i : {0, 5, 10}) j["training_cameras"][0]["c2w"][i] = j["training_cameras"][0]["c2w"][i].template get<double>() * 2;
+    ck.config = j.dump(2);
+  });
+  // Rendering uses neither (the views are the scene's or the orbit's): resuming and exporting do.
+  const std::string resumed = temp("turned_resumed.vknerf");
+  fs::copy_file(turned, resumed, fs::copy_options::overwrite_existing);
+  const std::string before = bytesOf(resumed), shiftedBefore = bytesOf(shifted);
+  runCases({
+      {"rotation correction 1e30, resumed", "train " + scene() + " -o " + resumed + " --resume --downscale 4 --steps 1", 1,
+       resumed + ": checkpoint section 'cameras.params': camera 0's rotation correction (w) turns 1e+30 radians"},
+      {"translation correction 1e30, resumed", "train " + scene() + " -o " + shifted + " --resume --downscale 4 --steps 1", 1,
+       "camera 1's translation correction (tau) is 1e+30 long, beyond 10 times the scene box's side"},
+      {"a recorded pose scaled", "export cameras " + scaled + " -o " + temp("scaled.json"), 1,
+       scaled + ": checkpoint training_cameras[0].c2w rotation part is not orthonormal"},
+  });
+  EXPECT_EQ(bytesOf(resumed), before);
+  EXPECT_EQ(bytesOf(shifted), shiftedBefore);
+  EXPECT_FALSE(fs::exists(temp("scaled.json")));
 }
 
 // An output is never an input, nor another output: by path, symlink or hard link, and a folder

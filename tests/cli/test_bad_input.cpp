@@ -533,3 +533,45 @@ TEST(BadInput, MessagesNameTheFileAndTheField) {
   EXPECT_FALSE(fs::exists(temp("m.ply")));
   EXPECT_FALSE(fs::exists(temp("never_processed")));
 }
+
+// A flag out of range or empty is a usage error naming it; `bench scenes` refuses a bad --vknerf
+// before it makes -o, and a failed child's row gives the child's error, not its help footer; a
+// pipe is not called a folder; a program that never started leaves no log.
+TEST(BadInput, FlagsAndChildrenSayWhatIsWrong) {
+  const std::string fast = tinyRefinedModel(), vknerf = std::string(VKNERF_BINARY_DIR) + "/vknerf";
+  const std::string bench = "bench scenes " + scene() + " --steps 1 --config vanilla -o ";
+  const std::string named = temp("bench_named"), twice = temp("bench_twice"), notVknerf = temp("bench_false");
+  const fs::path pipeScene = temp("pipe_scene");
+  fs::create_directories(pipeScene);
+  ASSERT_EQ(::mkfifo((pipeScene / "poses_bounds.npy").c_str(), 0600), 0);
+  const std::string noColmap = temp("no_colmap_bin"), photos = photoFolder("photos_without_colmap", 3);
+  fs::create_directories(noColmap);
+  const std::string processed = temp("processed_without_colmap");
+  runCases({
+      {"eval --appearance past the photos", "eval " + fast + " " + scene() + " --downscale 4 --appearance 100", 2,
+       "eval: --appearance 100 is out of range: the model was trained on 100 photos (0..99)", "PSNR"},
+      {"render --appearance past the photos", "render " + fast + " --orbit 1 --size 8 --appearance 100 -o " + temp("a_render"),
+       2, "render: --appearance 100 is out of range"},
+      {"an empty output", "export mesh " + tinyModel() + " -o ''", 2, "export mesh: -o,--output was given an empty value"},
+      {"an empty scene", "train '' -o " + temp("empty.vknerf"), 2, "train: scene was given an empty value"},
+      {"--vknerf NAME= without a binary", bench + named + " --vknerf a=", 2,
+       "bench scenes: --vknerf a=: no binary after '='"},
+      {"--vknerf =BINARY without a name", bench + named + " --vknerf =" + vknerf, 2,
+       "bench scenes: --vknerf =" + vknerf + ": no name before '='"},
+      {"two builds of one name", bench + twice + " --vknerf x=" + vknerf + " --vknerf x=/bin/true", 2,
+       "bench scenes: --vknerf: two builds would both be named \"x\""},
+      {"a build that is no vknerf", bench + notVknerf + " --vknerf f=/bin/false", 1, "/bin/false train --help: failed"},
+      {"a --train-arg no build knows", bench + temp("bench_unknown_arg") + " --train-arg=--no-such-flag", 2,
+       "bench scenes: --train-arg --no-such-flag: the train of build "},
+      {"a child failing on a --train-arg", bench + temp("bench_bad_arg") + " --train-arg=--log-every=0", 1,
+       "train failed (exit 2): --log-every: Value 0 not in range 1 to 1000000"},
+      {"a pipe named poses_bounds.npy", "train " + (pipeScene / "poses_bounds.npy").string() + " -o " + temp("pipe.vknerf"), 1,
+       "is neither a file nor a folder (a pipe or a device)"},
+      {"process without COLMAP", "process " + photos + " -o " + processed, 1, "colmap is not installed", "", "PATH=" + noColmap},
+  });
+  for (const std::string& dir : {named, twice, notVknerf, temp("bench_unknown_arg")}) EXPECT_FALSE(fs::exists(dir)) << dir;
+  ASSERT_TRUE(fs::exists(temp("bench_bad_arg") + "/scenes.md"));
+  EXPECT_EQ(bytesOf(temp("bench_bad_arg") + "/scenes.md").find("Run with --help"), std::string::npos);
+  EXPECT_FALSE(fs::exists(processed + ".colmap.log"));
+  EXPECT_FALSE(fs::exists(processed));
+}

@@ -52,6 +52,19 @@ int run(const Options& o, const Globals& g) {
   }
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const std::vector<std::string> arguments = o.binaries.empty() ? std::vector<std::string>{self} : o.binaries;
+  for (const std::string& a : arguments) {
+    // NAME=BINARY with either side missing would otherwise be read as a path, or as a build of no file.
+    const size_t eq = a.find('='), slash = a.find('/');
+    if (eq == std::string::npos || (slash != std::string::npos && slash < eq)) continue;
+    if (eq == 0) throw UsageError("bench scenes: --vknerf " + a + ": no name before '=' (give NAME=BINARY, or the BINARY alone)");
+    if (eq + 1 == a.size()) throw UsageError("bench scenes: --vknerf " + a + ": no binary after '=' (give NAME=BINARY)");
+  }
+  std::vector<std::string> buildNames;
+  try {
+    buildNames = bench::buildNames(arguments);
+  } catch (const Error& e) {
+    throw UsageError(std::string("bench scenes: ") + e.what());  // two builds of one name: the flags' fault
+  }
   std::set<std::string> seenBinaries;
   for (const std::string& a : arguments) {
     const std::string path = bench::buildPath(a);
@@ -66,12 +79,18 @@ int run(const Options& o, const Globals& g) {
   for (const std::string& a : arguments) files.input(bench::buildPath(a), "--vknerf");
   files.outputFolder(o.out, "-o").output((fs::path(o.out) / "scenes.md").string(), "-o");
   files.check();
-  files.createFolders();
-
-  const std::vector<std::string> buildNames = bench::buildNames(arguments);
+  // A build that does not answer --help (not a vknerf) fails here, before -o is made.
   std::vector<bench::Build> builds;
   for (size_t i = 0; i < arguments.size(); ++i) builds.push_back(bench::probeBuild(buildNames[i], bench::buildPath(arguments[i]), self));
   const bench::Build selfBuild = bench::probeBuild("this", self, self);
+  // A flag a build's train does not know would fail each of its runs, the first after minutes of
+  // others: found now. Its value is the build's to check, when the run starts.
+  for (const bench::Build& b : builds)
+    for (const std::string& a : o.trainArgs)
+      if (a.rfind("--", 0) == 0 && !bench::listsFlag(b.trainHelp, a.substr(0, a.find('='))))
+        throw UsageError("bench scenes: --train-arg " + a + ": the train of build " + b.name + " (" + b.binary +
+                         ") has no flag " + a.substr(0, a.find('=')));
+  files.createFolders();
 
   bench::SceneRunSettings s;
   if (!g.device.empty()) s.globalArgs = {"--device", g.device};

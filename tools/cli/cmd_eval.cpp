@@ -81,7 +81,7 @@ int run(const Options& o, const Globals& g) {
   auto ctx = g.context();
   RenderSettings settings;
   settings.appearancePhoto = o.appearance;
-  Model model = Model::load(ctx, o.model, settings);
+  Model model = loadForAppearance(ctx, o.model, settings, "eval");
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;

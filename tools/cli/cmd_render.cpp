@@ -82,7 +82,7 @@ int run(const Options& o, const Globals& g) {
   auto ctx = g.context();
   RenderSettings settings;
   settings.appearancePhoto = o.appearance;
-  Model model = Model::load(ctx, o.model, settings);
+  Model model = loadForAppearance(ctx, o.model, settings, "render");
   std::vector<Camera> cams;
   Camera like = pinholeFromFocal(o.size, o.size, 1.2f * float(o.size));  // ~45 degree field of view
   float radius = o.radius;

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -42,6 +43,8 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 }  // namespace
 
 int runLogged(const Subprocess& p, ChildUsage* usage) {
+  struct stat before;
+  const bool hadLog = ::stat(p.logPath.c_str(), &before) == 0;
   std::ofstream log(p.logPath, std::ios::app | std::ios::binary);
   if (!log) throw Error("cannot write the log '" + p.logPath + "': " + std::strerror(errno));
   int fds[2];
@@ -60,6 +63,9 @@ int runLogged(const Subprocess& p, ChildUsage* usage) {
   ::close(fds[1]);
   if (err != 0) {
     ::close(fds[0]);
+    // A program that never started wrote nothing: a log made for it would be an empty file left behind.
+    log.close();
+    if (!hadLog) ::unlink(p.logPath.c_str());
     if (err == ENOENT)
       throw Error(p.debianPackage.empty() ? p.argv[0] + ": not found"
                                           : p.argv[0] + " is not installed (Debian package: " + p.debianPackage + ")");
@@ -102,6 +108,7 @@ std::string lastLogLine(const std::string& path) {
   std::string line, last;
   while (std::getline(in, line)) {
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.rfind("Run with --help", 0) == 0) continue;  // CLI11's footer below its error
     if (!line.empty() && line.find_first_not_of("=-") != std::string::npos) last = line;
   }
   return last;

@@ -29,6 +29,8 @@ struct ChildUsage {
 int runLogged(const Subprocess& p, ChildUsage* usage = nullptr);
 
 // The last non-empty line of a log file ("" when there is none): the reason a program gave.
+// CLI11's closing advice ("Run with --help for more information.") is not a reason: the line
+// before it is taken.
 std::string lastLogLine(const std::string& path);
 
 }  // namespace vknerf::process

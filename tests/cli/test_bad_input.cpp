@@ -575,3 +575,50 @@ TEST(BadInput, FlagsAndChildrenSayWhatIsWrong) {
   EXPECT_FALSE(fs::exists(processed + ".colmap.log"));
   EXPECT_FALSE(fs::exists(processed));
 }
+
+// Whether a process whose command line holds `part` is running (read from /proc).
+static bool running(const std::string& part) {
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string pid = e.path().filename().string();
+    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string cmdline = bytesOf((e.path() / "cmdline").string());
+    for (char& c : cmdline)
+      if (c == '\0') c = ' ';
+    if (cmdline.find(part) != std::string::npos && cmdline.find("vknerf") != std::string::npos &&
+        cmdline.find("/bin/sh") == std::string::npos)
+      return true;
+  }
+  return false;
+}
+
+// `bench scenes` stopped passes the signal on to its child and waits for it: the train saves its
+// model, no child is left running, and the exit status is the signal's. A `train --summary` into
+// a pipe nobody reads cannot outlive a signal.
+TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
+  const std::string tiny = " --train-arg=--width=16 --train-arg=--depth=2 --train-arg=--coarse=8 --train-arg=--fine=8 "
+                           "--train-arg=--rays=128 --train-arg=--log-every=1";
+  for (const auto& [signal, code] : {std::pair<std::string, int>{"TERM", 143}, {"INT", 130}}) {
+    SCOPED_TRACE(signal);
+    const std::string dir = temp("bench_stopped_" + signal), log = dir + "/runs/tabletop.train.log";
+    auto r = runCli("bench scenes " + scene() + " --steps 100000 --config vanilla --downscale 4 -o " + dir + tiny +
+                    " > " + dir + ".out 2>&1 & pid=$!; for i in $(seq 1200); do grep -q '^step ' " + log +
+                    " 2>/dev/null && break; sleep 0.1; done; kill -" + signal + " $pid; wait $pid; s=$?; cat " + dir + ".out; exit $s");
+    EXPECT_EQ(r.code, code) << r.output;
+    EXPECT_NE(r.output.find("bench scenes: stopped by SIG" + signal), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("train failed (exit " + std::to_string(code) + ")"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(dir + "/runs/tabletop.vknerf")) << "the child did not save before the parent ended";
+    EXPECT_FALSE(running(dir)) << "a child of the stopped bench is still running";
+  }
+  const std::string fifo = temp("summary_pipe"), model = temp("fifo.vknerf"), out = temp("fifo.out");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // A watchdog ends the train if the signal does not, so that a failure cannot hang the test.
+  auto r = runCli("train " + scene() + " -o " + model + kTiny + " --steps 1 --summary " + fifo + " > " + out +
+                  " 2>&1 & pid=$!; for i in $(seq 1200); do grep -q 'model saved to' " + out +
+                  " && break; sleep 0.1; done; sleep 0.5; kill -TERM $pid; (sleep 30; kill -KILL $pid) 2>/dev/null & dog=$!; "
+                  "wait $pid; s=$?; kill $dog; cat " + out + "; exit $s");
+  EXPECT_EQ(r.code, 143) << r.output;
+  EXPECT_NE(r.output.find("model saved to " + model), std::string::npos) << r.output;
+  struct stat st;
+  ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+}

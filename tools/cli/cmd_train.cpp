@@ -32,9 +32,11 @@ namespace {
 // 128 + the signal's number. The handler only records the signal (async-signal-safe); a second
 // signal while that save runs means "now": it exits at once, and the atomic writer guarantees the
 // checkpoint on disk is the previous complete one (its temporary file is removed).
-volatile std::sig_atomic_t stopSignal = 0;
+// Once the last checkpoint is saved nothing is left to save: a signal then ends the run at once,
+// so that writing --summary into a pipe nobody reads (its open blocks) cannot outlive it.
+volatile std::sig_atomic_t stopSignal = 0, finalSaveDone = 0;
 extern "C" void onStopSignal(int sig) {
-  if (stopSignal) {
+  if (stopSignal || finalSaveDone) {
     removeTemporaryFiles();
     ::_exit(128 + sig);
   }
@@ -249,6 +251,7 @@ int train(const Options& o, const Globals& g) {
               trainer.statistics().deviceMiB, trainer.trainingPixelsDeviceMiB(), trainer.trainingPixelBindings());
   if (o.profile && !profiles.empty()) printStepProfile({profiles.begin(), profiles.end()});
   trainer.save(o.output);
+  finalSaveDone = 1;
   const CompileStats compiled = ctx->compileStats();
   std::printf("kernels: %.1f s compiling (%u pipelines, %u compiled ahead), not counted in the training time\n",
               compiled.seconds, compiled.pipelines, compiled.compiledAhead);

@@ -7,7 +7,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <chrono>
 #include <cstring>
 #include <fstream>
@@ -40,9 +42,33 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
   return out;
 }
 
+// forwardStopSignals(): the child being waited for (0: none), the first stop signal, and whether
+// children get a process group of their own. Read by the signal handler: lock-free atomics only.
+std::atomic<pid_t> runningChild{0};
+std::atomic<int> stopSignal{0};
+std::atomic<bool> forwarding{false};
+
+extern "C" void forwardToChild(int sig) {
+  int none = 0;
+  stopSignal.compare_exchange_strong(none, sig);
+  if (const pid_t pid = runningChild.load(); pid > 0) ::kill(pid, sig);
+}
+
 }  // namespace
 
+void forwardStopSignals() {
+  forwarding = true;
+  struct sigaction sa {};
+  sa.sa_handler = forwardToChild;
+  sa.sa_flags = SA_RESTART;  // the read of the child's output and the wait go on
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGINT, SIGTERM}) ::sigaction(sig, &sa, nullptr);
+}
+
+int stopSignalReceived() { return stopSignal.load(); }
+
 int runLogged(const Subprocess& p, ChildUsage* usage) {
+  if (const int sig = stopSignal.load()) return 128 + sig;  // stopped: no new child, and no log for one
   struct stat before;
   const bool hadLog = ::stat(p.logPath.c_str(), &before) == 0;
   std::ofstream log(p.logPath, std::ios::app | std::ios::binary);
@@ -56,11 +82,23 @@ int runLogged(const Subprocess& p, ChildUsage* usage) {
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
   posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  if (forwarding) {
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, 0);
+  }
   pid_t pid = -1;
   const auto start = std::chrono::steady_clock::now();
-  const int err = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
+  const int err = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
   ::close(fds[1]);
+  if (err == 0) {
+    runningChild = pid;
+    // A signal that came while the child was being started found no child to pass it to.
+    if (const int sig = stopSignal.load()) ::kill(pid, sig);
+  }
   if (err != 0) {
     ::close(fds[0]);
     // A program that never started wrote nothing: a log made for it would be an empty file left behind.
@@ -95,6 +133,7 @@ int runLogged(const Subprocess& p, ChildUsage* usage) {
   rusage ru{};
   while (::wait4(pid, &status, 0, &ru) < 0 && errno == EINTR) {
   }
+  runningChild = 0;
   if (usage) {
     usage->peakHostMiB = double(ru.ru_maxrss) / 1024.0;  // KiB on Linux
     usage->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

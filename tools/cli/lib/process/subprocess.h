@@ -33,4 +33,13 @@ int runLogged(const Subprocess& p, ChildUsage* usage = nullptr);
 // before it is taken.
 std::string lastLogLine(const std::string& path);
 
+// From now on SIGINT and SIGTERM are passed on to the child runLogged is waiting for, which is
+// waited for as usual (a `train` saves first), and no further child is started: runLogged then
+// returns 128 + the signal at once. Children run in a process group of their own, so that a Ctrl-C
+// at the terminal reaches them once, through this process, rather than twice. For a command that
+// runs children for minutes or hours (`bench scenes`): stopped, it must not leave them running.
+void forwardStopSignals();
+// The first SIGINT or SIGTERM received since forwardStopSignals(), or 0.
+int stopSignalReceived();
+
 }  // namespace vknerf::process

@@ -405,7 +405,18 @@ TEST(BadInput, ClampsAndFlagsWithoutEffectAreRefused) {
        "train: --profile-steps has no effect without --profile"},
       {"--sheet-views without --sheet", evalArgs + " --sheet-views 2", 2, "eval: --sheet-views has no effect without --sheet", "PSNR"},
       {"--sheet-size without --sheet", evalArgs + " --sheet-size 64", 2, "eval: --sheet-size has no effect without --sheet", "PSNR"},
+      {"--elevation without --orbit", "render " + tinyModel() + " " + scene() + " --elevation 30 -o " + temp("no_render"), 2,
+       "render: --elevation has no effect without --orbit"},
+      {"--size with a SCENE", "render " + tinyModel() + " " + scene() + " --size 64 -o " + temp("no_render"), 2,
+       "render: --size has no effect"},
+      {"--split with --orbit", "render " + tinyModel() + " --orbit 1 --split train -o " + temp("no_render"), 2,
+       "render: --split has no effect"},
+      {"--downscale without a SCENE", "render " + tinyModel() + " --orbit 1 --downscale 2 -o " + temp("no_render"), 2,
+       "render: --downscale has no effect"},
+      {"--fps without a video", "render " + tinyModel() + " --orbit 1 --fps 30 -o " + temp("no_render"), 2,
+       "render: --fps has no effect without --video"},
   });
+  EXPECT_FALSE(fs::exists(temp("no_render")));
 }
 
 // The video goes through the writer every output does: into a pipe or a device in place (not renamed

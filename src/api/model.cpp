@@ -3,6 +3,7 @@
 #include "vknerf/model.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -10,6 +11,7 @@
 #include "gpu/recorder.h"
 #include "io/checkpoint/checkpoint.h"
 #include "io/checkpoint/checkpoint_record.h"
+#include "io/dataset/dataset_loaders.h"
 #include "nerf/rays/pose_correction.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
@@ -60,8 +62,36 @@ const TrainConfig& Model::config() const { return impl_->config; }
 const Aabb& Model::bounds() const { return impl_->box; }
 std::vector<TrainedCamera> Model::trainingCameras() const { return impl_->trainingCameras(); }
 
+namespace {
+
+// The record reads back whatever floats were written (CheckpointRecord); a camera that training
+// wrote also is what the loader accepts of a scene's: a rigid pose, values within the range the
+// device computes with, a lens it can invert. A crafted one would be exported as a scene that
+// `train` then refuses, or rendered at: one line naming the camera and the field instead.
+std::vector<TrainedCamera> checkedTrainingCameras(const nerf::CheckpointRecord& record, const std::string& path) {
+  std::vector<TrainedCamera> cameras = record.trainingCameras();
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const Camera& c = cameras[i].camera;
+    const std::string where = path + ": checkpoint training_cameras[" + std::to_string(i) + "]";
+    const auto inRange = [&](double v, const char* field) {
+      if (std::fabs(v) <= nerf::detail::kDeviceLimit) return;
+      char text[32];
+      std::snprintf(text, sizeof text, "%g", v);
+      throw Error(where + ": " + field + " value " + text + " is beyond the range the device computes with (|x| <= 1e15)");
+    };
+    inRange(c.fx, "fx"), inRange(c.fy, "fy"), inRange(c.cx, "cx"), inRange(c.cy, "cy");
+    std::array<double, 16> pose;
+    for (int k = 0; k < 16; ++k) inRange(pose[k] = c.c2w[k], "c2w");
+    nerf::detail::checkRigid(pose, where, "c2w");
+    checkLens(c, where);
+  }
+  return cameras;
+}
+
+}  // namespace
+
 std::vector<TrainedCamera> Model::trainingCamerasOf(const std::string& checkpoint) {
-  return nerf::CheckpointRecord(nerf::Checkpoint::load(checkpoint)).trainingCameras();
+  return checkedTrainingCameras(nerf::CheckpointRecord(nerf::Checkpoint::load(checkpoint)), checkpoint);
 }
 
 RenderedImage Model::render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const {
@@ -122,7 +152,7 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   impl->ctx = ctx;
   impl->config = record.config();
   impl->box = record.bounds();
-  impl->trainingCameras = [record] { return record.trainingCameras(); };
+  impl->trainingCameras = [record, path] { return checkedTrainingCameras(record, path); };
   impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false, settings);
   impl->pipe = impl->own.get();
   // State kept per training photo (the fast model's appearance vectors) is sized by their count.

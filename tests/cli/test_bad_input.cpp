@@ -262,6 +262,11 @@ TEST(BadInput, CameraRecordsAreCheckedForWhatTrainingWrites) {
     ck.config = j.dump(2);
   });
   // Rendering uses neither (the views are the scene's or the orbit's): resuming and exporting do.
+  const std::string far = craftedCheckpoint("far_pose", [](auto& ck) {
+    json j = json::parse(ck.config);
+    j["training_cameras"][1]["c2w"][3] = 1e20;
+    ck.config = j.dump(2);
+  });
   const std::string resumed = temp("turned_resumed.vknerf");
   fs::copy_file(turned, resumed, fs::copy_options::overwrite_existing);
   const std::string before = bytesOf(resumed), shiftedBefore = bytesOf(shifted);
@@ -271,11 +276,14 @@ TEST(BadInput, CameraRecordsAreCheckedForWhatTrainingWrites) {
       {"translation correction 1e30, resumed", "train " + scene() + " -o " + shifted + " --resume --downscale 4 --steps 1", 1,
        "camera 1's translation correction (tau) is 1e+30 long, beyond 10 times the scene box's side"},
       {"a recorded pose scaled", "export cameras " + scaled + " -o " + temp("scaled.json"), 1,
-       scaled + ": checkpoint training_cameras[0].c2w rotation part is not orthonormal"},
+       scaled + ": checkpoint training_cameras[0]: c2w rotation part is not orthonormal"},
+      {"a recorded camera 1e20 away", "export cameras " + far + " -o " + temp("far.json"), 1,
+       far + ": checkpoint training_cameras[1]: c2w value 1e+20 is beyond the range the device computes with"},
   });
   EXPECT_EQ(bytesOf(resumed), before);
   EXPECT_EQ(bytesOf(shifted), shiftedBefore);
   EXPECT_FALSE(fs::exists(temp("scaled.json")));
+  EXPECT_FALSE(fs::exists(temp("far.json")));
 }
 
 // An output is never an input, nor another output: by path, symlink or hard link, and a folder

@@ -87,34 +87,6 @@ struct CameraReader {
     return uint32_t(v.get<uint64_t>());
   }
 
-  // Training records the poses it was given (which the loader checked rigid) or those corrected by
-  // a rotation: a scaled, sheared or mirrored one was never written by it, and exported it would
-  // give a scene that the loader refuses. The loader's tolerance (src/api/dataset.cpp).
-  void checkRigid(const std::array<float, 16>& m) const {
-    constexpr double kTol = 1e-3;
-    double worst = 0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        double dot = 0;
-        for (int k = 0; k < 3; ++k) dot += double(m[4 * k + a]) * m[4 * k + b];
-        worst = std::max(worst, std::fabs(dot - (a == b ? 1.0 : 0.0)));
-      }
-    char text[96];
-    if (worst > kTol) {
-      std::snprintf(text, sizeof text, "rotation part is not orthonormal (|R^T R - I| = %g); a recorded pose is rigid", worst);
-      fail("c2w", text);
-    }
-    const double det = double(m[0]) * (double(m[5]) * m[10] - double(m[6]) * m[9]) -
-                       double(m[1]) * (double(m[4]) * m[10] - double(m[6]) * m[8]) +
-                       double(m[2]) * (double(m[4]) * m[9] - double(m[5]) * m[8]);
-    if (std::fabs(det - 1) > kTol) {
-      std::snprintf(text, sizeof text, "rotation part has determinant %g (a reflection); a recorded pose is rigid", det);
-      fail("c2w", text);
-    }
-    if (std::fabs(m[12]) > kTol || std::fabs(m[13]) > kTol || std::fabs(m[14]) > kTol || std::fabs(m[15] - 1) > kTol)
-      fail("c2w", "last row is not (0, 0, 0, 1)");
-  }
-
   TrainedCamera read(const json& j) const {
     if (!j.is_object()) fail("", "must be an object");
     TrainedCamera t;
@@ -132,7 +104,6 @@ struct CameraReader {
     const json& c2w = at(j, "c2w", "c2w");
     if (!c2w.is_array() || c2w.size() != 16) fail("c2w", "must be an array of 16 numbers (row-major 4x4)");
     for (size_t i = 0; i < 16; ++i) c.c2w[i] = number(c2w[i], "c2w[" + std::to_string(i) + "]");
-    checkRigid(c.c2w);
     const json& lens = at(j, "lens", "lens");
     if (!lens.is_object()) fail("lens", "must be an object");
     const json& model = at(lens, "model", "lens.model");

@@ -63,8 +63,7 @@ class CheckpointRecord {
   void checkScene(const SceneFacts& scene) const;
   // The training cameras in training order. Throws naming the file and "training_cameras" when the
   // checkpoint was written before they were recorded, and the camera's field when one is missing,
-  // mistyped or out of range (a size of 0, a focal length <= 0, a value that is not a finite float,
-  // a pose that is not rigid: training writes none).
+  // mistyped or out of range (a size of 0, a focal length <= 0, a value that is not a finite float).
   std::vector<TrainedCamera> trainingCameras() const;
 
  private:

@@ -611,8 +611,8 @@ static bool running(const std::string& part) {
 }
 
 // `bench scenes` stopped passes the signal on to its child and waits for it: the train saves its
-// model, no child is left running, and the exit status is the signal's. A `train --summary` into
-// a pipe nobody reads cannot outlive a signal.
+// model, no child is left running, and the exit status is the signal's; `process` does the same
+// with COLMAP. A `train --summary` into a pipe nobody reads cannot outlive a signal.
 TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
   const std::string tiny = " --train-arg=--width=16 --train-arg=--depth=2 --train-arg=--coarse=8 --train-arg=--fine=8 "
                            "--train-arg=--rays=128 --train-arg=--log-every=1";
@@ -640,4 +640,22 @@ TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
   struct stat st;
   ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode));
+
+  // `process` passes a signal on to COLMAP (here a stand-in that sleeps), waits for it and removes
+  // what it staged.
+  const std::string bin = temp("sleeping_colmap"), pidFile = temp("colmap.pid"), said = temp("process.out");
+  fs::create_directories(bin);
+  std::ofstream(bin + "/colmap") << "#!/bin/sh\necho $$ > " + pidFile + "\nexec sleep 600\n";
+  fs::permissions(bin + "/colmap", fs::perms::owner_all);
+  const std::string photos = photoFolder("photos_for_stopped_colmap", 3), processed = temp("stopped_process");
+  r = runCli("process " + photos + " -o " + processed + " > " + said + " 2>&1 & pid=$!; for i in $(seq 1200); do test -s " +
+             pidFile + " && break; sleep 0.1; done; kill -TERM $pid; wait $pid; s=$?; cat " + said + "; exit $s",
+             "PATH=" + bin + ":$PATH");
+  EXPECT_EQ(r.code, 143) << r.output;
+  EXPECT_NE(r.output.find("vknerf: stopped by SIGTERM"), std::string::npos) << r.output;
+  std::string colmapPid = bytesOf(pidFile);
+  while (!colmapPid.empty() && colmapPid.back() == '\n') colmapPid.pop_back();
+  ASSERT_FALSE(colmapPid.empty());
+  EXPECT_FALSE(fs::exists("/proc/" + colmapPid)) << "COLMAP outlived the stopped process";
+  EXPECT_EQ(namesWith(fs::path(processed).parent_path().string(), "stopped_process"), std::vector<std::string>{});
 }

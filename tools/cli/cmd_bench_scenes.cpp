@@ -126,6 +126,9 @@ int run(const Options& o, const Globals& g) {
                     r.steps.value_or(0));
     }
 
+  // No child is left to pass a signal to: from here one ends the command, as in every other, so
+  // that writing the table into a pipe nobody reads cannot outlive it.
+  removeTemporaryFilesOnSignals();
   // The table lists the scenes, and the builds on each, in the order given (not the order run).
   const auto key = [&](const bench::SceneRow& r) {
     return std::pair(std::find(names.begin(), names.end(), r.scene) - names.begin(),

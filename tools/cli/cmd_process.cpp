@@ -10,6 +10,7 @@
 #include "command_files.h"
 #include "command.h"
 #include "lib/process/process.h"
+#include "lib/process/subprocess.h"
 #include "progress.h"
 
 namespace vknerf::cli {
@@ -73,6 +74,9 @@ Registration processCommand(
         CommandFiles files("process");  // the photos (or video) must survive the scene replacing -o
         files.input(o->input, "input").replacedFolder(o->output, "-o");
         files.check();
+        // A signal while COLMAP or ffmpeg runs is passed on and waited for, and the staging folder
+        // is removed on the way out (exit 128 + signal): a stopped process leaves no child running.
+        process::forwardStopSignals(process::Forwarding::whileAChildRuns);
         process::ProcessObserver observer;
         observer.say = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
         observer.stage = stagePrinter();

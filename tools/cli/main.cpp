@@ -7,6 +7,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "lib/process/subprocess.h"
 #include "progress.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -121,6 +122,10 @@ int main(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "vknerf: %s\n", e.what());
     return 2;
+  } catch (const vknerf::process::Stopped& e) {
+    // A signal passed on to a child (COLMAP, ffmpeg): the child has ended, the run's files are gone.
+    std::fprintf(stderr, "vknerf: %s\n", e.what());
+    return 128 + e.signal;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "vknerf: error: %s\n", e.what());
     return 1;

@@ -47,6 +47,7 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 std::atomic<pid_t> runningChild{0};
 std::atomic<int> stopSignal{0};
 std::atomic<bool> forwarding{false};
+Forwarding forwardingWhen = Forwarding::always;
 
 extern "C" void forwardToChild(int sig) {
   int none = 0;
@@ -56,21 +57,39 @@ extern "C" void forwardToChild(int sig) {
 
 }  // namespace
 
-void forwardStopSignals() {
-  forwarding = true;
+namespace {
+
+// Installs forwardToChild for SIGINT and SIGTERM; `before` (when given) receives the handlers it replaces.
+void installForwarding(struct sigaction* before) {
   struct sigaction sa {};
   sa.sa_handler = forwardToChild;
   sa.sa_flags = SA_RESTART;  // the read of the child's output and the wait go on
   sigemptyset(&sa.sa_mask);
-  for (int sig : {SIGINT, SIGTERM}) ::sigaction(sig, &sa, nullptr);
+  ::sigaction(SIGINT, &sa, before ? &before[0] : nullptr);
+  ::sigaction(SIGTERM, &sa, before ? &before[1] : nullptr);
+}
+
+}  // namespace
+
+void forwardStopSignals(Forwarding when) {
+  forwarding = true;
+  forwardingWhen = when;
+  if (when == Forwarding::always) installForwarding(nullptr);
 }
 
 int stopSignalReceived() { return stopSignal.load(); }
 
+Stopped::Stopped(int sig)
+    : std::runtime_error(std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM")), signal(sig) {}
+
+void throwIfStopped() {
+  if (const int sig = stopSignal.load()) throw Stopped(sig);
+}
+
 int runLogged(const Subprocess& p, ChildUsage* usage) {
   if (const int sig = stopSignal.load()) return 128 + sig;  // stopped: no new child, and no log for one
-  struct stat before;
-  const bool hadLog = ::stat(p.logPath.c_str(), &before) == 0;
+  struct stat logBefore;
+  const bool hadLog = ::stat(p.logPath.c_str(), &logBefore) == 0;
   std::ofstream log(p.logPath, std::ios::app | std::ios::binary);
   if (!log) throw Error("cannot write the log '" + p.logPath + "': " + std::strerror(errno));
   int fds[2];
@@ -82,6 +101,19 @@ int runLogged(const Subprocess& p, ChildUsage* usage) {
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
   posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
+  // Forwarding while this child runs only: the handlers before it are back once it has ended.
+  struct sigaction handlersBefore[2];
+  const bool forwardingNow = forwarding && forwardingWhen == Forwarding::whileAChildRuns;
+  if (forwardingNow) installForwarding(handlersBefore);
+  struct Restore {
+    bool active;
+    struct sigaction* before;
+    ~Restore() {
+      if (!active) return;
+      ::sigaction(SIGINT, &before[0], nullptr);
+      ::sigaction(SIGTERM, &before[1], nullptr);
+    }
+  } restore{forwardingNow, handlersBefore};
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
   if (forwarding) {

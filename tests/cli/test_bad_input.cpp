@@ -374,6 +374,8 @@ TEST(BadInput, SceneFilesAreNeverOutputs) {
        own("-o", (colmap / "images" / "new.png").string())},
       {"frames into LLFF's photos", "render " + model + " --orbit 1 --size 8 -o " + (llff / "images_4").string(), 2,
        "output folder " + (llff / "images_4").string() + " lies in the photos or model of the scene "},
+      {"a processed scene as LLFF's photos", "process " + photoFolder("photos_into_llff", 3) + " -o " + (llff / "images_4").string(),
+       2, "-o " + (llff / "images_4").string() + " lies in the photos or model of the scene ", "colmap"},
   });
   for (size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(bytesOf(kept[i].string()), before[i]) << kept[i];
   EXPECT_FALSE(fs::exists(fs::path(blender) / "transforms_val.json"));

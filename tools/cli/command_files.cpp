@@ -153,8 +153,9 @@ void CommandFiles::check() const {
     if (out.kind == Kind::output)
       if (const auto scene = sceneDeclaring(out.path))
         clash(out, "is one of the files of", {scene->string(), "scene", Kind::scene}, kSceneFiles);
-    // Files written into a scene's photo or model folder would be read as the scene's own.
-    if (out.kind == Kind::outputFolder)
+    // Files written into a scene's photo or model folder (or a folder replacing it) would be read
+    // as the scene's own.
+    if (out.kind == Kind::outputFolder || out.kind == Kind::replacedFolder)
       if (const auto scene = sceneHoldingFolder(out.path))
         clash(out, "lies in the photos or model of", {scene->string(), "scene", Kind::scene});
   }

@@ -425,7 +425,12 @@ TEST(BadInput, ClampsAndFlagsWithoutEffectAreRefused) {
        "render: --downscale has no effect"},
       {"--fps without a video", "render " + tinyModel() + " --orbit 1 --fps 30 -o " + temp("no_render"), 2,
        "render: --fps has no effect without --video"},
+      {"--width without a path", "render " + tinyModel() + " --orbit 1 --width 64 -o " + temp("no_render"), 2,
+       "render: --width has no effect without an instant-ngp --path"},
+      {"process --fps on photos", "process " + photoFolder("fps_photos", 3) + " --fps 4 -o " + temp("no_scene"), 2,
+       "process: --fps has no effect on a folder of photos", "colmap"},
   });
+  EXPECT_FALSE(fs::exists(temp("no_scene")));
   EXPECT_FALSE(fs::exists(temp("no_render")));
 }
 

@@ -178,6 +178,8 @@ Registration render("render", "Render RGB, depth and opacity images from a train
     if (app.count("--split") && (!scene || o->orbit || path)) refuse("--split", "but on a SCENE's own views (no --orbit or --path)");
     if (app.count("--downscale") && (!scene || path)) refuse("--downscale", "without a SCENE whose views or size are rendered");
     if (app.count("--fps") && o->video.empty() && !path) refuse("--fps", "without --video or an instant-ngp --path");
+    for (const char* flag : {"--seconds", "--width", "--height"})
+      if (app.count(flag) && !path) refuse(flag, "without an instant-ngp --path");
     return run(*o, g);
   };
 });

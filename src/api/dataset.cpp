@@ -131,6 +131,11 @@ bool isDir(const fs::path& p) {
 SceneSpec readScene(const fs::path& path, const DatasetOptions& options) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("dataset '" + path.string() + "' does not exist");
+  // A pipe or a device (a FIFO named poses_bounds.npy) is neither a scene file nor a folder: say so,
+  // rather than look into it for a scene's files as into a folder.
+  if (!isFile(path) && !isDir(path))
+    throw Error("dataset '" + path.string() + "' is neither a file nor a folder (a pipe or a device): give the scene "
+                "folder, a transforms JSON or poses_bounds.npy");
   if (isFile(path)) {
     if (path.extension() == ".json") return readTransformsJson(path, options);
     if (path.extension() == ".npy") return readLlff(path, options);

@@ -22,8 +22,9 @@ struct Checkpoint;
 }  // namespace nerf
 
 // Uploads the arrays of `ck` into the pipeline's state (model.cpp). A checksum proves the bytes are
-// as written, not that they are a model: throws vknerf::Error for a non-finite parameter.
-void uploadState(const nerf::Checkpoint& ck, nerf::FieldPipeline& pipe);
+// as written, not that they are a model: throws vknerf::Error for a non-finite parameter, and for a
+// camera correction beyond what training produces in the scene box `box` (cameras.params).
+void uploadState(const nerf::Checkpoint& ck, nerf::FieldPipeline& pipe, const Aabb& box);
 
 struct Model::Impl {
   std::shared_ptr<Context> ctx;

@@ -214,7 +214,7 @@ void Trainer::resume(const std::string& path) {
   scene.cameras = s.numCameras;
   scene.imageSize = {s.imageWidth, s.imageHeight};
   record.checkScene(scene);
-  uploadState(ck, *s.pipe);
+  uploadState(ck, *s.pipe, s.box);
   s.step = record.step();
 }
 

@@ -72,9 +72,23 @@ const std::string& tinyModel() {
   return path;
 }
 
+// A tiny fast model with camera refinement and an appearance embedding (1 step), trained once per
+// test process.
+const std::string& tinyRefinedModel() {
+  static const std::string path = [] {
+    const std::string p = temp("tiny_refined.vknerf");
+    auto r = runCli("train " + scene() + " -o " + p + " --config fast --refine-cameras --appearance-dims 4 --downscale 4 "
+                    "--rays 128 --hash-levels 2 --grid 16 --steps 1");
+    EXPECT_EQ(r.code, 0) << r.output;
+    return p;
+  }();
+  return path;
+}
+
 // A copy of the tiny model with its config or parameters changed and the checksum recomputed.
-std::string craftedCheckpoint(const std::string& name, const std::function<void(vknerf::nerf::Checkpoint&)>& change) {
-  auto ck = vknerf::nerf::Checkpoint::load(tinyModel());
+std::string craftedCheckpoint(const std::string& name, const std::function<void(vknerf::nerf::Checkpoint&)>& change,
+                              const std::string& from = "") {
+  auto ck = vknerf::nerf::Checkpoint::load(from.empty() ? tinyModel() : from);
   change(ck);
   const std::string path = temp(name + ".vknerf");
   ck.save(path);
@@ -232,6 +246,46 @@ TEST(BadInput, CheckpointsAreCheckedBeyondTheirChecksum) {
   });
 }
 
+// A camera record is checked for what training can write, not only for finite numbers: a
+// correction within reach of the box, a recorded pose rigid. One line naming the field.
+TEST(BadInput, CameraRecordsAreCheckedForWhatTrainingWrites) {
+  const auto correction = [](const std::string& name, size_t index, float value) {
+    return craftedCheckpoint(name, [=](auto& ck) {
+      auto& bytes = ck.sections.at("cameras.params");
+      std::memcpy(bytes.data() + 4 * index, &value, 4);
+    }, tinyRefinedModel());
+  };
+  const std::string turned = correction("turned_camera", 1, 1e30f), shifted = correction("shifted_camera", 6 + 4, 1e30f);
+  const std::string scaled = craftedCheckpoint("scaled_pose", [](auto& ck) {
+    json j = json::parse(ck.config);
+    for (int i : {0, 5, 10}) j["training_cameras"][0]["c2w"][i] = j["training_cameras"][0]["c2w"][i].template get<double>() * 2;
+    ck.config = j.dump(2);
+  });
+  // Rendering uses neither (the views are the scene's or the orbit's): resuming and exporting do.
+  const std::string far = craftedCheckpoint("far_pose", [](auto& ck) {
+    json j = json::parse(ck.config);
+    j["training_cameras"][1]["c2w"][3] = 1e20;
+    ck.config = j.dump(2);
+  });
+  const std::string resumed = temp("turned_resumed.vknerf");
+  fs::copy_file(turned, resumed, fs::copy_options::overwrite_existing);
+  const std::string before = bytesOf(resumed), shiftedBefore = bytesOf(shifted);
+  runCases({
+      {"rotation correction 1e30, resumed", "train " + scene() + " -o " + resumed + " --resume --downscale 4 --steps 1", 1,
+       resumed + ": checkpoint section 'cameras.params': camera 0's rotation correction (w) turns 1e+30 radians"},
+      {"translation correction 1e30, resumed", "train " + scene() + " -o " + shifted + " --resume --downscale 4 --steps 1", 1,
+       "camera 1's translation correction (tau) is 1e+30 long, beyond 10 times the scene box's side"},
+      {"a recorded pose scaled", "export cameras " + scaled + " -o " + temp("scaled.json"), 1,
+       scaled + ": checkpoint training_cameras[0]: c2w rotation part is not orthonormal"},
+      {"a recorded camera 1e20 away", "export cameras " + far + " -o " + temp("far.json"), 1,
+       far + ": checkpoint training_cameras[1]: c2w value 1e+20 is beyond the range the device computes with"},
+  });
+  EXPECT_EQ(bytesOf(resumed), before);
+  EXPECT_EQ(bytesOf(shifted), shiftedBefore);
+  EXPECT_FALSE(fs::exists(temp("scaled.json")));
+  EXPECT_FALSE(fs::exists(temp("far.json")));
+}
+
 // An output is never an input, nor another output: by path, symlink or hard link, and a folder
 // output never holds or lies in an input folder. Each is a usage error naming both, before any work.
 TEST(BadInput, AnOutputNeverReplacesAnInput) {
@@ -271,6 +325,113 @@ TEST(BadInput, AnOutputNeverReplacesAnInput) {
   EXPECT_EQ(namesWith(photos, ".png").size(), 3u);
   EXPECT_FALSE(fs::exists(copy + "/renders"));
   EXPECT_FALSE(fs::exists(report));
+}
+
+// A scene's own files are never an output, whether or not the command was given the scene: every
+// format's files (transforms, COLMAP's model, poses_bounds.npy, photos in images/ and images_<n>/)
+// and a new split. Each is a usage error naming the file, and the file is left as it was.
+TEST(BadInput, SceneFilesAreNeverOutputs) {
+  const std::string model = tinyModel();
+  const std::string blender = mutatedScene("own_files", "transforms_train.json", [](json&) {});
+  // Another scene, known by its transforms.json only.
+  const fs::path other = temp("other_scene");
+  fs::create_directories(other);
+  std::ofstream(other / "transforms.json") << "{\"frames\": []}";
+  // A COLMAP text model in sparse/0/ beside images/, and an LLFF scene with its downscaled photos.
+  const fs::path colmap = temp("colmap_scene"), llff = temp("llff_scene");
+  fs::create_directories(colmap / "sparse" / "0");
+  fs::create_directories(colmap / "images");
+  for (const char* f : {"cameras.txt", "images.txt", "points3D.txt"}) std::ofstream(colmap / "sparse" / "0" / f) << "# model\n";
+  fs::create_directories(llff / "images");
+  fs::create_directories(llff / "images_4");
+  std::ofstream(llff / "poses_bounds.npy") << "not really a numpy file";
+  const std::vector<fs::path> kept = {fs::path(blender) / "transforms_train.json", fs::path(blender) / "transforms_test.json",
+                                      other / "transforms.json", colmap / "sparse" / "0" / "images.txt",
+                                      llff / "poses_bounds.npy"};
+  std::vector<std::string> before;
+  for (const fs::path& f : kept) before.push_back(bytesOf(f.string()));
+  const std::string cameras = "export cameras " + model + " -o ", npy = (llff / "poses_bounds.npy").string();
+  const std::string evalArgs = "eval " + model + " " + scene() + " --downscale 4 --limit 1 ";
+  const std::string fit = "fit-image " + scene() + "/train/r_0.png --steps 1 --every 0 -o ";
+  const auto own = [](const std::string& flag, const std::string& file) { return flag + " " + file + " is one of the files of the scene "; };
+  runCases({
+      {"cameras over the training poses", cameras + blender + "/transforms_train.json", 2,
+       own("-o", blender + "/transforms_train.json") + blender},
+      {"cameras over the test poses", cameras + blender + "/transforms_test.json", 2, own("-o", blender + "/transforms_test.json")},
+      {"cameras as a new split", cameras + blender + "/transforms_val.json", 2, own("-o", blender + "/transforms_val.json")},
+      {"cameras over another scene's poses", cameras + (other / "transforms.json").string(), 2,
+       own("-o", (other / "transforms.json").string())},
+      {"cameras over a COLMAP model", cameras + (colmap / "sparse" / "0" / "images.txt").string(), 2,
+       own("-o", (colmap / "sparse" / "0" / "images.txt").string())},
+      {"cameras over poses_bounds.npy", cameras + npy, 2, own("-o", npy)},
+      {"train summary over poses_bounds.npy", "train " + scene() + " -o " + temp("own.vknerf") + kTiny + " --steps 1 --summary " + npy,
+       2, own("--summary", npy)},
+      {"eval sheet over poses_bounds.npy", evalArgs + "--sheet " + npy, 2, own("--sheet", npy), "PSNR"},
+      {"eval JSON over poses_bounds.npy", evalArgs + "--json " + npy, 2, own("--json", npy), "PSNR"},
+      {"an image into LLFF's downscaled photos", fit + (llff / "images_4" / "new.png").string(), 2,
+       own("-o", (llff / "images_4" / "new.png").string())},
+      {"an image into COLMAP's photos", fit + (colmap / "images" / "new.png").string(), 2,
+       own("-o", (colmap / "images" / "new.png").string())},
+      {"frames into LLFF's photos", "render " + model + " --orbit 1 --size 8 -o " + (llff / "images_4").string(), 2,
+       "output folder " + (llff / "images_4").string() + " lies in the photos or model of the scene "},
+      {"a processed scene as LLFF's photos", "process " + photoFolder("photos_into_llff", 3) + " -o " + (llff / "images_4").string(),
+       2, "-o " + (llff / "images_4").string() + " lies in the photos or model of the scene ", "colmap"},
+  });
+  for (size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(bytesOf(kept[i].string()), before[i]) << kept[i];
+  EXPECT_FALSE(fs::exists(fs::path(blender) / "transforms_val.json"));
+  EXPECT_FALSE(fs::exists(llff / "images_4" / "new.png"));
+  EXPECT_FALSE(fs::exists(colmap / "images" / "new.png"));
+  EXPECT_TRUE(fs::is_empty(llff / "images_4"));
+}
+
+// A value the loader would clamp, and a flag that would do nothing, are refused rather than
+// silently changed or ignored.
+TEST(BadInput, ClampsAndFlagsWithoutEffectAreRefused) {
+  // instant-ngp's cube in both splits (the box is the first file's that states one).
+  const auto cube = [](const std::string& name, double side) {
+    const auto toCube = [side](json& j) {
+      j.erase("aabb");
+      j["aabb_scale"] = side;
+    };
+    const std::string dir = mutatedScene(name, "transforms_train.json", toCube);
+    json test = json::parse(std::ifstream(dir + "/transforms_test.json"));
+    toCube(test);
+    std::ofstream(dir + "/transforms_test.json") << test.dump(2);
+    return dir;
+  };
+  const std::string out = " -o " + temp("clamps.vknerf") + " --steps 1";
+  const std::string fast = " --config fast --downscale 4";
+  const std::string evalArgs = "eval " + tinyModel() + " " + scene() + " --downscale 4 --limit 1";
+  runCases({
+      {"aabb_scale 256", "train " + cube("cube_256", 256) + out + kTiny, 1,
+       "transforms_train.json: field 'aabb_scale' must be at most 128 (instant-ngp's largest cube), got 256"},
+      {"aabb_scale 1e9", "train " + cube("cube_1e9", 1e9) + out + kTiny, 1, "field 'aabb_scale' must be at most 128"},
+      {"aabb_scale 128 trains", "train " + cube("cube_128", 128) + out + kTiny, 0, "done after 1 steps", ""},
+      {"--camera-lr without --refine-cameras", "train " + scene() + out + fast + " --camera-lr 0.01", 2,
+       "train: --camera-lr has no effect without --refine-cameras"},
+      {"--camera-penalty without --refine-cameras", "train " + scene() + out + fast + " --camera-penalty 1", 2,
+       "train: --camera-penalty has no effect without --refine-cameras"},
+      {"--profile-steps without --profile", "train " + scene() + out + kTiny + " --profile-steps 4", 2,
+       "train: --profile-steps has no effect without --profile"},
+      {"--sheet-views without --sheet", evalArgs + " --sheet-views 2", 2, "eval: --sheet-views has no effect without --sheet", "PSNR"},
+      {"--sheet-size without --sheet", evalArgs + " --sheet-size 64", 2, "eval: --sheet-size has no effect without --sheet", "PSNR"},
+      {"--elevation without --orbit", "render " + tinyModel() + " " + scene() + " --elevation 30 -o " + temp("no_render"), 2,
+       "render: --elevation has no effect without --orbit"},
+      {"--size with a SCENE", "render " + tinyModel() + " " + scene() + " --size 64 -o " + temp("no_render"), 2,
+       "render: --size has no effect"},
+      {"--split with --orbit", "render " + tinyModel() + " --orbit 1 --split train -o " + temp("no_render"), 2,
+       "render: --split has no effect"},
+      {"--downscale without a SCENE", "render " + tinyModel() + " --orbit 1 --downscale 2 -o " + temp("no_render"), 2,
+       "render: --downscale has no effect"},
+      {"--fps without a video", "render " + tinyModel() + " --orbit 1 --fps 30 -o " + temp("no_render"), 2,
+       "render: --fps has no effect without --video"},
+      {"--width without a path", "render " + tinyModel() + " --orbit 1 --width 64 -o " + temp("no_render"), 2,
+       "render: --width has no effect without an instant-ngp --path"},
+      {"process --fps on photos", "process " + photoFolder("fps_photos", 3) + " --fps 4 -o " + temp("no_scene"), 2,
+       "process: --fps has no effect on a folder of photos", "colmap"},
+  });
+  EXPECT_FALSE(fs::exists(temp("no_scene")));
+  EXPECT_FALSE(fs::exists(temp("no_render")));
 }
 
 // The video goes through the writer every output does: into a pipe or a device in place (not renamed
@@ -397,4 +558,111 @@ TEST(BadInput, MessagesNameTheFileAndTheField) {
   });
   EXPECT_FALSE(fs::exists(temp("m.ply")));
   EXPECT_FALSE(fs::exists(temp("never_processed")));
+}
+
+// A flag out of range or empty is a usage error naming it; `bench scenes` refuses a bad --vknerf
+// before it makes -o, and a failed child's row gives the child's error, not its help footer; a
+// pipe is not called a folder; a program that never started leaves no log.
+TEST(BadInput, FlagsAndChildrenSayWhatIsWrong) {
+  const std::string fast = tinyRefinedModel(), vknerf = std::string(VKNERF_BINARY_DIR) + "/vknerf";
+  const std::string bench = "bench scenes " + scene() + " --steps 1 --config vanilla -o ";
+  const std::string named = temp("bench_named"), twice = temp("bench_twice"), notVknerf = temp("bench_false");
+  const fs::path pipeScene = temp("pipe_scene");
+  fs::create_directories(pipeScene);
+  ASSERT_EQ(::mkfifo((pipeScene / "poses_bounds.npy").c_str(), 0600), 0);
+  const std::string noColmap = temp("no_colmap_bin"), photos = photoFolder("photos_without_colmap", 3);
+  fs::create_directories(noColmap);
+  const std::string processed = temp("processed_without_colmap");
+  runCases({
+      {"eval --appearance past the photos", "eval " + fast + " " + scene() + " --downscale 4 --appearance 100", 2,
+       "eval: --appearance 100 is out of range: the model was trained on 100 photos (0..99)", "PSNR"},
+      {"render --appearance past the photos", "render " + fast + " --orbit 1 --size 8 --appearance 100 -o " + temp("a_render"),
+       2, "render: --appearance 100 is out of range"},
+      {"an empty output", "export mesh " + tinyModel() + " -o ''", 2, "export mesh: -o,--output was given an empty value"},
+      {"an empty scene", "train '' -o " + temp("empty.vknerf"), 2, "train: scene was given an empty value"},
+      {"--vknerf NAME= without a binary", bench + named + " --vknerf a=", 2,
+       "bench scenes: --vknerf a=: no binary after '='"},
+      {"--vknerf =BINARY without a name", bench + named + " --vknerf =" + vknerf, 2,
+       "bench scenes: --vknerf =" + vknerf + ": no name before '='"},
+      {"two builds of one name", bench + twice + " --vknerf x=" + vknerf + " --vknerf x=/bin/true", 2,
+       "bench scenes: --vknerf: two builds would both be named \"x\""},
+      {"a build that is no vknerf", bench + notVknerf + " --vknerf f=/bin/false", 1, "/bin/false train --help: failed"},
+      {"a --train-arg no build knows", bench + temp("bench_unknown_arg") + " --train-arg=--no-such-flag", 2,
+       "bench scenes: --train-arg --no-such-flag: the train of build "},
+      {"a child failing on a --train-arg", bench + temp("bench_bad_arg") + " --train-arg=--log-every=0", 1,
+       "train failed (exit 2): --log-every: Value 0 not in range 1 to 1000000"},
+      {"a pipe named poses_bounds.npy", "train " + (pipeScene / "poses_bounds.npy").string() + " -o " + temp("pipe.vknerf"), 1,
+       "is neither a file nor a folder (a pipe or a device)"},
+      {"process without COLMAP", "process " + photos + " -o " + processed, 1, "colmap is not installed", "", "PATH=" + noColmap},
+  });
+  for (const std::string& dir : {named, twice, notVknerf, temp("bench_unknown_arg")}) EXPECT_FALSE(fs::exists(dir)) << dir;
+  ASSERT_TRUE(fs::exists(temp("bench_bad_arg") + "/scenes.md"));
+  EXPECT_EQ(bytesOf(temp("bench_bad_arg") + "/scenes.md").find("Run with --help"), std::string::npos);
+  EXPECT_FALSE(fs::exists(processed + ".colmap.log"));
+  EXPECT_FALSE(fs::exists(processed));
+}
+
+// Whether a process whose command line holds `part` is running (read from /proc).
+static bool running(const std::string& part) {
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string pid = e.path().filename().string();
+    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string cmdline = bytesOf((e.path() / "cmdline").string());
+    for (char& c : cmdline)
+      if (c == '\0') c = ' ';
+    if (cmdline.find(part) != std::string::npos && cmdline.find("vknerf") != std::string::npos &&
+        cmdline.find("/bin/sh") == std::string::npos)
+      return true;
+  }
+  return false;
+}
+
+// `bench scenes` stopped passes the signal on to its child and waits for it: the train saves its
+// model, no child is left running, and the exit status is the signal's; `process` does the same
+// with COLMAP. A `train --summary` into a pipe nobody reads cannot outlive a signal.
+TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
+  const std::string tiny = " --train-arg=--width=16 --train-arg=--depth=2 --train-arg=--coarse=8 --train-arg=--fine=8 "
+                           "--train-arg=--rays=128 --train-arg=--log-every=1";
+  for (const auto& [signal, code] : {std::pair<std::string, int>{"TERM", 143}, {"INT", 130}}) {
+    SCOPED_TRACE(signal);
+    const std::string dir = temp("bench_stopped_" + signal), log = dir + "/runs/tabletop.train.log";
+    auto r = runCli("bench scenes " + scene() + " --steps 100000 --config vanilla --downscale 4 -o " + dir + tiny +
+                    " > " + dir + ".out 2>&1 & pid=$!; for i in $(seq 1200); do grep -q '^step ' " + log +
+                    " 2>/dev/null && break; sleep 0.1; done; kill -" + signal + " $pid; wait $pid; s=$?; cat " + dir + ".out; exit $s");
+    EXPECT_EQ(r.code, code) << r.output;
+    EXPECT_NE(r.output.find("bench scenes: stopped by SIG" + signal), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("train failed (exit " + std::to_string(code) + ")"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(dir + "/runs/tabletop.vknerf")) << "the child did not save before the parent ended";
+    EXPECT_FALSE(running(dir)) << "a child of the stopped bench is still running";
+  }
+  const std::string fifo = temp("summary_pipe"), model = temp("fifo.vknerf"), out = temp("fifo.out");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // A watchdog ends the train if the signal does not, so that a failure cannot hang the test.
+  auto r = runCli("train " + scene() + " -o " + model + kTiny + " --steps 1 --summary " + fifo + " > " + out +
+                  " 2>&1 & pid=$!; for i in $(seq 1200); do grep -q 'model saved to' " + out +
+                  " && break; sleep 0.1; done; sleep 0.5; kill -TERM $pid; (sleep 30; kill -KILL $pid) 2>/dev/null & dog=$!; "
+                  "wait $pid; s=$?; kill $dog; cat " + out + "; exit $s");
+  EXPECT_EQ(r.code, 143) << r.output;
+  EXPECT_NE(r.output.find("model saved to " + model), std::string::npos) << r.output;
+  struct stat st;
+  ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+
+  // `process` passes a signal on to COLMAP (here a stand-in that sleeps), waits for it and removes
+  // what it staged.
+  const std::string bin = temp("sleeping_colmap"), pidFile = temp("colmap.pid"), said = temp("process.out");
+  fs::create_directories(bin);
+  std::ofstream(bin + "/colmap") << "#!/bin/sh\necho $$ > " + pidFile + "\nexec sleep 600\n";
+  fs::permissions(bin + "/colmap", fs::perms::owner_all);
+  const std::string photos = photoFolder("photos_for_stopped_colmap", 3), processed = temp("stopped_process");
+  r = runCli("process " + photos + " -o " + processed + " > " + said + " 2>&1 & pid=$!; for i in $(seq 1200); do test -s " +
+             pidFile + " && break; sleep 0.1; done; kill -TERM $pid; wait $pid; s=$?; cat " + said + "; exit $s",
+             "PATH=" + bin + ":$PATH");
+  EXPECT_EQ(r.code, 143) << r.output;
+  EXPECT_NE(r.output.find("vknerf: stopped by SIGTERM"), std::string::npos) << r.output;
+  std::string colmapPid = bytesOf(pidFile);
+  while (!colmapPid.empty() && colmapPid.back() == '\n') colmapPid.pop_back();
+  ASSERT_FALSE(colmapPid.empty());
+  EXPECT_FALSE(fs::exists("/proc/" + colmapPid)) << "COLMAP outlived the stopped process";
+  EXPECT_EQ(namesWith(fs::path(processed).parent_path().string(), "stopped_process"), std::vector<std::string>{});
 }

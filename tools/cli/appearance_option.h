@@ -5,9 +5,29 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <string>
+
+#include "checks.h"
+#include "vknerf/model.h"
 
 namespace vknerf::cli {
+
+// Model::load with RenderSettings::appearancePhoto from --appearance: a photo past the model's
+// training photos is the flag out of range, a usage error naming it (exit 2), not a runtime error.
+inline Model loadForAppearance(const std::shared_ptr<Context>& ctx, const std::string& path, const RenderSettings& settings,
+                               const std::string& command) {
+  try {
+    return Model::load(ctx, path, settings);
+  } catch (const Error& e) {
+    // The appearance embedding's own words (src/models/common/appearance.cpp).
+    const std::string prefix = "render settings: appearance photo ", what = e.what();
+    if (!settings.appearancePhoto || what.rfind(prefix, 0) != 0) throw;
+    throw UsageError(command + ": --appearance " + std::to_string(*settings.appearancePhoto) + " is out of range:" +
+                     what.substr(what.find(", but") + 5));
+  }
+}
 
 inline void addAppearanceOption(CLI::App& app, std::optional<uint32_t>& photo) {
   app.add_option("--appearance", photo,

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "lib/bench/run_plan.h"
 #include "lib/bench/scene_run.h"
 #include "lib/bench/scene_table.h"
+#include "lib/process/subprocess.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 
@@ -52,6 +54,19 @@ int run(const Options& o, const Globals& g) {
   }
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const std::vector<std::string> arguments = o.binaries.empty() ? std::vector<std::string>{self} : o.binaries;
+  for (const std::string& a : arguments) {
+    // NAME=BINARY with either side missing would otherwise be read as a path, or as a build of no file.
+    const size_t eq = a.find('='), slash = a.find('/');
+    if (eq == std::string::npos || (slash != std::string::npos && slash < eq)) continue;
+    if (eq == 0) throw UsageError("bench scenes: --vknerf " + a + ": no name before '=' (give NAME=BINARY, or the BINARY alone)");
+    if (eq + 1 == a.size()) throw UsageError("bench scenes: --vknerf " + a + ": no binary after '=' (give NAME=BINARY)");
+  }
+  std::vector<std::string> buildNames;
+  try {
+    buildNames = bench::buildNames(arguments);
+  } catch (const Error& e) {
+    throw UsageError(std::string("bench scenes: ") + e.what());  // two builds of one name: the flags' fault
+  }
   std::set<std::string> seenBinaries;
   for (const std::string& a : arguments) {
     const std::string path = bench::buildPath(a);
@@ -66,12 +81,22 @@ int run(const Options& o, const Globals& g) {
   for (const std::string& a : arguments) files.input(bench::buildPath(a), "--vknerf");
   files.outputFolder(o.out, "-o").output((fs::path(o.out) / "scenes.md").string(), "-o");
   files.check();
-  files.createFolders();
-
-  const std::vector<std::string> buildNames = bench::buildNames(arguments);
+  // Stopped, this command passes the signal on to the run in progress and waits for it (a `train`
+  // saves its model first), starts no other and reports; it never leaves a child running.
+  process::forwardStopSignals();
+  // A build that does not answer --help (not a vknerf) fails here, before -o is made.
   std::vector<bench::Build> builds;
   for (size_t i = 0; i < arguments.size(); ++i) builds.push_back(bench::probeBuild(buildNames[i], bench::buildPath(arguments[i]), self));
   const bench::Build selfBuild = bench::probeBuild("this", self, self);
+  if (const int sig = process::stopSignalReceived()) return 128 + sig;
+  // A flag a build's train does not know would fail each of its runs, the first after minutes of
+  // others: found now. Its value is the build's to check, when the run starts.
+  for (const bench::Build& b : builds)
+    for (const std::string& a : o.trainArgs)
+      if (a.rfind("--", 0) == 0 && !bench::listsFlag(b.trainHelp, a.substr(0, a.find('='))))
+        throw UsageError("bench scenes: --train-arg " + a + ": the train of build " + b.name + " (" + b.binary +
+                         ") has no flag " + a.substr(0, a.find('=')));
+  files.createFolders();
 
   bench::SceneRunSettings s;
   if (!g.device.empty()) s.globalArgs = {"--device", g.device};
@@ -88,8 +113,9 @@ int run(const Options& o, const Globals& g) {
   s.say = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
 
   std::vector<bench::SceneRow> rows;
-  for (size_t i = 0; i < o.scenes.size(); ++i)
+  for (size_t i = 0; i < o.scenes.size() && !process::stopSignalReceived(); ++i)
     for (size_t b : bench::buildOrder(i, builds.size())) {
+      if (process::stopSignalReceived()) break;
       std::printf("[%zu/%zu] %s, build %s\n", i + 1, o.scenes.size(), names[i].c_str(), builds[b].name.c_str());
       rows.push_back(bench::runScene(o.scenes[i], names[i], builds[b], selfBuild, s));
       const bench::SceneRow& r = rows.back();
@@ -100,6 +126,9 @@ int run(const Options& o, const Globals& g) {
                     r.steps.value_or(0));
     }
 
+  // No child is left to pass a signal to: from here one ends the command, as in every other, so
+  // that writing the table into a pipe nobody reads cannot outlive it.
+  removeTemporaryFilesOnSignals();
   // The table lists the scenes, and the builds on each, in the order given (not the order run).
   const auto key = [&](const bench::SceneRow& r) {
     return std::pair(std::find(names.begin(), names.end(), r.scene) - names.begin(),
@@ -123,6 +152,12 @@ int run(const Options& o, const Globals& g) {
   const size_t failed = std::count_if(rows.begin(), rows.end(), [](const bench::SceneRow& r) { return r.failed; });
   std::printf("\n%s\nwrote %s/{scenes.md,scenes.csv}%s\n", md.c_str(), o.out.c_str(),
               failed ? (", " + std::to_string(failed) + " of " + std::to_string(rows.size()) + " runs failed").c_str() : "");
+  if (const int sig = process::stopSignalReceived()) {
+    std::fprintf(stderr, "vknerf: bench scenes: stopped by %s after %zu of %zu runs; the run in progress was passed the "
+                 "signal and ended before this one (its row says how)\n", sig == SIGINT ? "SIGINT" : "SIGTERM", rows.size(),
+                 o.scenes.size() * builds.size());
+    return 128 + sig;
+  }
   return failed ? 1 : 0;
 }
 

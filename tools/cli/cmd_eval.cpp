@@ -81,7 +81,7 @@ int run(const Options& o, const Globals& g) {
   auto ctx = g.context();
   RenderSettings settings;
   settings.appearancePhoto = o.appearance;
-  Model model = Model::load(ctx, o.model, settings);
+  Model model = loadForAppearance(ctx, o.model, settings, "eval");
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;
@@ -148,7 +148,13 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   app.add_option("--sheet-views", o->sheetViews, "Views on the sheet, spread evenly over those evaluated (0: all)");
   app.add_option("--sheet-size", o->sheetSize, "Largest side of a tile on the sheet, pixels (tiles are never enlarged)")
       ->check(CLI::Range(16u, 4096u));
-  return [o, &g] { return run(*o, g); };
+  return [o, &g, &app] {
+    // Without a sheet these would do nothing: refused, as every flag without effect is.
+    for (const char* flag : {"--sheet-views", "--sheet-size"})
+      if (app.count(flag) && o->sheet.empty())
+        throw UsageError(std::string("eval: ") + flag + " has no effect without --sheet (add it, or drop " + flag + ")");
+    return run(*o, g);
+  };
 });
 
 }  // namespace

@@ -4,12 +4,14 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
 #include "lib/process/process.h"
+#include "lib/process/subprocess.h"
 #include "progress.h"
 
 namespace vknerf::cli {
@@ -69,10 +71,17 @@ Registration processCommand(
       app.add_option("--min-registered", o->minRegisteredShare,
                      "Fail when COLMAP places fewer than this share of the images (default 0.5)")
           ->check(CLI::Range(0.0, 1.0));
-      return [o] {
+      return [o, &app] {
+        // Frames per second of a video: for a folder of photos it would do nothing, so it is refused.
+        std::error_code ec;
+        if (app.count("--fps") && std::filesystem::is_directory(o->input, ec))
+          throw UsageError("process: --fps has no effect on a folder of photos (it chooses the frames of a video)");
         CommandFiles files("process");  // the photos (or video) must survive the scene replacing -o
         files.input(o->input, "input").replacedFolder(o->output, "-o");
         files.check();
+        // A signal while COLMAP or ffmpeg runs is passed on and waited for, and the staging folder
+        // is removed on the way out (exit 128 + signal): a stopped process leaves no child running.
+        process::forwardStopSignals(process::Forwarding::whileAChildRuns);
         process::ProcessObserver observer;
         observer.say = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
         observer.stage = stagePrinter();

@@ -82,7 +82,7 @@ int run(const Options& o, const Globals& g) {
   auto ctx = g.context();
   RenderSettings settings;
   settings.appearancePhoto = o.appearance;
-  Model model = Model::load(ctx, o.model, settings);
+  Model model = loadForAppearance(ctx, o.model, settings, "render");
   std::vector<Camera> cams;
   Camera like = pinholeFromFocal(o.size, o.size, 1.2f * float(o.size));  // ~45 degree field of view
   float radius = o.radius;
@@ -165,7 +165,23 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   app.add_option("--downscale", o->downscale, "Downscale SCENE's images by this factor")->check(CLI::Range(1u, 64u));
   addAppearanceOption(app, o->appearance);
   app.add_option("--limit", o->limit, "Render at most this many views (default 0: all)");
-  return [o, &g] { return run(*o, g); };
+  return [o, &g, &app] {
+    // A flag that changes nothing in this run is refused, as every flag without effect is: the
+    // views come from the orbit (sized by --size alone without a SCENE), a path, or the SCENE's split.
+    const auto refuse = [](const std::string& flag, const std::string& when) {
+      throw UsageError("render: " + flag + " has no effect " + when);
+    };
+    const bool scene = !o->scene.empty(), path = !o->path.empty();
+    if (app.count("--elevation") && !o->orbit) refuse("--elevation", "without --orbit");
+    if (app.count("--size") && (!o->orbit || scene))
+      refuse("--size", "but on an --orbit without a SCENE (a SCENE's or a path's views have their own size)");
+    if (app.count("--split") && (!scene || o->orbit || path)) refuse("--split", "but on a SCENE's own views (no --orbit or --path)");
+    if (app.count("--downscale") && (!scene || path)) refuse("--downscale", "without a SCENE whose views or size are rendered");
+    if (app.count("--fps") && o->video.empty() && !path) refuse("--fps", "without --video or an instant-ngp --path");
+    for (const char* flag : {"--seconds", "--width", "--height"})
+      if (app.count(flag) && !path) refuse(flag, "without an instant-ngp --path");
+    return run(*o, g);
+  };
 });
 
 }  // namespace

@@ -32,9 +32,11 @@ namespace {
 // 128 + the signal's number. The handler only records the signal (async-signal-safe); a second
 // signal while that save runs means "now": it exits at once, and the atomic writer guarantees the
 // checkpoint on disk is the previous complete one (its temporary file is removed).
-volatile std::sig_atomic_t stopSignal = 0;
+// Once the last checkpoint is saved nothing is left to save: a signal then ends the run at once,
+// so that writing --summary into a pipe nobody reads (its open blocks) cannot outlive it.
+volatile std::sig_atomic_t stopSignal = 0, finalSaveDone = 0;
 extern "C" void onStopSignal(int sig) {
-  if (stopSignal) {
+  if (stopSignal || finalSaveDone) {
     removeTemporaryFiles();
     ::_exit(128 + sig);
   }
@@ -48,6 +50,7 @@ struct Options {
   bool resume = false, profile = false;
   uint32_t profileSteps = 1;
   bool configGiven = false;  // its default is also a valid value
+  bool profileStepsGiven = false;
   std::shared_ptr<const ConfigFlags> configFlags;  // --rays ... --seed: the fields they set
 };
 
@@ -91,6 +94,8 @@ int run(const Options& o, const Globals& g) {
     opts.output = (stem.empty() ? "model" : stem) + ".vknerf";
   }
   // Before any work, which a bad path would lose. With --resume the model is read too: by design.
+  if (opts.profileStepsGiven && !opts.profile)
+    throw UsageError("train: --profile-steps has no effect without --profile (add it, or drop --profile-steps)");
   CommandFiles files("train");
   files.scene(opts.scene).output(opts.output, "model").output(opts.summary, "--summary");
   files.check();
@@ -156,6 +161,11 @@ int train(const Options& o, const Globals& g) {
       throw UsageError(std::string("train: the configuration from these flags is invalid: ") + e.what());
     }
   }
+  // A flag that tunes a switch left off would do nothing: refused, as a flag of the other model is.
+  if (cfg.isFast() && !cfg.fastModel().refineCameras)
+    for (const char* flag : {"--camera-lr", "--camera-penalty"})
+      if (o.configFlags->given(flag))
+        throw UsageError(std::string("train: ") + flag + " has no effect without --refine-cameras (add it, or drop " + flag + ")");
   std::printf("config: %s\n", cfg.describe().c_str());
   std::optional<Trainer> built;
   try {
@@ -241,6 +251,7 @@ int train(const Options& o, const Globals& g) {
               trainer.statistics().deviceMiB, trainer.trainingPixelsDeviceMiB(), trainer.trainingPixelBindings());
   if (o.profile && !profiles.empty()) printStepProfile({profiles.begin(), profiles.end()});
   trainer.save(o.output);
+  finalSaveDone = 1;
   const CompileStats compiled = ctx->compileStats();
   std::printf("kernels: %.1f s compiling (%u pipelines, %u compiled ahead), not counted in the training time\n",
               compiled.seconds, compiled.pipelines, compiled.compiledAhead);
@@ -270,6 +281,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config is kept; flags must agree with it)");
                      return [o, &g, &app] {
                        o->configGiven = app.count("--config") > 0;
+                       o->profileStepsGiven = app.count("--profile-steps") > 0;
                        return run(*o, g);
                      };
                    });

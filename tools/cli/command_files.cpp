@@ -9,6 +9,7 @@
 #include "checks.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
+#include "vknerf/scene_files.h"
 
 namespace vknerf::cli {
 namespace {
@@ -45,6 +46,9 @@ FileId idOf(const std::string& path) {
   return {0, 0, p.string()};
 }
 
+// What a clash with a scene's own files adds to the message.
+constexpr const char* kSceneFiles = " (its poses, COLMAP model, poses_bounds.npy and images)";
+
 bool exists(const std::string& path) { return statId(normal(path)).has_value(); }
 
 bool isFolder(const std::string& path) {
@@ -77,17 +81,6 @@ bool isSpecial(const std::string& path) {
 std::string sceneFolder(const std::string& scene) {
   if (isFolder(scene)) return scene;
   return exists(scene) ? normal(scene).parent_path().string() : "";
-}
-
-// A file of the kinds a scene is made of: the poses (transforms*.json), COLMAP's model, an image.
-bool sceneKind(const std::string& path) {
-  const fs::path p = normal(path);
-  std::string ext = p.extension().string();
-  const std::string stem = p.stem().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  const bool poses = ext == ".json" && stem.rfind("transforms", 0) == 0;
-  const bool colmap = (ext == ".txt" || ext == ".bin") && (stem == "cameras" || stem == "images" || stem == "points3D");
-  return poses || colmap || ext == ".png" || ext == ".jpg" || ext == ".jpeg";
 }
 
 }  // namespace
@@ -134,9 +127,8 @@ void CommandFiles::checkOutputAgainst(const Entry& out, const Entry& other) cons
   if (out.kind == Kind::replacedFolder && holds(out.path, other.path)) clash(out, "holds", other, ", and is replaced as a whole");
   // A scene's own files, even those this run does not read (another split, the COLMAP model beside
   // the transforms): other names in the scene folder (a model, a report) are fine.
-  if (out.kind == Kind::output && other.kind == Kind::scene && exists(out.path) && sceneKind(out.path) &&
-      holds(folder, out.path))
-    clash(out, "is one of the files of", other, " (its poses, COLMAP model and images)");
+  if (out.kind == Kind::output && other.kind == Kind::scene && !folder.empty() && declaresSceneFile(folder, out.path))
+    clash(out, "is one of the files of", other, kSceneFiles);
 }
 
 bool CommandFiles::declaresFolder(const std::string& folder) const {
@@ -154,6 +146,18 @@ void CommandFiles::check() const {
       if (j == i || (otherIsOutput && j < i)) continue;  // each pair of outputs once
       checkOutputAgainst(out, entries_[j]);
     }
+  }
+  // A scene this run was not given is as much an input: `export cameras -o scene/transforms.json`
+  // would replace the poses of a scene that may be read later (vknerf/scene_files.h).
+  for (const Entry& out : entries_) {
+    if (out.kind == Kind::output)
+      if (const auto scene = sceneDeclaring(out.path))
+        clash(out, "is one of the files of", {scene->string(), "scene", Kind::scene}, kSceneFiles);
+    // Files written into a scene's photo or model folder (or a folder replacing it) would be read
+    // as the scene's own.
+    if (out.kind == Kind::outputFolder || out.kind == Kind::replacedFolder)
+      if (const auto scene = sceneHoldingFolder(out.path))
+        clash(out, "lies in the photos or model of", {scene->string(), "scene", Kind::scene});
   }
   for (const Entry& e : entries_) {
     switch (e.kind) {

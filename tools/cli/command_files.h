@@ -23,8 +23,10 @@ class CommandFiles {
   // A file or folder the command reads (a model, a camera path, an image, a folder of photos).
   CommandFiles& input(const std::string& path, const std::string& what);
   // A scene argument: a folder, or a transforms JSON / COLMAP model in one. Its folder is an input
-  // folder, and an output inside it may not be one of the scene's own files (transforms*.json,
-  // COLMAP's cameras/images/points3D, images) even when its name is new to this run.
+  // folder, and an output inside it may not be one of the scene's own files (vknerf/scene_files.h:
+  // transforms*.json, COLMAP's cameras/images/points3D, poses_bounds.npy, photos) even when its
+  // name is new to this run. A scene not given is guarded as well: check() refuses an output that
+  // any scene folder on disk declares, and a folder output in a scene's images/ or sparse/.
   CommandFiles& scene(const std::string& path, const std::string& what = "scene");
   // A file written whole (vknerf/file_output.h).
   CommandFiles& output(const std::string& path, const std::string& what);

@@ -43,6 +43,12 @@ std::string ConfigFlags::forTheOtherModel(const TrainConfig& cfg) const {
   return "";
 }
 
+bool ConfigFlags::given(const std::string& name) const {
+  for (const Flag& flag : flags_)
+    if (flag.field->flag.name == name) return flag.given();
+  return false;
+}
+
 void ConfigFlags::applyTo(TrainConfig& cfg) const {
   for (const Flag& flag : flags_) {
     if (!flag.given() || !flag.field->appliesTo(cfg)) continue;

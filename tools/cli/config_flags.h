@@ -19,6 +19,8 @@ class ConfigFlags {
 
   // The first flag given that only the other model reads ("--coarse" for a fast model), or "".
   std::string forTheOtherModel(const TrainConfig& cfg) const;
+  // Whether the flag `name` ("--camera-lr") was given.
+  bool given(const std::string& name) const;
   // Sets the fields of the flags given. Call after parsing.
   void applyTo(TrainConfig& cfg) const;
 

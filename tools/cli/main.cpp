@@ -7,6 +7,7 @@
 
 #include "checks.h"
 #include "command.h"
+#include "lib/process/subprocess.h"
 #include "progress.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
@@ -99,6 +100,20 @@ int main(int argc, char** argv) {
     int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }
+  // An empty value (`-o ''`) names no file and no choice: a command would take it for an option not
+  // given, or fail at the end with no name to show. A usage error naming the flag, before any work.
+  for (size_t i = 0; i < actions.size(); ++i) {
+    if (!actions[i].first->parsed()) continue;
+    for (const CLI::Option* opt : actions[i].first->get_options()) {
+      if (opt->count() == 0 || opt->get_expected_max() == 0) continue;  // not given, or a switch
+      for (const std::string& value : opt->results())
+        if (value.empty()) {
+          std::fprintf(stderr, "vknerf: %s: %s was given an empty value\n", commands()[i].path.c_str(),
+                       opt->get_name(false, true).c_str());
+          return 2;
+        }
+    }
+  }
   // Ctrl-C or a kill during any command leaves no temporary file behind (train saves first).
   vknerf::removeTemporaryFilesOnSignals();
   try {
@@ -107,6 +122,10 @@ int main(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "vknerf: %s\n", e.what());
     return 2;
+  } catch (const vknerf::process::Stopped& e) {
+    // A signal passed on to a child (COLMAP, ffmpeg): the child has ended, the run's files are gone.
+    std::fprintf(stderr, "vknerf: %s\n", e.what());
+    return 128 + e.signal;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "vknerf: error: %s\n", e.what());
     return 1;

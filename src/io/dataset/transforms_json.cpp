@@ -2,6 +2,7 @@
 // OpenGL convention already, so they are only checked, never changed. Intrinsics and the lens may be
 // stated at the top level, per frame, or both (a frame's keys override the top level's).
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <numbers>
@@ -186,7 +187,7 @@ std::vector<FrameSpec> readFrames(const JsonFile& f) {
 
 // "aabb", or instant-ngp's cube: ngp maps a point p of this file's frame to p * scale + offset (then
 // cycles the axes, which leaves a cube a cube) and bounds the scene by the cube of side aabb_scale
-// (at most 128, as ngp clamps it) centred at (0.5, 0.5, 0.5).
+// (at most 128: ngp clamps a larger one, which is refused here) centred at (0.5, 0.5, 0.5).
 bool readBox(const JsonFile& f, Aabb& box, std::string& source, float& cubeSide) {
   const json& r = f.root;
   if (auto it = r.find("aabb"); it != r.end()) {
@@ -210,7 +211,13 @@ bool readBox(const JsonFile& f, Aabb& box, std::string& source, float& cubeSide)
   double side = aabbScale.value_or(1.0), s = scale.value_or(0.33);
   if (!(side > 0)) fieldError(f, "aabb_scale", "must be positive");
   if (!(s > 0)) fieldError(f, "scale", "must be positive");
-  side = std::min(side, 128.0);
+  // instant-ngp clamps a larger cube to 128 without a word; trained that way the file's box would
+  // not be the one it states, so it is refused rather than clamped.
+  if (side > 128.0) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", side);
+    fieldError(f, "aabb_scale", std::string("must be at most 128 (instant-ngp's largest cube), got ") + got);
+  }
   cubeSide = float(side);
   double offset[3] = {0.5, 0.5, 0.5};
   if (offsetIt != r.end()) {

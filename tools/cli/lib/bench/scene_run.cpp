@@ -63,11 +63,21 @@ std::string failure(const char* what, const Child& c, const fs::path& log) {
 
 }  // namespace
 
+bool listsFlag(const std::string& help, const std::string& flag) {
+  // As CLI11 lists it: "  --steps UINT", "  -o,--output TEXT", "  --profile" at the end of a line.
+  for (size_t at = help.find(flag); at != std::string::npos; at = help.find(flag, at + 1)) {
+    const char before = at ? help[at - 1] : ' ', after = at + flag.size() < help.size() ? help[at + flag.size()] : '\n';
+    if ((before == ' ' || before == ',') && (after == ' ' || after == '\n' || after == ',')) return true;
+  }
+  return false;
+}
+
 Build probeBuild(const std::string& name, const std::string& binary, const std::string& selfBinary) {
   Build b{name, binary};
   std::error_code ec;
   b.self = fs::equivalent(binary, selfBinary, ec);
-  b.hasSummary = outputOf({binary, "train", "--help"}).find("--summary") != std::string::npos;
+  b.trainHelp = outputOf({binary, "train", "--help"});
+  b.hasSummary = listsFlag(b.trainHelp, "--summary");
   b.hasSheet = outputOf({binary, "eval", "--help"}).find("--sheet") != std::string::npos;
   return b;
 }

@@ -17,7 +17,11 @@ struct Build {
   bool self = false;        // the running vknerf, which writes the sheets of every build's models
   bool hasSummary = false;  // train --summary (else its printed output is parsed)
   bool hasSheet = false;    // eval --sheet
+  std::string trainHelp;    // its train --help, which lists the flags a --train-arg may name
 };
+
+// Whether `help` (a command's --help) lists the long flag `flag` ("--distortion-loss").
+bool listsFlag(const std::string& help, const std::string& flag);
 
 // `binary`'s train and eval --help say which of the newer flags it has. Throws vknerf::Error when
 // it does not run.

@@ -24,6 +24,7 @@ void runStage(const std::string& command, std::vector<std::string> options, Colm
                                 [&](const std::string& line) {
                                   if (readProgressLine(stage, line, progress) && report) report(stage, progress, seconds(), false);
                                 }});
+  throwIfStopped();  // COLMAP was passed the signal: not its failure
   if (status != 0) {
     const std::string why = failureReason(paths.log.string());
     throw Error(std::string("COLMAP failed at ") + stageDescription(stage) + " (colmap " + command + ", exit status " +

@@ -27,7 +27,8 @@ class Staging {
   ~Staging() {
     if (published_) return;
     std::error_code ec;
-    if (fs::exists(log(), ec)) fs::rename(log(), keptLog(), ec);
+    // An empty log (COLMAP never started: not installed) tells nothing the error does not.
+    if (fs::exists(log(), ec) && fs::file_size(log(), ec) > 0) fs::rename(log(), keptLog(), ec);
     fs::remove_all(path_, ec);
   }
   const fs::path& path() const { return path_; }

@@ -28,6 +28,7 @@ std::vector<fs::path> extractSharpFrames(const fs::path& video, const fs::path& 
                                 "ffmpeg",
                                 options.logPath,
                                 {}});
+  throwIfStopped();  // ffmpeg was passed the signal: not its failure
   if (status != 0) {
     const std::string why = lastLogLine(options.logPath);
     throw Error("ffmpeg could not read frames from '" + video.string() + "'" + (why.empty() ? "" : " (" + why + ")") +

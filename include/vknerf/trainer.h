@@ -53,8 +53,21 @@ class Trainer {
   Trainer(std::shared_ptr<Context> ctx, Dataset&& train, const TrainConfig& config);
   ~Trainer();
 
-  // One optimisation step over a random batch of rays (recorded into one command buffer).
+  // One optimisation step over a random batch of rays (recorded into one command buffer), waited
+  // for: its own statistics. A step still in flight from submitStep finishes first (and its
+  // statistics are dropped).
   StepStats step(bool readLoss = false);
+  // One step queued behind the one still running, not waited for: the host records this step
+  // while the device runs the previous one, so neither waits for the other. Returns the statistics
+  // of the step before it, now finished (none on the first call). A run's numbers are bit for bit
+  // those of step(): what the host decides from a step (the fast model's ray count) applies two
+  // steps later either way. Reading the model or the trainer's state (save, statistics, cameras,
+  // the model's render or mesh) waits for the step in flight first.
+  std::optional<StepStats> submitStep(bool readLoss = false);
+  // Waits for the step in flight; its statistics, unless already returned (none when none ran).
+  std::optional<StepStats> finishSteps();
+  // Steps submitted and not yet waited for: 0 or 1.
+  uint32_t stepsInFlight() const;
   uint32_t steps() const;
   // Fits the learning rates' decay to a run of known length: `fraction` is how much of the run is
   // done (0 at its start, 1 at its end: by steps, or by time for a time budget), and the rates

@@ -60,7 +60,10 @@ Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 const TrainConfig& Model::config() const { return impl_->config; }
 const Aabb& Model::bounds() const { return impl_->box; }
-std::vector<TrainedCamera> Model::trainingCameras() const { return impl_->trainingCameras(); }
+std::vector<TrainedCamera> Model::trainingCameras() const {
+  impl_->settled();
+  return impl_->trainingCameras();
+}
 
 namespace {
 
@@ -95,6 +98,7 @@ std::vector<TrainedCamera> Model::trainingCamerasOf(const std::string& checkpoin
 }
 
 RenderedImage Model::render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const {
+  impl_->settled();
   return impl_->render(camera, progress);
 }
 

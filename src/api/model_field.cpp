@@ -65,6 +65,7 @@ std::vector<float> vertexNormals(const ref::TriangleMesh& m) {
 
 FieldSamples Model::queryField(const std::vector<float>& points, const std::vector<float>& directions) const {
   Impl& m = *impl_;
+  m.settled();
   if (points.size() % 3 || directions.size() != points.size())
     throw Error("queryField: give xyz per point and one xyz direction per point");
   nerf::FieldBatch& f = m.pipe->queryBatch();
@@ -103,6 +104,7 @@ FieldSamples Model::queryField(const std::vector<float>& points, const std::vect
 
 Mesh Model::extractMesh(const MeshSettings& s, const std::function<void(uint64_t, uint64_t)>& progress) const {
   Impl& m = *impl_;
+  m.settled();
   Context& ctx = *m.ctx;
   const ref::GridLayout g = gridOver(s.box.value_or(m.box), s.resolution);
   if (g.points() > nerf::MarchingCubes::maxPoints(ctx))

@@ -35,6 +35,12 @@ struct Model::Impl {
   // Model::trainingCameras: the checkpoint's record, read when asked (a checkpoint written before
   // the cameras were recorded loads, and fails only there), or the trainer's cameras.
   std::function<std::vector<TrainedCamera>()> trainingCameras;
+  // A trainer's model: waits for the training step in flight before the host reads the state
+  // (Trainer::submitStep). Empty for a loaded model.
+  std::function<void()> settle;
+  void settled() const {
+    if (settle) settle();
+  }
   // Last member: destroyed first, while the pipeline and the context still exist.
   mutable std::unique_ptr<nerf::RecordState, nerf::RecordStateDeleter> record;
 

@@ -30,6 +30,9 @@ void Model::recordRender(VkCommandBuffer cmd, const Camera& camera, const Render
   // Everything is checked before the first command is recorded: a bad call leaves `cmd` untouched.
   if (cmd == VK_NULL_HANDLE) throw Error("recordRender: command buffer is VK_NULL_HANDLE");
   nerf::checkRenderTarget(ctx, camera, target);
+  // The caller may submit on a queue of its own, unordered with the trainer's: the step in flight
+  // finishes before the render reads the weights.
+  m.settled();
   if (!m.record) m.record.reset(new nerf::RecordState(ctx));
   nerf::RecordState& rs = *m.record;
 

@@ -3,8 +3,10 @@
 #include "vknerf/trainer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "api/model_impl.h"
@@ -33,10 +35,20 @@ struct Trainer::Impl {
   gpu::Buffer cameras;
   bool transparentPixels = false;  // some training pixel has alpha < 255
   std::unique_ptr<nerf::FieldPipeline> pipe;
-  uint32_t lastRays = 0;
   std::chrono::steady_clock::time_point stepStart;
-  double lastStepHostAfterMs = 0, lastStepWallMs = 0;  // the rest is in rec's submission log
-  std::unique_ptr<gpu::Recorder> rec;
+  double lastStepHostAfterMs = 0, lastStepWallMs = 0;  // the rest is in the recorder's submission log
+  // One recorder and one loss readback per step in flight (FieldPipeline::kStepsInFlight); a step
+  // uses those of its slot. Declared after pipe: destroyed first, each waiting for its submission.
+  static constexpr uint32_t kSlots = nerf::FieldPipeline::kStepsInFlight;
+  std::array<std::unique_ptr<gpu::Recorder>, kSlots> recs;
+  std::array<gpu::Buffer, kSlots> lossReadback;
+  struct InFlight {
+    uint32_t step;  // from 0
+    bool readLoss;
+  };
+  std::optional<InFlight> inFlight;       // submitted, not yet collected
+  std::optional<StepStats> unreported;    // collected by settle(), not yet returned
+  uint32_t lastCollectedSlot = 0;
   std::unique_ptr<Model> model;
   uint32_t step = 0;
   std::optional<double> runProgress;  // setRunProgress
@@ -47,6 +59,50 @@ struct Trainer::Impl {
     if (!runProgress) return nerf::OptimizerStep::at(step);
     const double fraction = std::clamp(*runProgress, 0.0, 1.0);
     return {step, uint32_t(std::lround(fraction * double(config.decaySteps)))};
+  }
+
+  void submit(bool readLoss) {
+    const uint32_t slot = nerf::FieldPipeline::slotOf(step);
+    recs[slot]->startLog();
+    pipe->submitTrainStep(*recs[slot], {pixels->bindings(), &cameras, numCameras, transparentPixels}, nextStep(),
+                          lossReadback[slot]);
+    inFlight = InFlight{step, readLoss};
+    ++step;
+  }
+  // Waits for a submitted step and reads what it left for the host.
+  StepStats collect(const InFlight& f) {
+    const uint32_t slot = nerf::FieldPipeline::slotOf(f.step);
+    recs[slot]->wait();
+    lastCollectedSlot = slot;
+    const auto size = pipe->collectTrainStep(f.step);
+    StepStats st;
+    st.step = f.step + 1;
+    st.rays = size.rays;
+    st.samples = size.samples;
+    if (f.readLoss) {
+      const uint32_t R = size.rays;
+      auto stats = nerf::PhotometricLoss::summarize(
+          lossReadback[slot].download<float>(gpu::groupsFor(R, nerf::PhotometricLoss::kRaysPerPartial)), R);
+      st.hasLoss = true;
+      st.loss = stats.mse;
+      st.psnr = stats.psnr;
+      if (!std::isfinite(st.loss))
+        throw Error("training diverged: loss is " + std::to_string(st.loss) + " at step " + std::to_string(st.step));
+    }
+    return st;
+  }
+  // Before the host reads or changes the model's state: the step in flight finished and collected
+  // (its statistics kept for the next submitStep or finishSteps).
+  void settle() {
+    if (!inFlight) return;
+    const InFlight f = *inFlight;
+    inFlight.reset();
+    unreported = collect(f);
+  }
+  std::optional<StepStats> takeReport() {
+    std::optional<StepStats> r;
+    std::swap(r, unreported);
+    return r;
   }
 
   // The cameras the checkpoint records: with camera refinement the refined poses, what the model
@@ -124,13 +180,17 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
   s.pipe->markUnseenEmpty(train.cameras);
   s.pipe->setTrainingCameras(s.numCameras);
-  s.rec = std::make_unique<gpu::Recorder>(*ctx, true);
+  for (uint32_t k = 0; k < Impl::kSlots; ++k) {
+    s.recs[k] = std::make_unique<gpu::Recorder>(*ctx, true);
+    s.lossReadback[k] = gpu::Buffer::hostReadable(*ctx, s.pipe->lossPartials().size(), "a training step's loss partials");
+  }
   auto m = std::make_unique<Model::Impl>();
   m->ctx = ctx;
   m->config = s.config;
   m->box = s.box;
   m->pipe = s.pipe.get();
   m->trainingCameras = [&s] { return s.namedSavedCameras(); };  // s owns the model: it outlives it
+  m->settle = [&s] { s.settle(); };
   s.model.reset(new Model(std::move(m)));
 }
 
@@ -144,53 +204,70 @@ void Trainer::setRunProgress(std::optional<double> fraction) {
 
 double Trainer::learningRate() const { return nerf::adamConfigOf(impl_->config).learningRate(impl_->nextStep().rateStep); }
 std::vector<std::pair<std::string, double>> Trainer::lastStepTimings() const {
+  impl_->settle();
   std::vector<std::pair<std::string, double>> all;
-  for (const auto& sub : impl_->rec->submissions()) all.insert(all.end(), sub.kernels.begin(), sub.kernels.end());
+  for (const auto& sub : impl_->recs[impl_->lastCollectedSlot]->submissions())
+    all.insert(all.end(), sub.kernels.begin(), sub.kernels.end());
   return all;
 }
 
 StepProfile Trainer::lastStepProfile() const {
+  impl_->settle();
   StepProfile p;
-  for (const auto& sub : impl_->rec->submissions()) p.submissions.push_back({sub.hostBeforeMs, sub.waitMs, sub.kernels});
+  for (const auto& sub : impl_->recs[impl_->lastCollectedSlot]->submissions())
+    p.submissions.push_back({sub.hostBeforeMs, sub.waitMs, sub.kernels});
   p.hostAfterMs = impl_->lastStepHostAfterMs;
   p.wallMs = impl_->lastStepWallMs;
   return p;
 }
 const Model& Trainer::model() const { return *impl_->model; }
-std::vector<Camera> Trainer::cameras() const { return impl_->savedCameras(); }
+std::vector<Camera> Trainer::cameras() const {
+  impl_->settle();
+  return impl_->savedCameras();
+}
 
 StepStats Trainer::step(bool readLoss) {
   auto& s = *impl_;
-  s.rec->startLog();
+  s.settle();
+  s.unreported.reset();  // step() reports its own step: what a submitStep left unreported is dropped
   s.stepStart = std::chrono::steady_clock::now();
-  const auto size = s.pipe->trainStep(*s.rec, {s.pixels->bindings(), &s.cameras, s.numCameras, s.transparentPixels},
-                                      s.nextStep());
-  const uint32_t R = size.rays;
-  ++s.step;
-  StepStats st;
-  st.step = s.step;
-  st.rays = R;
-  st.samples = size.samples;
-  if (readLoss) {
-    auto stats = nerf::PhotometricLoss::summarize(
-        s.pipe->lossPartials().download<float>(gpu::groupsFor(R, nerf::PhotometricLoss::kRaysPerPartial)), R);
-    st.hasLoss = true;
-    st.loss = stats.mse;
-    st.psnr = stats.psnr;
-    if (!std::isfinite(st.loss)) throw Error("training diverged: loss is " + std::to_string(st.loss) + " at step " + std::to_string(s.step));
-  }
-  s.lastStepHostAfterMs = s.rec->msSinceLastWait();
+  s.submit(readLoss);
+  const auto st = s.collect(*s.inFlight);
+  s.inFlight.reset();
+  s.lastStepHostAfterMs = s.recs[s.lastCollectedSlot]->msSinceLastWait();
   s.lastStepWallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s.stepStart).count();
   return st;
 }
 
-ModelStatistics Trainer::statistics() const { return impl_->pipe->statistics(); }
+std::optional<StepStats> Trainer::submitStep(bool readLoss) {
+  auto& s = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  const std::optional<Impl::InFlight> previous = s.inFlight;
+  s.submit(readLoss);  // queued behind `previous`, which the device may still run
+  if (previous) s.unreported = s.collect(*previous);
+  s.lastStepHostAfterMs = s.recs[s.lastCollectedSlot]->msSinceLastWait();
+  s.lastStepWallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return s.takeReport();
+}
+
+std::optional<StepStats> Trainer::finishSteps() {
+  impl_->settle();
+  return impl_->takeReport();
+}
+
+uint32_t Trainer::stepsInFlight() const { return impl_->inFlight ? 1 : 0; }
+
+ModelStatistics Trainer::statistics() const {
+  impl_->settle();
+  return impl_->pipe->statistics();
+}
 double Trainer::trainingPixelsDeviceMiB() const { return double(impl_->pixels->bytes()) / double(1 << 20); }
 uint32_t Trainer::trainingPixelBindings() const { return uint32_t(impl_->pixels->bindings().size()); }
 const std::string& Trainer::capacityNote() const { return impl_->capacityNote; }
 
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;
+  s.settle();
   nerf::Checkpoint ck;
   ck.config = nerf::CheckpointRecord::write(s.config, s.step, s.box, {s.numCameras, s.imageWidth, s.imageHeight},
                                            s.namedSavedCameras());
@@ -204,6 +281,7 @@ TrainConfig Trainer::configOf(const std::string& path) {
 
 void Trainer::resume(const std::string& path) {
   auto& s = *impl_;
+  s.settle();
   auto ck = nerf::Checkpoint::load(path);
   const nerf::CheckpointRecord record(ck);
   const TrainConfig saved = record.config();

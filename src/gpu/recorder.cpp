@@ -35,6 +35,8 @@ Recorder::Recorder(Context& ctx, VkCommandBuffer external)
 Recorder::~Recorder() {
   if (!owned_) return;
   VkDevice dev = ctx_.device();
+  // Nothing may be destroyed while the device still runs this command buffer.
+  if (inFlight_) vkWaitForFences(dev, 1, &fence_, VK_TRUE, UINT64_MAX);
   if (queries_) vkDestroyQueryPool(dev, queries_, nullptr);
   vkDestroyFence(dev, fence_, nullptr);
   vkFreeCommandBuffers(dev, device(ctx_).commandPool(), 1, &cmd_);
@@ -42,6 +44,7 @@ Recorder::~Recorder() {
 
 void Recorder::begin() {
   if (!owned_) throw Error("Recorder::begin on a caller's command buffer");
+  wait();  // a command buffer in flight may not be reset
   check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
@@ -157,19 +160,31 @@ void Recorder::end() {
 }
 
 void Recorder::submitAndWait() {
-  if (!owned_) throw Error("Recorder::submitAndWait on a caller's command buffer");
+  submit();
+  wait();
+}
+
+void Recorder::submit() {
+  if (!owned_) throw Error("Recorder::submit on a caller's command buffer");
+  if (inFlight_) throw Error("Recorder::submit while its previous submission is in flight");
   device(ctx_).compiler().finish();
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd_;
   check(vkResetFences(ctx_.device(), 1, &fence_), "vkResetFences");
-  const auto submitted = std::chrono::steady_clock::now();
+  submitted_ = std::chrono::steady_clock::now();
   check(vkQueueSubmit(ctx_.queue(), 1, &si, fence_), "vkQueueSubmit");
+  inFlight_ = true;
+}
+
+void Recorder::wait() {
+  if (!inFlight_) return;
   check(vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  inFlight_ = false;
   device(ctx_).hostWaits()++;
   const auto waited = std::chrono::steady_clock::now();
   using Ms = std::chrono::duration<double, std::milli>;
-  if (logging_) log_.push_back({Ms(submitted - lastWait_).count(), Ms(waited - submitted).count(), timings()});
+  if (logging_) log_.push_back({Ms(submitted_ - lastWait_).count(), Ms(waited - submitted_).count(), timings()});
   lastWait_ = waited;
 }
 

@@ -84,6 +84,12 @@ class Recorder {
   // recording runs for the first time start compiling as they are recorded (KernelCompiler); the
   // submission first waits for them (logged as host time before it).
   void submitAndWait();
+  // The two halves of submitAndWait: submit() returns at once, so that the host records the next
+  // work while the device runs this; wait() (a no-op when nothing is in flight) returns once it has
+  // finished and its writes are visible to the host. begin() and the destructor wait first.
+  void submit();
+  void wait();
+  bool inFlight() const { return inFlight_; }
   // One record + submit, for tests and one-off work.
   VkCommandBuffer commandBuffer() const { return cmd_; }
 
@@ -122,6 +128,8 @@ class Recorder {
   std::vector<std::string> labels_;
   std::vector<SubmissionTiming> log_;
   bool logging_ = false;
+  bool inFlight_ = false;  // submitted, not yet waited for
+  std::chrono::steady_clock::time_point submitted_;
   std::chrono::steady_clock::time_point lastWait_ = std::chrono::steady_clock::now();
 };
 

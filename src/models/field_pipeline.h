@@ -88,16 +88,32 @@ class FieldPipeline {
   // samples the field only there; none for a model that marches everywhere (vanilla).
   virtual std::optional<OccupancyBits> occupancyBits() const { return std::nullopt; }
 
-  // One optimisation step (`at.step` counts from 0), recorded into `rec`, submitted, waited for. Returns
-  // the rays whose loss partials lossPartials() holds and the field evaluations the step made.
+  // Training runs kStepsInFlight steps deep: step N is recorded and submitted while step N-1 still
+  // runs on the device, and the host reads what step N-1 left (its counts, its loss) only after
+  // that. Whatever the host decides from a step's counts (the fast model's ray count) applies to the
+  // step kStepsInFlight later, however the caller waits, so a run's numbers do not depend on when
+  // the host looked. A step's host-side slot is at.step % kStepsInFlight.
+  static constexpr uint32_t kStepsInFlight = 2;
+  static uint32_t slotOf(uint32_t step) { return step % kStepsInFlight; }
   struct StepSize {
     uint32_t rays = 0;
     uint64_t samples = 0;
   };
-  StepSize trainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
+  // One optimisation step (`at.step` counts from 0), recorded into `rec` (begun here) and
+  // submitted, not waited for. Within the step, the loss partials are copied into `lossReadback`
+  // (host-readable, lossPartials()'s size); returns the rays whose partials it recorded.
+  uint32_t submitTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at, gpu::Buffer& lossReadback) {
     gpu::MemoryAccount::Scope charge(memory_);
-    return doTrainStep(rec, data, at);
+    rec.begin();
+    const uint32_t recorded = doRecordTrainStep(rec, data, at);
+    rec.copy(lossPartials(), lossReadback, lossPartials().size());
+    rec.end();
+    rec.submit();
+    return recorded;
   }
+  // After the step's submission finished (its recorder waited for): the rays whose loss its
+  // partials hold (the rays past the device's cut add zero) and the field evaluations it made.
+  StepSize collectTrainStep(uint32_t step) { return doCollectTrainStep(slotOf(step)); }
   virtual const gpu::Buffer& lossPartials() const = 0;
   // Before the first step: the training cameras, so that space none of them sees is never modelled
   // (the fast model's occupancy grid marks it empty for good). A model without such a structure ignores them.
@@ -131,7 +147,9 @@ class FieldPipeline {
 
  private:
   virtual void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) = 0;
-  virtual StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) = 0;
+  // Records the step's commands into the begun `rec`; returns the rays it recorded.
+  virtual uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) = 0;
+  virtual StepSize doCollectTrainStep(uint32_t slot) = 0;
   virtual ModelStatistics modelStatistics() = 0;
 
   std::shared_ptr<gpu::MemoryAccount> memory_;

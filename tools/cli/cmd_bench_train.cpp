@@ -121,9 +121,9 @@ int run(const Options& o, const Globals& g) {
       // points see them mid-decay.
       for (double t = trained; t < until; t = now()) {
         trainer.setRunProgress(t / o.seconds);
-        StepStats st = trainer.step(false);
-        rays += st.rays, samples += st.samples;
+        if (auto done = trainer.submitStep(false)) rays += done->rays, samples += done->samples;
       }
+      if (auto done = trainer.finishSteps()) rays += done->rays, samples += done->samples;
       trained = now();
       const bool last = p == o.points;
       if (trainer.steps() == lastSteps && !last) continue;  // one slow step spanned this point

@@ -215,35 +215,42 @@ int train(const Options& o, const Globals& g) {
   else
     std::printf("learning rate: %g -> %g over this run's %s\n", double(cfg.learningRate), double(cfg.learningRateFinal),
                 o.steps && o.seconds > 0 ? "steps or time, whichever ends it" : o.steps ? "steps" : "time");
-  StepStats st;
   std::deque<StepProfile> profiles;  // --profile: the last --profile-steps steps'
   double lastPsnr = -1;  // none measured yet: the loss is read every --log-every steps
+  // A step's statistics arrive when the next step has been submitted (Trainer::submitStep): the
+  // line for step N is printed then, or after the loop for the last one.
+  auto report = [&](const StepStats& st) {
+    if (!st.hasLoss) return;
+    lastPsnr = st.psnr;
+    double s = elapsed(), done = double(st.step - first);
+    double rate = done / s, frac = runFraction();
+    double eta = frac > 0 ? s / frac - s : 0;
+    char line[256];
+    std::snprintf(line, sizeof line, "step %6u  loss %.5f  train PSNR %5.2f dB  %7.0f rays/s  %s elapsed  ETA %s",
+                  st.step, st.loss, st.psnr, rate * st.rays, clock(s).c_str(), clock(eta).c_str());
+    if (tty) {
+      int bar = int(std::min(1.0, frac) * 20);
+      std::printf("\r[%.*s%*s] %s", bar, "####################", 20 - bar, "", line);
+      std::fflush(stdout);
+    } else {
+      std::printf("%s\n", line);
+    }
+  };
   while (trainer.steps() < last && !(o.seconds > 0 && elapsed() >= o.seconds) && !stopSignal) {
-    bool report = (trainer.steps() + 1) % o.logEvery == 0 || trainer.steps() + 1 == last;
+    const bool readLoss = (trainer.steps() + 1) % o.logEvery == 0 || trainer.steps() + 1 == last;
     if (!resuming) trainer.setRunProgress(runFraction());
-    st = trainer.step(report);
     if (o.profile) {
+      // A profile times one step at a time: each step waited for, its kernels alone on the device.
+      report(trainer.step(readLoss));
       profiles.push_back(trainer.lastStepProfile());
       if (profiles.size() > o.profileSteps) profiles.pop_front();
-    }
-    if (st.hasLoss) lastPsnr = st.psnr;
-    if (report) {
-      double s = elapsed(), done = double(trainer.steps() - first);
-      double rate = done / s, frac = runFraction();
-      double eta = frac > 0 ? s / frac - s : 0;
-      char line[256];
-      std::snprintf(line, sizeof line, "step %6u  loss %.5f  train PSNR %5.2f dB  %7.0f rays/s  %s elapsed  ETA %s",
-                    trainer.steps(), st.loss, st.psnr, rate * st.rays, clock(s).c_str(), clock(eta).c_str());
-      if (tty) {
-        int bar = int(std::min(1.0, frac) * 20);
-        std::printf("\r[%.*s%*s] %s", bar, "####################", 20 - bar, "", line);
-        std::fflush(stdout);
-      } else {
-        std::printf("%s\n", line);
-      }
+    } else if (auto done = trainer.submitStep(readLoss)) {
+      report(*done);
     }
     if (o.saveEvery && trainer.steps() % o.saveEvery == 0) trainer.save(o.output);
   }
+  // The last step; also the one a save waited for when it was the last.
+  if (auto done = trainer.finishSteps()) report(*done);
   if (tty) std::printf("\n");
   for (auto& [name, value] : statisticsRows(trainer.statistics())) std::printf("  %-48s %g\n", name.c_str(), value);
   std::printf("memory: host peak %.1f MiB; device %.1f MiB (model %.1f MiB + training images %.1f MiB in %u buffers)\n",
@@ -275,7 +282,7 @@ Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/inst
                      o->configFlags = std::make_shared<ConfigFlags>(app);
                      app.add_option("--log-every", o->logEvery, "Report the loss every K steps")->check(CLI::Range(1u, 1000000u));
                      app.add_option("--save-every", o->saveEvery, "Write the checkpoint every K steps (0: only at the end)");
-                     app.add_flag("--profile", o->profile, "Print where the last step's time went: each submission's kernels, the host time between them");
+                     app.add_flag("--profile", o->profile, "Print where the last step's time went: each submission's kernels, the host time between them (the steps then run one at a time, each waited for)");
                      app.add_option("--profile-steps", o->profileSteps, "With --profile: over the last K steps, each figure its median over them (steadier on a busy machine)")->check(CLI::Range(1u, 100000u));
                      app.add_option("--summary", o->summary, "Also write the run's numbers as JSON: steps, seconds, samples per ray (mean over all steps), device and host MiB, last train PSNR");
                      app.add_flag("--resume", o->resume, "Continue from MODEL if it exists (its config is kept; flags must agree with it)");

@@ -157,7 +157,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       wholeRays_(gpu::Buffer::zeros(ctx, 16)),
       segments_(ctx, rayCapacity_),
       renderMinTransmittance_(overrides.minTransmittance),
-      raysNext_(std::min(rayCapacity_, 1024u)),
+      raysFor_{std::min(rayCapacity_, 1024u), std::min(rayCapacity_, 1024u)},
       segmentsBelowKept_(kSegmentsBelowKept) {
   if (!(dt_ > 0) || !std::isfinite(dt_)) throw Error("fast model: the scene box is empty");
   // Checked against the photos when they are known (a model without the embedding: makeFieldPipeline).
@@ -188,7 +188,7 @@ void FastPipeline::allocateTraining(Context& ctx) {
                                     "the occupancy update's position encodings");
   occDensity_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4, "the occupancy update's densities");
   occCells_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4);
-  stepCounts_ = gpu::Buffer::hostReadable(ctx, 16, "a training step's counts");
+  for (auto& counts : stepCounts_) counts = gpu::Buffer::hostReadable(ctx, 16, "a training step's counts");
   if (model_.earlyTermination) {
     kept_.emplace(ctx, rayCapacity_, sampleCapacity_);
     gatherBackward_ = sampleCapacity_ <= mlp_.chunkRows();
@@ -328,11 +328,10 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {decay, threshold, true});
 }
 
-FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
+uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
   if (!training_) throw Error("fast model: pipeline was not built for training");
   const uint32_t step = at.step;
   const uint32_t seed = stepSeed(config_, step);
-  rec.begin();
   if (model_.gridUpdateInterval && step % model_.gridUpdateInterval == 0 && step > 0) recordOccupancyUpdate(rec, step);
   // With camera refinement the step's rays come from the cameras as corrected so far.
   TrainingData cameras = data;
@@ -347,7 +346,8 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   if (appearance_ && data.numCameras != appearance_->numPhotos())
     throw Error("fast model: " + std::to_string(data.numCameras) + " training photos, but the appearance embedding was set up for " +
                 std::to_string(appearance_->numPhotos()));
-  const RaySpan batch = recordTrainingBatch(rec, cameras, seed, raysNext_);
+  const uint32_t slot = slotOf(step);
+  const RaySpan batch = recordTrainingBatch(rec, cameras, seed, raysFor_[slot]);
   const CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
   recordTrainingBackward(rec, batch, composite);
   network_.recordOptimizerStep(rec, at);
@@ -355,10 +355,8 @@ FieldPipeline::StepSize FastPipeline::doTrainStep(gpu::Recorder& rec, const Trai
   if (farField_) farField_->recordOptimizerStep(rec, at);
   if (cameras_) cameras_->recordOptimizerStep(rec, at);
   if (appearance_) appearance_->recordOptimizerStep(rec, at);
-  recordStepCounts(rec, batch.count);
-  rec.end();
-  rec.submitAndWait();
-  return countTrainingStep();
+  recordStepCounts(rec, batch.count, stepCounts_[slot]);
+  return batch.count;
 }
 
 RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R) {
@@ -460,21 +458,21 @@ std::vector<std::array<float, 6>> FastPipeline::cameraCorrections() {
   return cameras_ ? cameras_->corrections() : std::vector<std::array<float, 6>>{};
 }
 
-void FastPipeline::recordStepCounts(gpu::Recorder& rec, uint32_t R) {
+void FastPipeline::recordStepCounts(gpu::Recorder& rec, uint32_t R, gpu::Buffer& counts) {
   // What the host reads of a step, copied within the step's own recording into host-readable
-  // memory: after the step's fence the host reads three words with no transfer of its own (a
-  // download of a discrete GPU's buffer is a submission and a wait each), and the per-ray kept
-  // counts are summed on the device, not read back (up to 1 MB a step).
-  rec.copy(wholeRays_, stepCounts_, 4, 0, 0);
-  rec.copy(marched_.totals, stepCounts_, 4, 0, 4);
+  // memory, one buffer per step in flight: after the step's fence the host reads three words with
+  // no transfer of its own (a download of a discrete GPU's buffer is a submission and a wait
+  // each), and the per-ray kept counts are summed on the device, not read back (up to 1 MB a step).
+  rec.copy(wholeRays_, counts, 4, 0, 0);
+  rec.copy(marched_.totals, counts, 4, 0, 4);
   if (!model_.earlyTermination) return;
   if (!gatherBackward_) kept_->recordTotal(rec, R);  // else the backward's packing made it
-  rec.copy(kept_->totals(), stepCounts_, 4, 0, 8);
+  rec.copy(kept_->totals(), counts, 4, 0, 8);
 }
 
-FieldPipeline::StepSize FastPipeline::countTrainingStep() {
+FieldPipeline::StepSize FastPipeline::doCollectTrainStep(uint32_t slot) {
   // The step's counts (recordStepCounts), read after its own wait.
-  const auto counts = stepCounts_.download<uint32_t>(3);
+  const auto counts = stepCounts_[slot].download<uint32_t>(3);
   const uint32_t rays = counts[0], marchedCount = counts[1];
   marchedSamples_ += marchedCount;
   marchedRays_ += rays;
@@ -484,11 +482,12 @@ FieldPipeline::StepSize FastPipeline::countTrainingStep() {
 
   lastRays_ = rays;
   lastSamples_ = marchedCount;
-  // Next step: as many rays as this step's marched samples per ray say fit the sample budget.
+  // The step kStepsInFlight later (the next one to use this slot): as many rays as this step's
+  // marched samples per ray say fit the sample budget.
   const double samplesPerRay = rays ? std::max(1.0, double(marchedCount) / rays) : 1.0;
   lastSamplesPerRay_ = rays ? double(marchedCount) / rays : 0.0;
   lastKeptFraction_ = marchedCount ? double(samples) / marchedCount : 1.0;
-  raysNext_ = uint32_t(std::clamp(double(model_.samplesPerBatch) / samplesPerRay, double(kRayAlign), double(rayCapacity_)));
+  raysFor_[slot] = uint32_t(std::clamp(double(model_.samplesPerBatch) / samplesPerRay, double(kRayAlign), double(rayCapacity_)));
   return {rays, samples};
 }
 

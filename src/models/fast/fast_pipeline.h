@@ -72,7 +72,8 @@ class FastPipeline final : public FieldPipeline {
   void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) override;
   void allocateTraining(Context& ctx);
   // A training step, one submission: the occupancy update when due, then the named steps below.
-  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) override;
+  uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) override;
+  StepSize doCollectTrainStep(uint32_t slot) override;
   // R random training rays marched, the batch cut on the device to the rays that fit the sample capacity whole.
   RaySpan recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R);
   // Field, compositing and photometric loss over the batch; returns what the backward composites again.
@@ -83,8 +84,7 @@ class FastPipeline final : public FieldPipeline {
   // [rowOffsets[r], rowOffsets[r + 1])), carried to the cameras that made the batch's rays.
   void recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const gpu::BufferRange& rowOffsets);
   // After the step's wait: the rays and samples it trained on; sets the next step's ray count.
-  void recordStepCounts(gpu::Recorder& rec, uint32_t R);
-  StepSize countTrainingStep();
+  void recordStepCounts(gpu::Recorder& rec, uint32_t R, gpu::Buffer& counts);
   // The uint the device writes: how many of the batch's rays fit the sample capacity whole.
   gpu::BufferRange wholeRayCount() const { return gpu::BufferRange(wholeRays_, 0, sizeof(uint32_t)); }
   ModelStatistics modelStatistics() override;
@@ -155,7 +155,8 @@ class FastPipeline final : public FieldPipeline {
   Packed marched_;
   FieldBatch field_;
   gpu::Buffer weights_, dPos_;
-  gpu::Buffer stepCounts_;  // host-readable: rays, marched and kept samples of the last step
+  // host-readable, one per step in flight: rays, marched and kept samples of that step
+  std::array<gpu::Buffer, kStepsInFlight> stepCounts_;
   gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
   SegmentAccumulator segments_;  // a render's rays, marched segment by segment
   float renderMinTransmittance_;  // where a render's ray stops (RenderSettings)
@@ -165,7 +166,8 @@ class FastPipeline final : public FieldPipeline {
   uint32_t occPoints_ = 0;
   gpu::Buffer occPositions_, occFeatures_, occDensity_, occCells_;
 
-  uint32_t raysNext_;  // adaptive ray count of the next training step
+  // The adaptive ray count of the next step in each slot, set from the counts of the slot's last step.
+  std::array<uint32_t, kStepsInFlight> raysFor_;
   double lastSamplesPerRay_ = 0;
   double lastKeptFraction_ = 1;  // of the last step's marched samples, those in front of the cut
   double segmentsBelowKept_;

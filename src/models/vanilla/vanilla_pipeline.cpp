@@ -121,18 +121,20 @@ void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, 
   recordForward(rec, view.count, 0, false);
 }
 
-FieldPipeline::StepSize VanillaPipeline::doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
+uint32_t VanillaPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
   if (!training_) throw Error("vanilla model: pipeline was not built for training");
   const uint32_t step = at.step;
   const uint32_t R = capacity_;
   const uint32_t seed = stepSeed(config_, step);
-  rec.begin();
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   recordForward(rec, R, seed, true);
   recordBackward(rec, R, data, at);
-  rec.end();
-  rec.submitAndWait();
-  return {R, uint64_t(R) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay)};
+  return R;
+}
+
+// The batch is the same every step: nothing to read back.
+FieldPipeline::StepSize VanillaPipeline::doCollectTrainStep(uint32_t) {
+  return {capacity_, uint64_t(capacity_) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay)};
 }
 
 std::vector<StateArray> VanillaPipeline::state() {

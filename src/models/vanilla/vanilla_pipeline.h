@@ -58,7 +58,8 @@ class VanillaPipeline final : public FieldPipeline {
 
  private:
   void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) override;
-  StepSize doTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) override;
+  uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) override;
+  StepSize doCollectTrainStep(uint32_t slot) override;
   ModelStatistics modelStatistics() override;
 
   Network& fine() { return fine_ ? *fine_ : coarse_; }

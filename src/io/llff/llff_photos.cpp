@@ -100,11 +100,11 @@ LlffPhotos findLlffPhotos(const fs::path& file, size_t rows, uint32_t downscale,
   }
   out.files = photosFor(folder / ("images_" + std::to_string(n)), rows, file);
   out.factor = n;
-  out.downscale = downscale / n ? downscale / n : 1;
-  std::string how = "photos " + std::to_string(n) + " times smaller than hwf's " + std::to_string(width) + "x" +
-                    std::to_string(height);
+  out.downscale = n <= downscale ? downscale / n : 1;  // a coarser folder is used as it is
+  const std::string hwf = "hwf's " + std::to_string(width) + "x" + std::to_string(height);
+  std::string how = n == 1 ? "photos at " + hwf : "photos " + std::to_string(n) + " times smaller than " + hwf;
   if (out.downscale > 1) how += ", shrunk " + std::to_string(out.downscale) + " times more for downscale " + std::to_string(downscale);
-  if (n > downscale) how += downscale > 1 ? ", coarser than the downscale " + std::to_string(downscale) + " asked for" : "";
+  if (n > downscale && downscale > 1) how += ", coarser than the downscale " + std::to_string(downscale) + " asked for";
   noteOnce(file.string() + ": no images/ folder beside it; using " + (folder / ("images_" + std::to_string(n))).string() +
            "/ (" + how + ")");
   return out;

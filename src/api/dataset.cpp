@@ -9,6 +9,7 @@
 #include <map>
 #include <mutex>
 #include <thread>
+#include <tuple>
 
 #include "io/dataset/dataset_loaders.h"
 #include "vknerf/image_io.h"
@@ -83,6 +84,21 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
       throw Error(f.where + ": image '" + f.image.string() + "' is " + std::to_string(width) + "x" + std::to_string(height) +
                   ", not a copy of the " + std::to_string(in.statedWidth) + "x" + std::to_string(in.statedHeight) +
                   " the camera states scaled alike in width and height");
+    // A folder of copies N times smaller holds them at the stated size over N, however rounded: a
+    // size further off is a copy of other photos than those the intrinsics are stated for.
+    if (const double n = in.statedFactor) {
+      for (const auto& [got, stated, field] : {std::tuple{double(width), sw, &in.statedWidthField},
+                                               std::tuple{double(height), sh, &in.statedHeightField}})
+        if (!(std::fabs(got * n - stated) < n)) {
+          char want[32];
+          std::snprintf(want, sizeof want, "%g", stated / n);
+          throw Error(f.where + ": image '" + f.image.string() + "' is " + std::to_string(width) + "x" +
+                      std::to_string(height) + " but " + *field + " " + std::to_string(uint32_t(stated)) + " / " +
+                      std::to_string(in.statedFactor) + " is " + want + ": its folder should hold the photos " +
+                      std::to_string(in.statedFactor) + " times smaller than the " + std::to_string(in.statedWidth) +
+                      "x" + std::to_string(in.statedHeight) + " the camera states");
+        }
+    }
     sx = double(width) / sw;
     sy = double(height) / sh;
   }
@@ -237,8 +253,8 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
   // Image sizes first (headers only), so that a bad file or too little memory is reported before
   // anything is decoded.
   const uint32_t n = uint32_t(scene.frames.size());
-  // The factor left to apply here: none when the reader found images that size already.
-  const uint32_t downscale = scene.preScaled ? 1 : options.downscale;
+  // The factor left to apply here: less, or none, when the reader found smaller images already.
+  const uint32_t downscale = scene.downscale.value_or(options.downscale);
   std::vector<std::pair<uint32_t, uint32_t>> sizes(n);
   for (uint32_t i = 0; i < n; ++i) {
     const FrameSpec& f = scene.frames[i];

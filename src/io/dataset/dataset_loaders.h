@@ -24,6 +24,11 @@ struct Intrinsics {
   // Nonzero when fx, fy, cx, cy are stated for an image of this size and the image may be a resized
   // copy of it (LLFF's images_N/): they scale by the image's size over this one, axis by axis.
   uint32_t statedWidth = 0, statedHeight = 0;
+  // Nonzero when the image is meant to be this many times smaller than the stated size (images_N/'s
+  // N): its size must be the stated one over it, to within a pixel's rounding. The fields that state
+  // the size, for that message.
+  uint32_t statedFactor = 0;
+  std::string statedWidthField = "width", statedHeightField = "height";
   Lens lens;  // distortion coefficients are dimensionless: downscaling leaves them alone
   // The fields the focal lengths come from, for messages: transforms.json's unless the format says.
   std::string focalFieldX = "fl_x or camera_angle_x", focalFieldY = "fl_y or camera_angle_y";
@@ -46,8 +51,9 @@ struct SceneSpec {
   Aabb box;
   std::string boxSource;
   float aabbScale = 1;            // instant-ngp's aabb_scale, when the files give one
-  // The images are already options.downscale times smaller (LLFF's images_N/): loaded as they are.
-  bool preScaled = false;
+  // The factor Dataset::load shrinks the images by, when the reader found them already smaller than
+  // the size the intrinsics are stated for (LLFF's images_N/); options.downscale otherwise.
+  std::optional<uint32_t> downscale;
 };
 
 // Readers. `target` is what Dataset::load was given, already classified.
@@ -59,7 +65,8 @@ ColmapForm colmapForm(const fs::path& modelDir);
 // Reads the model in `modelDir` in the form colmapForm() names.
 SceneSpec readColmap(const fs::path& modelDir, const fs::path& imagesDir, const DatasetOptions& options);
 
-// LLFF's poses_bounds.npy (`file`), its photos in images/ (or images_N/) beside it.
+// LLFF's poses_bounds.npy (`file`), its photos in images/ or images_N/ beside it (llff_photos.h says
+// which is used when).
 SceneSpec readLlff(const fs::path& file, const DatasetOptions& options);
 
 // Indices of frames in `split` ("train", "val", "test", "all") of n frames, holding out

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "io/dataset/dataset_loaders.h"
+#include "io/dataset/load_note.h"
 #include "io/file/json_file.h"
 #include "vknerf/error.h"
 
@@ -133,24 +134,58 @@ Lens resolveLens(const JsonFile& f, const LensKeys& k) {
   return l;
 }
 
-// The image a frame names, relative to the JSON's folder; nerf_synthetic leaves the extension out.
-void resolveImage(const JsonFile& f, const std::string& filePath, FrameSpec& spec) {
-  fs::path base = f.path.parent_path() / filePath;
+// `base` itself, or with an image extension added (nerf_synthetic leaves it out); empty if neither.
+fs::path existingImage(const fs::path& base) {
   std::error_code ec;
-  spec.imageTried = base.string();
-  if (fs::is_regular_file(base, ec)) {
-    spec.image = base;
-    return;
-  }
+  if (fs::is_regular_file(base, ec)) return base;
   for (const char* ext : {".png", ".jpg", ".jpeg", ".PNG", ".JPG", ".JPEG"}) {
     fs::path p = base;
     p += ext;
-    if (fs::is_regular_file(p, ec)) {
-      spec.image = p;
-      return;
-    }
+    if (fs::is_regular_file(p, ec)) return p;
   }
-  spec.imageTried += " (also with .png, .jpg, .jpeg)";
+  return {};
+}
+
+// How many absolute file_paths that do not exist here (written on the author's machine, and shared
+// as they were) were found by their base name beside the JSON, and how many in its images/ folder.
+struct Substitutes {
+  size_t beside = 0, inImages = 0;
+};
+
+// The image a frame names, relative to the JSON's folder. An absolute path that exists is taken as
+// it is; one that does not falls back to the file of its name beside the JSON, then in images/.
+void resolveImage(const JsonFile& f, const std::string& filePath, FrameSpec& spec, Substitutes& substitutes) {
+  const fs::path folder = f.path.parent_path(), base = folder / filePath;
+  spec.image = existingImage(base);
+  const fs::path name = fs::path(filePath).filename();
+  if (!spec.image.empty()) return;
+  if (!fs::path(filePath).is_absolute() || name.empty()) {
+    spec.imageTried = base.string() + " (also with .png, .jpg, .jpeg)";
+    return;
+  }
+  if (spec.image = existingImage(folder / name); !spec.image.empty()) {
+    ++substitutes.beside;
+    return;
+  }
+  if (spec.image = existingImage(folder / "images" / name); !spec.image.empty()) {
+    ++substitutes.inImages;
+    return;
+  }
+  spec.imageTried = "file_path '" + filePath + "' does not exist here, nor does " + name.string() +
+                    " (also with .png, .jpg, .jpeg) beside " + f.name() + " or in " + (folder / "images").string() + "/";
+}
+
+// One line for the file's substitutes, however many frames they are.
+void noteSubstitutes(const JsonFile& f, const Substitutes& s) {
+  const size_t count = s.beside + s.inImages;
+  if (count == 0) return;
+  const std::string images = (f.path.parent_path() / "images").string() + "/";
+  const std::string where = s.inImages == 0 ? "beside it"
+                            : s.beside == 0 ? "in " + images
+                                            : "beside it (" + std::to_string(s.beside) + ") and in " + images + " (" +
+                                                  std::to_string(s.inImages) + ")";
+  const char* entries = count == 1 ? " file_path entry is an absolute path that does" : " file_path entries are absolute paths that do";
+  noteOnce(f.name() + ": " + std::to_string(count) + entries + " not exist here; using the files of those names " + where);
 }
 
 std::vector<FrameSpec> readFrames(const JsonFile& f) {
@@ -163,6 +198,7 @@ std::vector<FrameSpec> readFrames(const JsonFile& f) {
   if (!it->is_array()) fieldError(f, "frames", "must be an array");
   if (it->empty()) fieldError(f, "frames", "is empty");
   std::vector<FrameSpec> frames;
+  Substitutes substitutes;
   for (size_t i = 0; i < it->size(); ++i) {
     const json& frame = (*it)[i];
     const std::string prefix = "frames[" + std::to_string(i) + "].";
@@ -177,11 +213,12 @@ std::vector<FrameSpec> readFrames(const JsonFile& f) {
     auto fp = frame.find("file_path");
     if (fp == frame.end()) fieldError(f, prefix + "file_path", "is missing");
     if (!fp->is_string() || fp->get<std::string>().empty()) fieldError(f, prefix + "file_path", "must be a non-empty string");
-    resolveImage(f, fp->get<std::string>(), spec);
+    resolveImage(f, fp->get<std::string>(), spec, substitutes);
     spec.c2w = readMatrixField(f, frame, "transform_matrix", prefix);
     checkRigid(spec.c2w, spec.where);
     frames.push_back(std::move(spec));
   }
+  noteSubstitutes(f, substitutes);
   return frames;
 }
 

@@ -4,17 +4,17 @@
 // Row i of the N x 17 array is a 3x5 matrix row by row, [R | t | hwf], then the near and far bounds.
 // R's columns are the camera's down, right and back axes in the world (LLFF's imgs2poses reorders
 // COLMAP's [right, down, forward] so), t is its position, hwf the height, width and focal length in
-// pixels of the photos in images/. vknerf's camera-to-world (OpenGL: right, up, back) is therefore
-// [R1, -R0, R2 | t], as NeRF's load_llff builds it. The world frame is kept: load_llff's recentring
-// and its rescale by the nearest bound are choices of its training, not part of the data, and a
-// scene written both as transforms.json and as poses_bounds.npy must give the same rays. The bounds
+// pixels of the photos in images/ (images_N/ holds them N times smaller). vknerf's camera-to-world
+// (OpenGL: right, up, back) is therefore [R1, -R0, R2 | t], as NeRF's load_llff builds it. The
+// world frame is kept: load_llff's recentring and its rescale by the nearest bound are choices of
+// its training, not part of the data, and a scene written both as transforms.json and as
+// poses_bounds.npy must give the same rays. The bounds
 // are LLFF's near and far percentiles of the depths, along the optical axis, of the COLMAP points
 // each camera sees.
-#include <algorithm>
-#include <cctype>
 #include <cstdio>
 
 #include "io/dataset/dataset_loaders.h"
+#include "io/llff/llff_photos.h"
 #include "io/llff/npy.h"
 #include "vknerf/error.h"
 
@@ -24,34 +24,6 @@ namespace {
 constexpr size_t kColumns = 17;
 constexpr uint32_t kHoldEvery = 8;  // llffhold: every 8th photo, from the first, is held out
 constexpr double kMaxSize = 1e6;    // pixels a side, as transforms.json's w and h
-
-bool isDir(const fs::path& p) {
-  std::error_code ec;
-  return fs::is_directory(p, ec);
-}
-
-// The photos of `dir`: its .png, .jpg and .jpeg files (any case), sorted by name as load_llff does.
-std::vector<fs::path> photosIn(const fs::path& dir) {
-  std::vector<fs::path> out;
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    std::string ext = it->path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    std::error_code typeError;  // an entry that cannot be examined is not a photo
-    if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg") && it->is_regular_file(typeError)) out.push_back(it->path());
-  }
-  if (ec) throw Error("'" + dir.string() + "' cannot be listed: " + ec.message());
-  std::sort(out.begin(), out.end(), [](const fs::path& a, const fs::path& b) { return a.filename().string() < b.filename().string(); });
-  return out;
-}
-
-std::vector<fs::path> photosFor(const fs::path& dir, size_t rows, const fs::path& file) {
-  std::vector<fs::path> photos = photosIn(dir);
-  if (photos.size() != rows)
-    throw Error("'" + dir.string() + "' holds " + std::to_string(photos.size()) + " photos (.png, .jpg, .jpeg) but '" +
-                file.string() + "' has " + std::to_string(rows) + " rows, one per photo");
-  return photos;
-}
 
 std::string number(double v) {
   char text[32];
@@ -148,22 +120,23 @@ SceneSpec readLlff(const fs::path& file, const DatasetOptions& options) {
   scene.box = cascadedBoxFromDepths(cameras, bounds, frustums, scene.aabbScale);
   scene.boxSource = "llff bounds";
 
-  const fs::path folder = file.parent_path(), imagesDir = folder / "images";
-  if (!isDir(imagesDir)) throw Error(name + ": no images/ folder beside it ('" + imagesDir.string() + "' not found)");
-  std::vector<fs::path> photos = photosFor(imagesDir, n, file);
-  const fs::path scaledDir = folder / ("images_" + std::to_string(options.downscale));
-  if (options.downscale > 1 && isDir(scaledDir)) {
-    // Photos already that much smaller: loaded as they are, their intrinsics scaled to their size.
-    photos = photosFor(scaledDir, n, file);
-    scene.preScaled = true;
+  const LlffPhotos photos = findLlffPhotos(file, n, options.downscale, full[0].intrinsics.width, full[0].intrinsics.height);
+  if (photos.factor > 1) {
+    // Copies smaller than hwf states: their intrinsics are hwf's scaled by their actual size over
+    // hwf's (completeCamera, which checks that size against the factor), the rest of the downscale
+    // applied on top as for any photo.
+    scene.downscale = photos.downscale;
     for (FrameSpec& f : full) {
       f.intrinsics.statedWidth = f.intrinsics.width;
       f.intrinsics.statedHeight = f.intrinsics.height;
+      f.intrinsics.statedFactor = photos.factor;
+      f.intrinsics.statedWidthField = "hwf width";
+      f.intrinsics.statedHeightField = "hwf height";
       f.intrinsics.width = f.intrinsics.height = 0;
     }
   }
   for (size_t i = 0; i < n; ++i) {
-    full[i].image = photos[i];
+    full[i].image = photos.files[i];
     const bool held = i % kHoldEvery == 0;
     const bool picked = options.split == "all" || held == (options.split != "train");
     (picked ? scene.frames : scene.others).push_back(std::move(full[i]));

@@ -106,6 +106,17 @@ TEST_F(DatasetErrors, MissingAndUnreadableImagesNameThePath) {
   EXPECT_MESSAGE_HAS(e, "cannot read image '" + (dir() / "train" / "r_7.png").string() + "'");
 }
 
+// An absolute path from the author's machine with no file of its name here either: the error
+// names the json, the frame and file_path, and where else it looked.
+TEST_F(DatasetErrors, AbsolutePathMissingEverywhereNamesTheFrameAndFilePath) {
+  json j = scene();
+  j["frames"][1]["file_path"] = "/nonexistent-vknerf-author/cap/images/r_9.png";
+  const std::string e = loadError(j);
+  EXPECT_EQ(e.rfind(file() + ": frames[1]: image not found: file_path '/nonexistent-vknerf-author/cap/images/r_9.png' "
+                    "does not exist here, nor does r_9.png", 0), 0u) << e;
+  EXPECT_MESSAGE_HAS(e, "beside " + file() + " or in " + (dir() / "images").string() + "/");
+}
+
 TEST_F(DatasetErrors, ImagesOfDifferentSizes) {
   // Frames may differ in size (nerfstudio's per-frame w/h): each camera takes its image's.
   json j = scene();

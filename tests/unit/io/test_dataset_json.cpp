@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "reference/rays/rays.h"
+#include "support/captured_stderr.h"
 #include "support/dataset_files.h"
 #include "support/temp_dir.h"
 
@@ -195,6 +196,49 @@ TEST_F(DatasetTransforms, FilePathsWithAndWithoutExtensions) {
   EXPECT_EQ(fs::path(d.names[3]).filename(), "d.jpeg");
   EXPECT_NEAR(d.images[1].rgba[0], 128, 3);  // the JPEG's flat grey
   EXPECT_EQ(d.images[2].rgba, patternImage(8, 6, 3).rgba);
+}
+
+// A transforms.json written on its author's machine names its photos there: absolute paths that
+// do not exist here. The files of those names beside the json, or in its images/, stand in, with
+// one line on stderr per json; an absolute path that exists is taken as it is.
+TEST_F(DatasetTransforms, AbsolutePathsFromAnotherMachineFallBackToTheFilesOfThoseNames) {
+  const std::string away = "/nonexistent-vknerf-author/cap/images/";
+  ASSERT_FALSE(fs::exists(away));
+  auto m = matrixJson(poseLookingAt({0, -4, 1}, {0, 0, 0}));
+  // In images/: three frames, one without its extension as nerf_synthetic writes them.
+  for (int i = 0; i < 3; ++i) writePng(dir() / "images" / ("f" + std::to_string(i) + ".png"), patternImage(8, 6, uint32_t(i)));
+  json fr = json::array();
+  for (const char* name : {"f0.png", "f1", "f2.png"}) fr.push_back({{"file_path", away + name}, {"transform_matrix", m}});
+  // An absolute path that exists, though a file of its name is in images/ too: taken as it is.
+  writePng(dir() / "elsewhere" / "f0.png", patternImage(8, 6, 9));
+  fr.push_back({{"file_path", (dir() / "elsewhere" / "f0.png").string()}, {"transform_matrix", m}});
+  writeJson(dir() / "transforms.json", {{"camera_angle_x", 0.7}, {"frames", fr}});
+  Dataset d;
+  std::string said = stderrOf([&] { d = Dataset::load(dir().string(), {.split = "all"}); });
+  ASSERT_EQ(d.names.size(), 4u);
+  EXPECT_EQ(d.names[0], (dir() / "images" / "f0.png").string());
+  EXPECT_EQ(d.names[1], (dir() / "images" / "f1.png").string());
+  EXPECT_EQ(d.names[2], (dir() / "images" / "f2.png").string());
+  EXPECT_EQ(d.names[3], (dir() / "elsewhere" / "f0.png").string());
+  EXPECT_EQ(d.images[1].rgba, patternImage(8, 6, 1).rgba);
+  EXPECT_EQ(d.images[3].rgba, patternImage(8, 6, 9).rgba);
+  EXPECT_EQ(said, "vknerf: " + (dir() / "transforms.json").string() +
+                      ": 3 file_path entries are absolute paths that do not exist here; using the files of those names in " +
+                      (dir() / "images").string() + "/\n");
+  // Once: loading the scene again says nothing more.
+  EXPECT_EQ(stderrOf([&] { Dataset::load(dir().string(), {.split = "train"}); }), "");
+
+  // Beside the json, which comes before its images/.
+  const fs::path beside = dir() / "beside";
+  writePng(beside / "g0.png", patternImage(8, 6, 4));
+  writePng(beside / "images" / "g0.png", patternImage(8, 6, 5));
+  writeJson(beside / "transforms.json", {{"camera_angle_x", 0.7}, {"frames", {{{"file_path", away + "g0.png"}, {"transform_matrix", m}}}}});
+  said = stderrOf([&] { d = Dataset::load(beside.string(), {.split = "all"}); });
+  ASSERT_EQ(d.names.size(), 1u);
+  EXPECT_EQ(d.names[0], (beside / "g0.png").string());
+  EXPECT_EQ(d.images[0].rgba, patternImage(8, 6, 4).rgba);
+  EXPECT_EQ(said, "vknerf: " + (beside / "transforms.json").string() +
+                      ": 1 file_path entry is an absolute path that does not exist here; using the files of those names beside it\n");
 }
 
 TEST_F(DatasetTransforms, HoldoutSplitIsEvenlySpacedAndDisjoint) {

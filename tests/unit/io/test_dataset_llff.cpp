@@ -1,8 +1,8 @@
 // LLFF's poses_bounds.npy. Photos rendered from known cameras, written both as transforms.json and
 // as poses_bounds.npy, load to the same cameras and the same rays, and those rays are the renderer's;
 // the [down, right, back] convention on a hand-written row; float32, format 2.0 and Fortran order;
-// images_N/ read as they are with the focal length scaled; llffhold 8; the box of the frustums; and
-// every bad file an error naming the file and the field.
+// images_N/ read as they are with the focal length scaled, with or without images/ beside them;
+// llffhold 8; the box of the frustums; and every bad file an error naming the file and the field.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +14,7 @@
 #include "vknerf/image_io.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/rays.h"
+#include "support/captured_stderr.h"
 #include "support/cli_run.h"
 #include "support/colmap_model_files.h"
 #include "support/dataset_checks.h"
@@ -295,6 +296,94 @@ TEST(DatasetLlff, ImagesNMustMatchThePosesAndTheirShape) {
   m = errorOf([&] { Dataset::load(p, split("all", 2)); });
   EXPECT_MESSAGE_HAS(m, "poses_bounds.npy: row 0: image '" + (p / "images_2" / "image000.png").string() + "' is 4x1");
   EXPECT_MESSAGE_HAS(m, "not a copy of the 8x6");
+}
+
+// Shared as they often are: images_N/ alone, without the full-size photos hwf states. Three rows
+// with hwf (24, 32, 30); images_4/ holds them at 8x6 and images_2/ (when written) at 16x12.
+std::vector<Row> rowsAt(double height, double width, double focal) {
+  std::vector<Row> rows = smallRows();
+  for (Row& r : rows) r[4] = height, r[9] = width, r[14] = focal;
+  return rows;
+}
+
+TEST(DatasetLlff, ImagesNAloneLoadWithHwfScaledToTheirSize) {
+  TempDir dir("llff_images_n_only");
+  const fs::path p = dir.path();
+  writeRows(p, rowsAt(24, 32, 30));
+  writePhotos(p / "images_4", 3, 8, 6, 100, "image%03d.png");
+  ASSERT_FALSE(fs::exists(p / "images"));
+
+  Dataset d;
+  const std::string said = stderrOf([&] { d = Dataset::load(p, split("all")); });
+  ASSERT_EQ(d.cameras.size(), 3u);
+  for (uint32_t i = 0; i < 3; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "image%03u.png", i);
+    EXPECT_EQ(d.names[i], (p / "images_4" / name).string());
+    EXPECT_EQ(d.images[i].rgba, patternImage(8, 6, 100 + i).rgba);  // as stored, not resampled
+    const Camera& c = d.cameras[i];
+    EXPECT_EQ(c.width, 8u);
+    EXPECT_EQ(c.height, 6u);
+    EXPECT_EQ(c.fx, 7.5f);  // hwf's focal 30 over 4
+    EXPECT_EQ(c.fy, 7.5f);
+    EXPECT_EQ(c.cx, 4.0f);
+    EXPECT_EQ(c.cy, 3.0f);
+  }
+  // One line naming the folder used, however many photos; not again when the scene loads again.
+  EXPECT_EQ(occurrences(said, "\n"), 1u) << said;
+  EXPECT_MESSAGE_HAS(said, (p / "poses_bounds.npy").string() + ": no images/ folder beside it; using " +
+                               (p / "images_4").string() + "/ (photos 4 times smaller than hwf's 32x24)");
+  EXPECT_EQ(stderrOf([&] { Dataset::load(p, split("test")); }), "");
+
+  // Asked for 4: images_4/ as it is, the same cameras, without a note (it is what was asked for).
+  const Dataset asked = Dataset::load(p, split("all", 4));
+  expectSameCameras(d, asked);
+  // Asked for 8: images_4/ shrunk twice more, intrinsics following.
+  const Dataset eighth = Dataset::load(p, split("all", 8));
+  for (uint32_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(eighth.images[i].rgba, vknerf::downscaleImage(patternImage(8, 6, 100 + i), 2).rgba);
+    EXPECT_EQ(eighth.cameras[i].width, 4u);
+    EXPECT_EQ(eighth.cameras[i].fx, 3.75f);
+    EXPECT_EQ(eighth.cameras[i].cx, 2.0f);
+  }
+  expectSameBox(eighth, d);
+
+  // With images_2/ beside it, the default takes the finest; 4 still takes images_4/.
+  writePhotos(p / "images_2", 3, 16, 12, 200, "image%03d.png");
+  const Dataset finest = Dataset::load(p, split("all"));
+  EXPECT_EQ(fs::path(finest.names[0]).parent_path(), p / "images_2");
+  EXPECT_EQ(finest.cameras[0].width, 16u);
+  EXPECT_EQ(finest.cameras[0].fx, 15.0f);
+  EXPECT_EQ(fs::path(Dataset::load(p, split("all", 4)).names[0]).parent_path(), p / "images_4");
+  // 3 is no multiple of 2 or 4: the nearest coarser folder, as it is.
+  EXPECT_EQ(fs::path(Dataset::load(p, split("all", 3)).names[0]).parent_path(), p / "images_4");
+  // 5 is neither, and no folder is coarser: refused, naming the folders.
+  fs::remove_all(p / "images_4");
+  const std::string m = errorOf([&] { Dataset::load(p, split("all", 5)); });
+  EXPECT_MESSAGE_HAS(m, (p / "poses_bounds.npy").string() + ": no images/ folder beside it, and downscale 5 cannot be made from images_2/");
+}
+
+TEST(DatasetLlff, ImagesNWhoseSizeDisagreesWithHwfNameTheField) {
+  TempDir dir("llff_images_n_hwf");
+  const fs::path p = dir.path();
+  // hwf states 64x48, but images_8/ holds 4x3: the aspect agrees, the size is half what hwf / 8 is
+  // (hwf written for other photos than these), which would halve every focal length.
+  writeRows(p, rowsAt(48, 64, 60));
+  writePhotos(p / "images_8", 3, 4, 3, 100, "image%03d.png");
+  const std::string image = (p / "images_8" / "image000.png").string();
+  std::string m = errorOf([&] { Dataset::load(p, split("all")); });
+  EXPECT_EQ(m.rfind((p / "poses_bounds.npy").string() + ": row 0: image '" + image + "' is 4x3 but hwf width 64 / 8 is 8", 0), 0u) << m;
+  // The same when images/ is there and images_8/ is asked for.
+  writePhotos(p / "images", 3, 64, 48, 0, "p%d.png");
+  m = errorOf([&] { Dataset::load(p, split("all", 8)); });
+  EXPECT_MESSAGE_HAS(m, "row 0: image '" + image + "' is 4x3 but hwf width 64 / 8 is 8");
+  // Rounding is not disagreement: 64 / 3 and 48 / 3 are 21.3 and 16, stored as 21x16 or 22x16.
+  for (uint32_t w : {21u, 22u}) {
+    writePhotos(p / "images_3", 3, w, 16, 0, "image%03d.png");
+    EXPECT_EQ(Dataset::load(p, split("all", 3)).cameras[0].width, w);
+  }
+  writePhotos(p / "images_3", 3, 20, 16, 0, "image%03d.png");
+  EXPECT_MESSAGE_HAS(errorOf([&] { Dataset::load(p, split("all", 3)); }), "is 20x16 but hwf width 64 / 3 is 21.3333");
 }
 
 TEST(DatasetLlff, EveryEighthPhotoIsHeldOut) {

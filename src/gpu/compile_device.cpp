@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "gpu/kernel_limits.h"
 #include "gpu/vk_check.h"
 
 namespace vknerf::gpu {
@@ -106,10 +107,10 @@ void CompileDevice::release() {
 void CompileDevice::compile(const KernelVariant& k) {
   const auto& bindings = k.desc.bindings;
   if (bindings.size() > kMaxBindings)
-    throw Error(std::string("kernel ") + k.desc.shader.name + ": too many bindings to compile ahead");
+    throw Error(kernelName(k.desc) + ": too many bindings to compile ahead");
   for (Binding b : bindings)
     if (b == Binding::StorageImage)
-      throw Error(std::string("kernel ") + k.desc.shader.name + " binds a caller's image: it cannot be compiled ahead");
+      throw Error(kernelName(k.desc) + " binds a caller's image: it cannot be compiled ahead");
   PipelineObjects p = PipelineObjects::create(device_, VK_NULL_HANDLE, k.desc);
   struct Cleanup {
     CompileDevice& d;

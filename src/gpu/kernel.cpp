@@ -15,7 +15,7 @@ constexpr uint32_t kSetsPerPool = 64;
 
 void requireBindingCount(const KernelDesc& d, size_t n) {
   if (n != d.bindings.size())
-    throw Error(std::string("kernel ") + d.shader.name + " takes " + std::to_string(d.bindings.size()) + " buffers, got " +
+    throw Error(kernelName(d) + " takes " + std::to_string(d.bindings.size()) + " buffers, got " +
                 std::to_string(n));
 }
 
@@ -25,7 +25,7 @@ VkDeviceSize storageRange(const Context& ctx, const KernelDesc& d, size_t i, con
   range = std::max<VkDeviceSize>(range, 16);  // empty arrays bind a valid minimal range
   const auto limit = ctx.properties().limits.maxStorageBufferRange;
   if (range > limit)
-    throw Error(std::string("kernel ") + d.shader.name + ": binding " + std::to_string(i) + " spans " + std::to_string(range) +
+    throw Error(kernelName(d) + ": binding " + std::to_string(i) + " spans " + std::to_string(range) +
                 " bytes, over maxStorageBufferRange " + std::to_string(limit) + "; split the batch");
   return range;
 }
@@ -159,7 +159,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
   requireBindingCount(desc_, bindings.size());
   for (size_t i = 0; i < bindings.size(); ++i)
     if (bindings[i].isExternal() || desc_.bindings[i] == Binding::StorageImage)
-      throw Error(std::string("kernel ") + desc_.shader.name + ": binding " + std::to_string(i) +
+      throw Error(kernelName(desc_) + ": binding " + std::to_string(i) +
                   " is a caller's resource; bind it through Kernel::transientSet");
   std::vector<BufferRange> bound(bindings.begin(), bindings.end());
   std::vector<uint64_t> key;
@@ -216,7 +216,7 @@ VkDescriptorSet Kernel::descriptorSet(std::span<const BufferRange> bindings) {
       vi.range = range / 16 * 16;
       uint64_t texels = vi.range / 16;
       if (texels > limits.maxTexelBufferElements)
-        throw Error(std::string("kernel ") + desc_.shader.name + ": texel binding " + std::to_string(i) + " holds " + std::to_string(texels) +
+        throw Error(kernelName(desc_) + ": texel binding " + std::to_string(i) + " holds " + std::to_string(texels) +
                     " texels, over maxTexelBufferElements; split the batch");
       check(vkCreateBufferView(dev, &vi, nullptr, &views[i]), "vkCreateBufferView");
       views_.push_back(views[i]);
@@ -263,7 +263,7 @@ VkDescriptorSet Kernel::transientSet(std::span<const BufferRange> bindings) {
     writes[i].dstBinding = uint32_t(i);
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = descriptorType(desc_.bindings[i]);
-    const std::string where = std::string("kernel ") + desc_.shader.name + ": binding " + std::to_string(i);
+    const std::string where = kernelName(desc_) + ": binding " + std::to_string(i);
     switch (desc_.bindings[i]) {
       case Binding::Storage: {
         if (b.image || !b.handle()) throw Error(where + " needs a buffer");

@@ -6,11 +6,8 @@
 #include "vknerf/error.h"
 
 namespace vknerf::gpu {
-namespace {
-
-std::string kernelName(const KernelDesc& d) { return std::string("kernel ") + d.shader.name; }
-
-}  // namespace
+std::string kernelName(const char* shader) { return std::string("kernel ") + shader; }
+std::string kernelName(const KernelDesc& d) { return kernelName(d.shader.name); }
 
 KernelDesc adaptToDevice(const Device& dev, KernelDesc desc) {
   if (!dev.texelsAsStorage()) return desc;
@@ -61,7 +58,7 @@ void checkGroupCounts(const VkPhysicalDeviceLimits& l, const char* kernel, uint3
   const uint32_t g[3] = {gx, gy, gz};
   for (int i = 0; i < 3; ++i)
     if (g[i] > l.maxComputeWorkGroupCount[i])
-      throw Error(std::string("kernel ") + kernel + ": " + std::to_string(g[i]) + " workgroups along axis " +
+      throw Error(kernelName(kernel) + ": " + std::to_string(g[i]) + " workgroups along axis " +
                   std::to_string(i) + " exceed the device's maxComputeWorkGroupCount[" + std::to_string(i) + "] " +
                   std::to_string(l.maxComputeWorkGroupCount[i]) + "; split the dispatch");
 }
@@ -70,7 +67,7 @@ void checkBindingOffset(const VkPhysicalDeviceLimits& l, const char* kernel, siz
                         VkDeviceSize offset) {
   const VkDeviceSize align = type == Binding::TexelRgba32f ? l.minTexelBufferOffsetAlignment : l.minStorageBufferOffsetAlignment;
   if (align > 1 && offset % align)
-    throw Error(std::string("kernel ") + kernel + ": binding " + std::to_string(binding) + " starts at byte " +
+    throw Error(kernelName(kernel) + ": binding " + std::to_string(binding) + " starts at byte " +
                 std::to_string(offset) + ", not a multiple of the device's " +
                 (type == Binding::TexelRgba32f ? "minTexelBufferOffsetAlignment " : "minStorageBufferOffsetAlignment ") +
                 std::to_string(align));

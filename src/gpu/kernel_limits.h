@@ -6,6 +6,7 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <string>
 #include <cstdint>
 
 #include "gpu/kernel.h"
@@ -23,6 +24,10 @@ KernelDesc adaptToDevice(const Device& dev, KernelDesc desc);
 std::array<uint32_t, 3> spirvLocalSize(const ShaderCode& code);
 
 // Throws vknerf::Error when the kernel's push constants, bindings or workgroup size pass `limits`.
+// "kernel NAME": how every error about one kernel begins.
+std::string kernelName(const char* shader);
+std::string kernelName(const KernelDesc& desc);
+
 void checkKernelLimits(const VkPhysicalDeviceLimits& limits, const KernelDesc& desc);
 // Throws vknerf::Error when a dispatch's group counts pass maxComputeWorkGroupCount.
 void checkGroupCounts(const VkPhysicalDeviceLimits& limits, const char* kernel, uint32_t gx, uint32_t gy, uint32_t gz);

@@ -74,7 +74,7 @@ void Recorder::recordKernel(const BoundKernel& bound, bool indirect, const std::
   const uint32_t pushBytes = bound.pushBytes;
   const char* label = bound.label;
   if (pushBytes != k.desc().pushConstantBytes)
-    throw Error(std::string("kernel ") + k.desc().shader.name + " expects " + std::to_string(k.desc().pushConstantBytes) +
+    throw Error(kernelName(k.desc()) + " expects " + std::to_string(k.desc().pushConstantBytes) +
                 " bytes of push constants, got " + std::to_string(pushBytes));
   if (owned_) device(ctx_).compiler().dispatching(k, bound.bindings);
   barrierIfNeeded(indirect);

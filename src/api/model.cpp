@@ -146,7 +146,6 @@ void uploadState(const nerf::Checkpoint& ck, nerf::FieldPipeline& pipe, const Aa
     if (a.name == kCameraCorrections) checkCameraCorrections(ck, a.name, values, box);
     a.buffer->upload(values);
   }
-  pipe.stateLoaded();
 }
 
 Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const RenderSettings& settings) {

@@ -96,11 +96,4 @@ class Kernel {
 // Workgroups needed to cover n items with groups of `local`.
 inline uint32_t groupsFor(uint64_t n, uint32_t local) { return uint32_t((n + local - 1) / local); }
 
-inline uint32_t floatBits(float f) {
-  uint32_t u;
-  static_assert(sizeof u == sizeof f);
-  __builtin_memcpy(&u, &f, sizeof u);
-  return u;
-}
-
 }  // namespace vknerf::gpu

@@ -90,7 +90,8 @@ class Recorder {
   void submit();
   void wait();
   bool inFlight() const { return inFlight_; }
-  // One record + submit, for tests and one-off work.
+  // The command buffer being recorded: for a test that records what the Recorder would not (the
+  // synchronization test's missing barrier).
   VkCommandBuffer commandBuffer() const { return cmd_; }
 
   // Milliseconds per labelled dispatch of the last submission, in recording order.

@@ -124,8 +124,6 @@ class FieldPipeline {
   // Each training camera's learned pose correction (w, tau: nerf/rays/pose_correction.h), read
   // back; empty when the cameras are not refined.
   virtual std::vector<std::array<float, 6>> cameraCorrections() { return {}; }
-  // Called after resume() loads the state: rebuild anything derived from it.
-  virtual void stateLoaded() {}
 
   // Parameters (and, when training, optimizer state and auxiliary structures) by name.
   virtual std::vector<StateArray> state() = 0;

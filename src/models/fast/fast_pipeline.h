@@ -57,11 +57,9 @@ class FastPipeline final : public FieldPipeline {
   FieldBatch& queryBatch() override { return field_; }
   void recordQuery(gpu::Recorder& rec, uint32_t count) override { recordFieldAt(rec, field_, count); }
 
-  float marchStep() const { return dt_; }
   // A training step runs its forward in segments once the last step kept at most this fraction of
   // its marched samples (default kSegmentsBelowKept; 1: always, below 0: never).
   void segmentTrainingBelowKept(double fraction) { segmentsBelowKept_ = fraction; }
-  OccupancyGrid& occupancy() { return grid_; }
   std::optional<OccupancyBits> occupancyBits() const override { return grid_.hostBits(); }
   // Samples a render has shaded (and composited) since the pipeline was built: with segments, the
   // ones in front of where each ray became opaque (up to a segment's end).

@@ -29,6 +29,12 @@ std::vector<ImageRGBA8> imagesFrom(const py::array& a) {
   checkContiguous(a, "images");
   const size_t n = a.shape(0), h = a.shape(1), w = a.shape(2), ch = a.shape(3), pixels = h * w;
   std::vector<ImageRGBA8> out(n);
+  if (reals) {
+    const float* v = static_cast<const float*>(a.data());
+    for (size_t at = 0; at < n * pixels * ch; ++at)
+      if (!std::isfinite(v[at])) throw InvalidArgument("images hold a value that is not finite (image " +
+                                                       std::to_string(at / (pixels * ch)) + ")");
+  }
   for (size_t i = 0; i < n; ++i) {
     ImageRGBA8& im = out[i];
     im.width = uint32_t(w), im.height = uint32_t(h);

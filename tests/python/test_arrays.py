@@ -45,12 +45,19 @@ def test_opencv_convention_and_lens(synthetic):
     np.testing.assert_allclose(data.cameras[0].distortion[:4], [0.01, 0, 0, 0])
 
 
+def with_nan(images, i):
+    floats = images.astype(np.float32) / 255
+    floats[i, 3, 4, 1] = np.nan
+    return floats
+
+
 @pytest.mark.parametrize("change, message", [
     (lambda a: a[..., :2], "images must have shape (N, H, W, 3) or (N, H, W, 4) with N >= 1, got (4, 12, 16, 2)"),
     (lambda a: a.astype(np.int16), "images must be uint8 (sRGB values 0-255) or float32 (0-1), got dtype int16"),
     (lambda a: a.astype(np.float64), "got dtype float64"),
     (lambda a: a[:, ::2], "images must be C-contiguous"),
     (lambda a: a[0], "images must have shape"),
+    (lambda a: with_nan(a, 2), "images hold a value that is not finite (image 2)"),
 ])
 def test_bad_images(synthetic, change, message):
     images, poses, k = synthetic

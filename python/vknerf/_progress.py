@@ -23,6 +23,7 @@ class Progress:
         self._stream = stream or sys.stderr
         self._notebook = _in_notebook()
         self._handle = None
+        self._width = 0  # of the line drawn last: a shorter one is padded over it
         self.enabled = self._notebook or (hasattr(self._stream, "isatty") and self._stream.isatty())
 
     def line(self, r):
@@ -45,7 +46,9 @@ class Progress:
             else:
                 self._handle.update({"text/plain": self.line(r)}, raw=True)
         else:
-            self._stream.write("\r" + self.line(r))
+            text = self.line(r)
+            self._stream.write("\r" + text.ljust(self._width))
+            self._width = len(text)
             self._stream.flush()
 
     def close(self):

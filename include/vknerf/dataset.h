@@ -71,6 +71,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -99,7 +100,7 @@ struct Dataset {
   std::vector<ImageRGBA8> images;  // same order as cameras, each of its camera's size
   std::vector<std::string> names;  // image file paths (for reports)
   Aabb bounds;                     // scene box, in the frame of `cameras`
-  std::string boundsSource;        // "json aabb", "aabb_scale", "cameras", "cameras+alpha", "points3D", "llff bounds"
+  std::string boundsSource;        // "json aabb", "aabb_scale", "cameras", "cameras+alpha", "points3D", "llff bounds", "given"
   // instant-ngp's aabb_scale ("aabb_scale" bounds): the box's side over that of the inner cube the
   // cameras look into; 1 otherwise. The fast model nests 1 + ceil(log2(aabbScale)) occupancy cascades.
   float aabbScale = 1;
@@ -110,6 +111,13 @@ struct Dataset {
   std::vector<std::array<float, 2>> depthBounds;
 
   static Dataset load(const std::string& path, const DatasetOptions& options = {});  // throws vknerf::Error
+  // A dataset from cameras and images already in memory (an embedding application's, the Python
+  // module's), checked as a loaded one is: one image per camera, each its camera's size, finite
+  // positive intrinsics, every lens inverting over its image (checkLens). The box is `bounds` when
+  // given ("given"), else placed from the cameras as for a scene file without one ("cameras" or
+  // "cameras+alpha"). `names` (optional: one per camera) name the images in reports.
+  static Dataset fromMemory(std::vector<Camera> cameras, std::vector<ImageRGBA8> images,
+                            std::vector<std::string> names = {}, std::optional<Aabb> bounds = std::nullopt);
 };
 
 }  // namespace vknerf

@@ -20,11 +20,11 @@ import os
 import re
 import sys
 
-SCANNED = ["src", "include", "shaders", "tools", "tests", "fuzz", "cmake", "docs", ".ci"]
+SCANNED = ["src", "include", "shaders", "tools", "tests", "fuzz", "cmake", "docs", ".ci", "python", "examples"]
 SCANNED_FILES = ["CMakeLists.txt", "README.md", "assets/README.md"]
 # Where a cited path may start: the repository root, then the include and shader roots.
 RESOLVE_ROOTS = ["", "src", "include", "shaders", "tools", "tests", "tools/cli"]
-TOP_LEVEL = ["src", "include", "shaders", "tools", "tests", "fuzz", "cmake", "docs", "assets", ".ci"]
+TOP_LEVEL = ["src", "include", "shaders", "tools", "tests", "fuzz", "cmake", "docs", "assets", ".ci", "python", "examples"]
 SOURCE_EXTENSIONS = (".h", ".hpp", ".cpp", ".c", ".comp", ".glsl", ".py", ".sh", ".cmake")
 C_LIKE = (".h", ".hpp", ".cpp", ".c", ".comp", ".glsl", ".in")
 

@@ -6,7 +6,8 @@
 #                  suite (GoogleTest, the validation layer, vulkaninfo), the benchmarks (Google
 #                  Benchmark; OpenBLAS for `bench mlp`), tools/dev/sanitize.sh (clang, libclang-rt-dev:
 #                  the sanitizer runtimes and libFuzzer), the viewer and its test (GLFW, Xvfb), the
-#                  plotting scripts (matplotlib, numpy), and the programs `vknerf process` runs
+#                  plotting scripts (matplotlib, numpy), the Python module and its tests (pybind11,
+#                  python3-dev, numpy, pytest), and the programs `vknerf process` runs
 #                  (colmap; ffmpeg for a video) and `render --video` runs (ffmpeg), which their tests
 #                  run too.
 set -euo pipefail
@@ -25,6 +26,7 @@ MAIN="build-essential cmake pkg-config \
 REST="git vulkan-validationlayers vulkan-tools \
   libgtest-dev googletest libbenchmark-dev libopenblas-dev \
   libglfw3-dev xvfb xauth python3-matplotlib python3-numpy \
+  pybind11-dev python3-pybind11 python3-dev python3-pytest \
   clang libclang-rt-dev ffmpeg colmap"
 PACKAGES=$MAIN
 if [ "$ALL" = 1 ]; then PACKAGES="$MAIN $REST"; fi

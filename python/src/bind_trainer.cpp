@@ -37,6 +37,21 @@ StepStats stepLocked(TrainerState& t, bool readLoss, std::optional<double> fract
   return t.trainer->step(readLoss);
 }
 
+// train()'s steps run two deep, as `vknerf train`'s do (Trainer::submitStep): each call returns
+// the statistics of the step before the one it submits.
+std::optional<StepStats> submitLocked(TrainerState& t, bool readLoss, double fraction) {
+  py::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(t.busy);
+  t.trainer->setRunProgress(fraction);
+  return t.trainer->submitStep(readLoss);
+}
+
+std::optional<StepStats> finishLocked(TrainerState& t) {
+  py::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(t.busy);
+  return t.trainer->finishSteps();
+}
+
 void save(TrainerState& t, const std::string& path) {
   py::gil_scoped_release release;
   std::lock_guard<std::mutex> lock(t.busy);
@@ -70,23 +85,27 @@ py::dict train(TrainerState& t, uint32_t steps, double seconds, uint32_t logEver
   };
   py::dict summary;
   bool stoppedByCallback = false;
-  StepStats st;
+  // A step's statistics arrive once the next step is submitted (or the loop ends); the report
+  // callback sees each report step's loss then. Returns false when the callback stops the run.
+  const auto reported = [&](const std::optional<StepStats>& st) {
+    if (!st || !st->hasLoss) return true;
+    summary["loss"] = st->loss, summary["psnr"] = st->psnr;
+    if (report.is_none()) return true;
+    py::dict d = statsDict(*st);
+    d["elapsed"] = elapsed();
+    d["fraction"] = std::min(1.0, runFraction());
+    return !report(d).equal(py::bool_(false));
+  };
   try {
     while (trainer.steps() < last && !(seconds > 0 && elapsed() >= seconds)) {
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
       const bool reportStep = (trainer.steps() + 1) % logEvery == 0 || trainer.steps() + 1 == last;
-      st = stepLocked(t, reportStep, runFraction(), true);
-      if (reportStep && !report.is_none()) {
-        py::dict d = statsDict(st);
-        d["elapsed"] = elapsed();
-        d["fraction"] = std::min(1.0, runFraction());
-        if (report(d).equal(py::bool_(false))) {
-          stoppedByCallback = true;
-          break;
-        }
+      if (!reported(submitLocked(t, reportStep, runFraction()))) {
+        stoppedByCallback = true;
+        break;
       }
-      if (st.hasLoss) summary["loss"] = st.loss, summary["psnr"] = st.psnr;
     }
+    if (!reported(finishLocked(t))) stoppedByCallback = true;
   } catch (...) {
     if (checkpoint) save(t, *checkpoint);
     throw;

@@ -216,7 +216,7 @@ Registration benchTrain(
       auto o = std::make_shared<Options>();
       app.add_option("scene", o->scene, "Scene folder or transforms JSON (train and test splits)")->required();
       app.add_option("--config", o->configs, "Configurations to compare, in this order (default: fast vanilla)")
-          ->check(CLI::IsMember({"vanilla", "fast"}));
+          ->check(CLI::IsMember({"fast", "vanilla"}));
       app.add_option("--time", o->seconds, "Training budget per configuration, seconds")->check(PositiveFinite);
       app.add_option("--points", o->points, "Evaluation points over the budget")->check(CLI::Range(1u, 1000u));
       app.add_option("--eval-views", o->evalViews, "Test views at intermediate points")->check(CLI::Range(1u, 100000u));

@@ -159,9 +159,9 @@ std::vector<ConfigField> table() {
                       std::to_string(uint32_t(d)));
       }),
       model("coarse_samples", &VanillaModel::coarseSamples).range(1, 4096)
-          .flag("--coarse", "Stratified samples per ray").flagRange(1, 1024),
+          .flag("--coarse", "vanilla: stratified samples per ray").flagRange(1, 1024),
       model("fine_samples", &VanillaModel::fineSamples).range(0, 4096)
-          .flag("--fine", "Importance samples per ray").flagRange(1, 1024),
+          .flag("--fine", "vanilla: importance samples per ray").flagRange(1, 1024),
       model("separate_fine", &VanillaModel::separateFineNetwork),
 
       // Models saved before the feature width was a setting passed the whole trunk width (0).

@@ -48,7 +48,9 @@ void runCases(const std::vector<Case>& cases) {
   }
 }
 
-const std::string kTiny = " --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128";
+// The smallest vanilla model (its --coarse/--fine are vanilla's flags): cheap to train, and the
+// crafted checkpoints below edit its vanilla sections.
+const std::string kTiny = " --config vanilla --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128";
 
 // A copy of the sample scene with `mutate` applied to one of its transforms files.
 std::string mutatedScene(const std::string& name, const std::string& file, const std::function<void(json&)>& mutate) {
@@ -61,7 +63,7 @@ std::string mutatedScene(const std::string& name, const std::string& file, const
   return dir.string();
 }
 
-// A tiny model of the sample scene (2 steps), trained once per test process.
+// A tiny vanilla model of the sample scene (2 steps), trained once per test process.
 const std::string& tinyModel() {
   static const std::string path = [] {
     const std::string p = temp("tiny.vknerf");

@@ -7,6 +7,8 @@
 #include <string>
 
 #include "support/cli_run.h"
+#include "vknerf/config.h"
+#include "vknerf/trainer.h"
 
 using vknerf::test::runCli;
 using vknerf::test::scene;
@@ -47,10 +49,12 @@ TEST(Cli, UnknownDeviceIsARuntimeError) {
 }
 
 // SIGINT or SIGTERM after a few seconds: training stops at a step boundary, saves, exits 128 + signal.
+// A tiny vanilla model (--coarse/--fine are vanilla's flags): small steps, so one ends soon after the signal.
 void interruptSavesALoadableCheckpoint(const std::string& signal, int expectedCode) {
   auto model = temp("interrupted_" + signal + ".vknerf"), out = temp("interrupted_render_" + signal);
   auto r = runCli("train " + scene() + " -o " + model +
-                  " --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128 --steps 1000000 --save-every 0 2>&1"
+                  " --config vanilla --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128 --steps 1000000"
+                  " --save-every 0 2>&1"
                   " & pid=$!; sleep 6; kill -" + signal + " $pid; wait $pid");
   EXPECT_EQ(r.code, expectedCode) << r.output;
   EXPECT_NE(r.output.find("interrupted after"), std::string::npos) << r.output;
@@ -75,6 +79,38 @@ TEST(Cli, ProfileOverTheLastStepsNamesWhatSomeStepsRan) {
   EXPECT_NE(one.output.find("the last step: "), std::string::npos) << one.output;
   EXPECT_EQ(one.output.find("(in "), std::string::npos) << one.output;
   EXPECT_EQ(runCli("train " + scene() + " -o " + model + " --steps 2 --profile --profile-steps 0").code, 2);
+}
+
+// `train` without --config trains the fast model; vanilla is asked for by name, and a resumed run
+// takes the checkpoint's model whatever the default, so a vanilla checkpoint resumes as vanilla.
+TEST(Cli, TrainsTheFastModelUnlessTheConfigOrTheResumedCheckpointSaysVanilla) {
+  const vknerf::test::TempDir tmp("cli_default_config");
+  const std::string fast = tmp.file("fast.vknerf"), vanilla = tmp.file("vanilla.vknerf"), refused = tmp.file("refused.vknerf");
+  auto r = runCli("train " + scene() + " -o " + fast + " --downscale 4 --rays 128 --steps 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_STREQ(vknerf::modelName(vknerf::Trainer::configOf(fast).model), "fast");
+
+  // A flag only the vanilla model reads is refused, and the message says the fast model is the default.
+  r = runCli("train " + scene() + " -o " + refused + " --downscale 4 --coarse 8 --steps 1");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--coarse applies to the vanilla model, not --config fast (the default; add --config vanilla"),
+            std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(refused));
+
+  r = runCli("train " + scene() + " -o " + vanilla +
+             " --config vanilla --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128 --steps 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  ASSERT_STREQ(vknerf::modelName(vknerf::Trainer::configOf(vanilla).model), "vanilla");
+  r = runCli("train " + scene() + " -o " + vanilla + " --resume --downscale 4 --steps 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("resumed " + vanilla + " at step 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("done after 2 steps"), std::string::npos) << r.output;
+  EXPECT_STREQ(vknerf::modelName(vknerf::Trainer::configOf(vanilla).model), "vanilla");
+
+  // The default asked for by name is a conflicting --config, as before.
+  r = runCli("train " + scene() + " -o " + vanilla + " --resume --config fast --downscale 4 --steps 1");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--config fast conflicts with " + vanilla + "'s model vanilla"), std::string::npos) << r.output;
 }
 
 TEST(Cli, InterruptSavesALoadableCheckpoint) { interruptSavesALoadableCheckpoint("INT", 130); }

@@ -66,7 +66,8 @@ fs::path lensScene(const fs::path& dir) {
   return dir;
 }
 
-const std::string kTiny = " --width 16 --depth 2 --coarse 8 --fine 8 --rays 128";
+// The smallest vanilla model (--coarse/--fine are vanilla's flags): the cameras it records are any model's.
+const std::string kTiny = " --config vanilla --width 16 --depth 2 --coarse 8 --fine 8 --rays 128";
 
 }  // namespace
 

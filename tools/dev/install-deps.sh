@@ -3,9 +3,9 @@
 #   (no argument)  what the main job needs (the README's first command): build the vknerf command
 #                  line and run it on lavapipe.
 #   --all          that, and what the rest needs (the README's second command, .ci/run): the test
-#                  suite (GoogleTest, the validation layer, vulkaninfo), the benchmarks (Google
-#                  Benchmark; OpenBLAS for `bench mlp`), tools/dev/sanitize.sh (clang, libclang-rt-dev:
-#                  the sanitizer runtimes and libFuzzer), the viewer and its test (GLFW, Xvfb), the
+#                  suite (GoogleTest, the validation layer, vulkaninfo), OpenBLAS for `bench mlp`,
+#                  tools/dev/sanitize.sh (clang, libclang-rt-dev: the sanitizer runtimes and
+#                  libFuzzer), the viewer and its test (GLFW, Xvfb), the
 #                  plotting scripts (matplotlib, numpy), the Python module and its tests (pybind11,
 #                  python3-dev, numpy, pytest), and the programs `vknerf process` runs
 #                  (colmap; ffmpeg for a video) and `render --video` runs (ffmpeg), which their tests
@@ -24,7 +24,7 @@ MAIN="build-essential cmake pkg-config \
   libvulkan-dev mesa-vulkan-drivers glslang-tools \
   libglm-dev libstb-dev libturbojpeg0-dev nlohmann-json3-dev libcli11-dev"
 REST="git vulkan-validationlayers vulkan-tools \
-  libgtest-dev googletest libbenchmark-dev libopenblas-dev \
+  libgtest-dev googletest libopenblas-dev \
   libglfw3-dev xvfb xauth python3-matplotlib python3-numpy \
   pybind11-dev python3-pybind11 python3-dev python3-pytest \
   clang libclang-rt-dev ffmpeg colmap"

@@ -46,7 +46,7 @@ run() {  # run a command, keep its output, fail on a non-zero exit or any valida
 }
 
 start=$SECONDS
-run train "$BUILD/vknerf" train "$SCENE" --steps 20 --downscale 4 --width 32 --depth 2 --coarse 16 --fine 16 \
+run train "$BUILD/vknerf" train "$SCENE" --config vanilla --steps 20 --downscale 4 --width 32 --depth 2 --coarse 16 --fine 16 \
   --rays 256 --save-every 0 -o "$WORK/tiny.vknerf"
 run render "$BUILD/vknerf" render "$WORK/tiny.vknerf" "$SCENE" --downscale 4 --limit $((CAMERA + 2)) -o "$WORK/cli"
 run viewer xvfb-run -a -s "-screen 0 640x480x24" "$BUILD/vknerf-view" "$WORK/tiny.vknerf" --scene "$SCENE" \

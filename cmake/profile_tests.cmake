@@ -1,5 +1,5 @@
 # vknerf_add_profile_tests(TARGET PROFILE...): the stage tests (tests/unit/) once more under each
-# device profile (src/gpu/device_profile.h), as ctest entries PROFILE.Suite.Test: lavapipe with
+# device profile (src/gpu/device/device_profile.h), as ctest entries PROFILE.Suite.Test: lavapipe with
 # that class of device's missing features, limits, memory model and NaN-filled buffers, under the
 # validation layer's synchronization validation as every other entry.
 #

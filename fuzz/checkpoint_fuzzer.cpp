@@ -13,7 +13,7 @@ using namespace vknerf::fuzz;
 
 namespace {
 
-void readSections(const vknerf::nerf::Checkpoint& ck) {
+void readSections(const vknerf::io::Checkpoint& ck) {
   for (const auto& [name, bytes] : ck.sections) {
     try {
       ck.get<float>(name);
@@ -27,12 +27,12 @@ void readSections(const vknerf::nerf::Checkpoint& ck) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
-    readSections(vknerf::nerf::Checkpoint::parse(data, size, "input"));
+    readSections(vknerf::io::Checkpoint::parse(data, size, "input"));
   } catch (const vknerf::Error&) {
   }
   if (size < 8) return 0;
   std::vector<uint8_t> fixed(data, data + size);
-  const uint64_t sum = vknerf::nerf::fnv1a(fixed.data(), size - 8);
+  const uint64_t sum = vknerf::io::fnv1a(fixed.data(), size - 8);
   std::memcpy(fixed.data() + size - 8, &sum, 8);
   static const fs::path file = scratchFolder() / "input.vknerf";
   writeBytes(file, fixed.data(), fixed.size());

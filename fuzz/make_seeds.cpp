@@ -130,8 +130,8 @@ void checkpointSeeds(const fs::path& out) {
   fast.model = vknerf::FastModel{};
   fs::create_directories(out);
   for (const auto& [name, config] : {std::pair{"vanilla", vanilla}, std::pair{"fast", fast}}) {
-    vknerf::nerf::Checkpoint ck;
-    json j = {{"format", "vknerf"}, {"config", vknerf::nerf::toJson(config)}, {"step", 3},
+    vknerf::io::Checkpoint ck;
+    json j = {{"format", "vknerf"}, {"config", vknerf::io::toJson(config)}, {"step", 3},
               {"bounds", {{"min", {-1, -1, -1}}, {"max", {1, 1, 1}}}},
               {"scene", {{"cameras", 3}, {"width", 8}, {"height", 6}}}};
     ck.config = j.dump(2);

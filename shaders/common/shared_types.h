@@ -12,7 +12,7 @@
 //     SPEC_CONSTANT(1, uint, K4, 64)       C++:  struct vknerf::glsl::XSpec { static constexpr
 //   SPEC_CONSTANTS_END                             uint32_t LOCAL_SIZE_X = 0, K4 = 1; };
 //
-// The host names a constant by its id (gpu::SpecConstant{Spec::K4, value}, src/gpu/kernel.h); the
+// The host names a constant by its id (gpu::SpecConstant{Spec::K4, value}, src/gpu/kernels/kernel.h); the
 // defaults are the shader's, used where the host gives no value.
 //
 // Layout: push constants use std430 offsets, where a vec4 or uvec4 starts at a multiple of 16

@@ -1,6 +1,6 @@
 // A batch whose row count is known only on the device (the marcher's sample total, say): the host
 // records the dispatch for a capacity with its workgroup count written on the device
-// (limited_dispatch_args.comp, src/gpu/limited_dispatch.h), and the kernel skips the rows at and
+// (limited_dispatch_args.comp, src/gpu/dispatch/limited_dispatch.h), and the kernel skips the rows at and
 // past the device count, so a render recorded into a caller's command buffer costs the samples it
 // marched, not the capacity.
 // Define ROW_LIMIT_BINDING before including; the push constants carry `limitBase`: the first row of

@@ -3,7 +3,7 @@
 // from the scene box onto [-1, 1]^3 and the ray's unit direction, both vec4 with w = 0 (the
 // packed twin of sample_points.comp). The sample count is the marcher's total (the first uint of
 // its totals, bound as the row limit): the dispatches are indirect, chunk by chunk, with workgroup
-// counts written on the device (src/gpu/limited_dispatch.h), so a batch recorded for its capacity
+// counts written on the device (src/gpu/dispatch/limited_dispatch.h), so a batch recorded for its capacity
 // launches only the workgroups its samples need.
 #extension GL_GOOGLE_include_directive : require
 #define ROW_LIMIT_BINDING 5

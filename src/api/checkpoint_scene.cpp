@@ -6,16 +6,16 @@
 namespace vknerf {
 
 void checkTrainedOn(const std::string& checkpoint, const Dataset& scene, const DatasetOptions& options) {
-  auto ck = nerf::Checkpoint::load(checkpoint);
-  nerf::SceneFacts facts;
+  auto ck = io::Checkpoint::load(checkpoint);
+  io::SceneFacts facts;
   facts.box = scene.bounds;
   // A box carved from the alpha masks moves with the resolution and split the masks are read at
   // (by 6% of the sample scene's height between --downscale 1 and 8): a tenth of its extent.
   if (scene.boundsSource == "cameras+alpha") facts.boxTolerance = 0.1f;
   if (options.split == "train") facts.cameras = uint32_t(scene.cameras.size());
-  nerf::CheckpointRecord(ck).checkScene(facts);
+  io::CheckpointRecord(ck).checkScene(facts);
 }
 
-bool looksLikeCheckpoint(const std::string& path) { return nerf::Checkpoint::startsWithMagic(path); }
+bool looksLikeCheckpoint(const std::string& path) { return io::Checkpoint::startsWithMagic(path); }
 
 }  // namespace vknerf

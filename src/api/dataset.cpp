@@ -17,7 +17,7 @@
 #include "vknerf/error.h"
 
 namespace vknerf {
-namespace nerf::detail {
+namespace io::detail {
 
 std::vector<size_t> holdoutIndices(size_t n, float fraction, const std::string& split) {
   std::vector<size_t> all(n);
@@ -129,11 +129,11 @@ Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height) {
   return c;
 }
 
-}  // namespace nerf::detail
+}  // namespace io::detail
 
 namespace {
 
-using namespace nerf::detail;
+using namespace io::detail;
 
 bool isFile(const fs::path& p) {
   std::error_code ec;
@@ -265,12 +265,12 @@ Dataset Dataset::load(const std::string& pathString, const DatasetOptions& optio
   // The decoded set must fit in host memory, with one full-resolution image per decoding thread.
   {
     uint64_t largest = 0;
-    for (const auto& sz : sizes) largest = std::max(largest, nerf::rgba8Bytes(std::span(&sz, 1)));
+    for (const auto& sz : sizes) largest = std::max(largest, io::rgba8Bytes(std::span(&sz, 1)));
     const uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    std::vector<nerf::ImageSize> loaded;
+    std::vector<io::ImageSize> loaded;
     for (const auto& [w, h] : sizes) loaded.emplace_back(w / downscale, h / downscale);
-    nerf::requireFit("loading '" + pathString + "'", loaded, largest * std::min<uint64_t>(threads, n),
-                     "decoding buffers", nerf::availableHostBytes(), "host memory (available)",
+    io::requireFit("loading '" + pathString + "'", loaded, largest * std::min<uint64_t>(threads, n),
+                     "decoding buffers", io::availableHostBytes(), "host memory (available)",
                      options.downscale);
   }
 

@@ -56,8 +56,8 @@ Dataset Dataset::fromMemory(std::vector<Camera> cameras, std::vector<ImageRGBA8>
     d.bounds = *bounds;
     d.boundsSource = "given";
   } else {
-    d.bounds = nerf::detail::boxFromCameras(d.cameras);
-    d.boundsSource = nerf::detail::carveWithAlpha(d.cameras, d.images, d.bounds) ? "cameras+alpha" : "cameras";
+    d.bounds = io::detail::boxFromCameras(d.cameras);
+    d.boundsSource = io::detail::carveWithAlpha(d.cameras, d.images, d.bounds) ? "cameras+alpha" : "cameras";
   }
   return d;
 }

@@ -8,7 +8,7 @@
 #include <cstdio>
 
 #include "api/model_impl.h"
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 #include "io/checkpoint/checkpoint.h"
 #include "io/checkpoint/checkpoint_record.h"
 #include "io/dataset/dataset_loaders.h"
@@ -71,13 +71,13 @@ namespace {
 // wrote also is what the loader accepts of a scene's: a rigid pose, values within the range the
 // device computes with, a lens it can invert. A crafted one would be exported as a scene that
 // `train` then refuses, or rendered at: one line naming the camera and the field instead.
-std::vector<TrainedCamera> checkedTrainingCameras(const nerf::CheckpointRecord& record, const std::string& path) {
+std::vector<TrainedCamera> checkedTrainingCameras(const io::CheckpointRecord& record, const std::string& path) {
   std::vector<TrainedCamera> cameras = record.trainingCameras();
   for (size_t i = 0; i < cameras.size(); ++i) {
     const Camera& c = cameras[i].camera;
     const std::string where = path + ": checkpoint training_cameras[" + std::to_string(i) + "]";
     const auto inRange = [&](double v, const char* field) {
-      if (std::fabs(v) <= nerf::detail::kDeviceLimit) return;
+      if (std::fabs(v) <= io::detail::kDeviceLimit) return;
       char text[32];
       std::snprintf(text, sizeof text, "%g", v);
       throw Error(where + ": " + field + " value " + text + " is beyond the range the device computes with (|x| <= 1e15)");
@@ -85,7 +85,7 @@ std::vector<TrainedCamera> checkedTrainingCameras(const nerf::CheckpointRecord& 
     inRange(c.fx, "fx"), inRange(c.fy, "fy"), inRange(c.cx, "cx"), inRange(c.cy, "cy");
     std::array<double, 16> pose;
     for (int k = 0; k < 16; ++k) inRange(pose[k] = c.c2w[k], "c2w");
-    nerf::detail::checkRigid(pose, where, "c2w");
+    io::detail::checkRigid(pose, where, "c2w");
     checkLens(c, where);
   }
   return cameras;
@@ -94,7 +94,7 @@ std::vector<TrainedCamera> checkedTrainingCameras(const nerf::CheckpointRecord& 
 }  // namespace
 
 std::vector<TrainedCamera> Model::trainingCamerasOf(const std::string& checkpoint) {
-  return checkedTrainingCameras(nerf::CheckpointRecord(nerf::Checkpoint::load(checkpoint)), checkpoint);
+  return checkedTrainingCameras(io::CheckpointRecord(io::Checkpoint::load(checkpoint)), checkpoint);
 }
 
 RenderedImage Model::render(const Camera& camera, const std::function<void(uint64_t, uint64_t)>& progress) const {
@@ -111,7 +111,7 @@ constexpr const char* kCameraCorrections = "cameras.params";
 // and an L2 penalty holds it near there, and a camera moved out of sight of the box gets no
 // gradient to move further. A rotation beyond a half turn, or a shift of ten times the box, is
 // therefore no trained value: a finite 1e30 would give NaN poses on the next step or save.
-void checkCameraCorrections(const nerf::Checkpoint& ck, const std::string& section, const std::vector<float>& values,
+void checkCameraCorrections(const io::Checkpoint& ck, const std::string& section, const std::vector<float>& values,
                             const Aabb& box) {
   double side = 0;
   for (int k = 0; k < 3; ++k) side = std::max(side, double(box.max[k]) - double(box.min[k]));
@@ -137,8 +137,8 @@ void checkCameraCorrections(const nerf::Checkpoint& ck, const std::string& secti
 }  // namespace
 
 // A NaN or infinite parameter would render as garbage (or crash the depth writer) without a word.
-void uploadState(const nerf::Checkpoint& ck, nerf::FieldPipeline& pipe, const Aabb& box) {
-  for (const nerf::StateArray& a : pipe.state()) {
+void uploadState(const io::Checkpoint& ck, models::FieldPipeline& pipe, const Aabb& box) {
+  for (const models::StateArray& a : pipe.state()) {
     auto values = ck.get<float>(a.name, a.count);
     for (size_t i = 0; a.numbers && i < values.size(); ++i)
       if (!std::isfinite(values[i]))
@@ -149,14 +149,14 @@ void uploadState(const nerf::Checkpoint& ck, nerf::FieldPipeline& pipe, const Aa
 }
 
 Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const RenderSettings& settings) {
-  auto ck = nerf::Checkpoint::load(path);
-  const nerf::CheckpointRecord record(ck);
+  auto ck = io::Checkpoint::load(path);
+  const io::CheckpointRecord record(ck);
   auto impl = std::make_unique<Impl>();
   impl->ctx = ctx;
   impl->config = record.config();
   impl->box = record.bounds();
   impl->trainingCameras = [record, path] { return checkedTrainingCameras(record, path); };
-  impl->own = nerf::makeFieldPipeline(*ctx, impl->config, impl->box, nerf::kRenderRays, false, settings);
+  impl->own = models::makeFieldPipeline(*ctx, impl->config, impl->box, models::kRenderRays, false, settings);
   impl->pipe = impl->own.get();
   // State kept per training photo (the fast model's appearance vectors) is sized by their count.
   if (const auto cameras = record.trainingPhotoCount()) impl->pipe->setTrainingCameras(*cameras);

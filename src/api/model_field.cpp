@@ -8,7 +8,7 @@
 
 #include "api/model_impl.h"
 #include "api/unit_byte.h"
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/common/field_batch.h"
 #include "nerf/mesh/density_grid.h"
 #include "nerf/mesh/marching_cubes.h"
@@ -19,7 +19,7 @@ namespace vknerf {
 namespace {
 
 // Points per query batch: the pipeline's capacity, within one dispatch of the grid kernels.
-uint32_t batchFor(const nerf::FieldBatch& f) { return std::min(f.capacity, 65535u * 256u); }
+uint32_t batchFor(const models::FieldBatch& f) { return std::min(f.capacity, 65535u * 256u); }
 
 // The grid of `resolution` samples along the box's longest side, cubic cells.
 ref::GridLayout gridOver(const Aabb& box, uint32_t resolution) {
@@ -68,7 +68,7 @@ FieldSamples Model::queryField(const std::vector<float>& points, const std::vect
   m.settled();
   if (points.size() % 3 || directions.size() != points.size())
     throw Error("queryField: give xyz per point and one xyz direction per point");
-  nerf::FieldBatch& f = m.pipe->queryBatch();
+  models::FieldBatch& f = m.pipe->queryBatch();
   const size_t count = points.size() / 3, batch = batchFor(f);
   FieldSamples out;
   out.density.resize(count);
@@ -126,7 +126,7 @@ Mesh Model::extractMesh(const MeshSettings& s, const std::function<void(uint64_t
   // The density grid, batch by batch through the pipeline's query batch. The direction is any unit
   // vector: the density does not depend on it.
   gpu::Buffer grid(ctx, VkDeviceSize(points) * 4, "the density grid");
-  nerf::FieldBatch& f = m.pipe->queryBatch();
+  models::FieldBatch& f = m.pipe->queryBatch();
   const uint32_t batch = batchFor(f), slots = uint32_t(sampler.slots());
   std::vector<float> up(size_t(batch) * 4, 0.0f);
   for (size_t i = 0; i < batch; ++i) up[4 * i + 2] = 1.0f;

@@ -2,27 +2,27 @@
 // buffer (see docs/embedding.md for the contract). Nothing here submits or waits.
 #include <algorithm>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "api/model_impl.h"
 #include "nerf/rays/rays.h"
 #include "nerf/render/render_target_writer.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
-namespace nerf {
+namespace detail {
 
 struct RecordState {
   // The camera of the recording, written by vkCmdUpdateBuffer inside the command buffer (not by a
   // host upload), so that several recordings in one command buffer each render their own camera.
   gpu::Buffer camera;
-  RenderTargetWriter writer;
-  explicit RecordState(Context& ctx) : camera(ctx, sizeof(CameraGpu)), writer(ctx) {}
+  nerf::RenderTargetWriter writer;
+  explicit RecordState(Context& ctx) : camera(ctx, sizeof(nerf::CameraGpu)), writer(ctx) {}
 };
 
 void RecordStateDeleter::operator()(RecordState* s) const { delete s; }
 
-}  // namespace nerf
+}  // namespace detail
 
 void Model::recordRender(VkCommandBuffer cmd, const Camera& camera, const RenderTarget& target) const {
   Impl& m = *impl_;
@@ -33,8 +33,8 @@ void Model::recordRender(VkCommandBuffer cmd, const Camera& camera, const Render
   // The caller may submit on a queue of its own, unordered with the trainer's: the step in flight
   // finishes before the render reads the weights.
   m.settled();
-  if (!m.record) m.record.reset(new nerf::RecordState(ctx));
-  nerf::RecordState& rs = *m.record;
+  if (!m.record) m.record.reset(new detail::RecordState(ctx));
+  detail::RecordState& rs = *m.record;
 
   const auto bound = rs.writer.bind(target, m.pipe->color(), m.pipe->depth());
   const auto packed = nerf::packCameras(std::span<const Camera>(&camera, 1));

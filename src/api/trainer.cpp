@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "api/model_impl.h"
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 #include "io/checkpoint/checkpoint.h"
 #include "io/checkpoint/checkpoint_record.h"
 #include "io/dataset/memory_fit.h"
@@ -34,12 +34,12 @@ struct Trainer::Impl {
   std::unique_ptr<nerf::TrainingPixels> pixels;
   gpu::Buffer cameras;
   bool transparentPixels = false;  // some training pixel has alpha < 255
-  std::unique_ptr<nerf::FieldPipeline> pipe;
+  std::unique_ptr<models::FieldPipeline> pipe;
   std::chrono::steady_clock::time_point stepStart;
   double lastStepHostAfterMs = 0, lastStepWallMs = 0;  // the rest is in the recorder's submission log
   // One recorder and one loss readback per step in flight (FieldPipeline::kStepsInFlight); a step
   // uses those of its slot. Declared after pipe: destroyed first, each waiting for its submission.
-  static constexpr uint32_t kSlots = nerf::FieldPipeline::kStepsInFlight;
+  static constexpr uint32_t kSlots = models::FieldPipeline::kStepsInFlight;
   std::array<std::unique_ptr<gpu::Recorder>, kSlots> recs;
   std::array<gpu::Buffer, kSlots> lossReadback;
   struct InFlight {
@@ -62,7 +62,7 @@ struct Trainer::Impl {
   }
 
   void submit(bool readLoss) {
-    const uint32_t slot = nerf::FieldPipeline::slotOf(step);
+    const uint32_t slot = models::FieldPipeline::slotOf(step);
     recs[slot]->startLog();
     pipe->submitTrainStep(*recs[slot], {pixels->bindings(), &cameras, numCameras, transparentPixels}, nextStep(),
                           lossReadback[slot]);
@@ -71,7 +71,7 @@ struct Trainer::Impl {
   }
   // Waits for a submitted step and reads what it left for the host.
   StepStats collect(const InFlight& f) {
-    const uint32_t slot = nerf::FieldPipeline::slotOf(f.step);
+    const uint32_t slot = models::FieldPipeline::slotOf(f.step);
     recs[slot]->wait();
     lastCollectedSlot = slot;
     const auto size = pipe->collectTrainStep(f.step);
@@ -147,7 +147,7 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   s.trainCameras = train.cameras;
   s.names = train.names;
   s.names.resize(train.cameras.size());  // a hand-made dataset may name no image
-  std::vector<nerf::ImageSize> sizes;
+  std::vector<io::ImageSize> sizes;
   std::vector<uint64_t> pixelCounts;
   for (uint32_t i = 0; i < s.numCameras; ++i) {
     const ImageRGBA8& im = train.images[i];
@@ -160,18 +160,18 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
     sizes.emplace_back(im.width, im.height);
     pixelCounts.push_back(uint64_t(im.width) * im.height);
   }
-  if (s.config.isFast()) s.capacityNote = nerf::chooseFastModel(s.config.fastModel(), train, ctx->isCpu(), s.transparentPixels);
+  if (s.config.isFast()) s.capacityNote = models::chooseFastModel(s.config.fastModel(), train, ctx->isCpu(), s.transparentPixels);
   // The fit is checked before the pixels are allocated: the pixels alone first, then with the
   // model's buffers, which are measured by building the model (its size follows the configuration,
   // not the dataset).
   const uint64_t deviceBytes = nerf::deviceMemoryBytes(*ctx);
   const std::string device = "the device (" + ctx->deviceName() + ")";
-  nerf::requireFit("training", sizes, 0, "", deviceBytes, device);
+  io::requireFit("training", sizes, 0, "", deviceBytes, device);
   auto layout = nerf::planPixelBindings(pixelCounts, nerf::pixelBytesPerBinding(*ctx));
-  s.pipe = nerf::makeFieldPipeline(*ctx, s.config, s.box, s.config.raysPerBatch, true);
-  nerf::requireFit("training", sizes, s.pipe->memory()->bytes(), "model", deviceBytes, device);
+  s.pipe = models::makeFieldPipeline(*ctx, s.config, s.box, s.config.raysPerBatch, true);
+  io::requireFit("training", sizes, s.pipe->memory()->bytes(), "model", deviceBytes, device);
   // On a CPU device the device's memory is the host's: the pixels come out of what is left of it.
-  if (ctx->isCpu()) nerf::requireFit("training", sizes, 0, "", nerf::availableHostBytes(), "host memory (available)");
+  if (ctx->isCpu()) io::requireFit("training", sizes, 0, "", io::availableHostBytes(), "host memory (available)");
   s.pixels = std::make_unique<nerf::TrainingPixels>(*ctx, layout);
   for (uint32_t i = 0; i < s.numCameras; ++i) {
     s.pixels->upload(i, train.images[i].rgba.data());
@@ -202,7 +202,7 @@ void Trainer::setRunProgress(std::optional<double> fraction) {
   impl_->runProgress = fraction;
 }
 
-double Trainer::learningRate() const { return nerf::adamConfigOf(impl_->config).learningRate(impl_->nextStep().rateStep); }
+double Trainer::learningRate() const { return models::adamConfigOf(impl_->config).learningRate(impl_->nextStep().rateStep); }
 std::vector<std::pair<std::string, double>> Trainer::lastStepTimings() const {
   impl_->settle();
   std::vector<std::pair<std::string, double>> all;
@@ -268,26 +268,26 @@ const std::string& Trainer::capacityNote() const { return impl_->capacityNote; }
 void Trainer::save(const std::string& path) const {
   auto& s = *impl_;
   s.settle();
-  nerf::Checkpoint ck;
-  ck.config = nerf::CheckpointRecord::write(s.config, s.step, s.box, {s.numCameras, s.imageWidth, s.imageHeight},
+  io::Checkpoint ck;
+  ck.config = io::CheckpointRecord::write(s.config, s.step, s.box, {s.numCameras, s.imageWidth, s.imageHeight},
                                            s.namedSavedCameras());
   for (auto& a : s.pipe->state()) ck.put(a.name, a.buffer->download<float>(a.count));
   ck.save(path);
 }
 
 TrainConfig Trainer::configOf(const std::string& path) {
-  return nerf::CheckpointRecord(nerf::Checkpoint::load(path)).config();
+  return io::CheckpointRecord(io::Checkpoint::load(path)).config();
 }
 
 void Trainer::resume(const std::string& path) {
   auto& s = *impl_;
   s.settle();
-  auto ck = nerf::Checkpoint::load(path);
-  const nerf::CheckpointRecord record(ck);
+  auto ck = io::Checkpoint::load(path);
+  const io::CheckpointRecord record(ck);
   const TrainConfig saved = record.config();
   if (!record.sameModel(s.config))
     throw Error(path + ": checkpoint model config differs from this run's (" + saved.describe() + ")");
-  nerf::SceneFacts scene;
+  io::SceneFacts scene;
   scene.box = s.box;
   scene.cameras = s.numCameras;
   scene.imageSize = {s.imageWidth, s.imageHeight};

@@ -4,7 +4,7 @@
 #include "models/vanilla/vanilla_pipeline.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig& config, const Aabb& box,
                                                  uint32_t rayCapacity, bool training, const RenderSettings& overrides) {
@@ -17,4 +17,4 @@ std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig
   return std::make_unique<VanillaPipeline>(ctx, config, box, rayCapacity, training, overrides);
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

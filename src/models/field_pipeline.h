@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/memory_account.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/memory/memory_account.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/optim/adam.h"
 #include "vknerf/camera.h"
@@ -21,7 +21,7 @@
 #include "vknerf/model_statistics.h"
 #include "vknerf/render_settings.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 struct FieldBatch;
 
@@ -86,7 +86,7 @@ class FieldPipeline {
   virtual void recordQuery(gpu::Recorder& rec, uint32_t count) = 0;
   // Where a render marches at all: the occupancy grid's bits (fast model), for an exporter that
   // samples the field only there; none for a model that marches everywhere (vanilla).
-  virtual std::optional<OccupancyBits> occupancyBits() const { return std::nullopt; }
+  virtual std::optional<nerf::OccupancyBits> occupancyBits() const { return std::nullopt; }
 
   // Training runs kStepsInFlight steps deep: step N is recorded and submitted while step N-1 still
   // runs on the device, and the host reads what step N-1 left (its counts, its loss) only after
@@ -102,7 +102,7 @@ class FieldPipeline {
   // One optimisation step (`at.step` counts from 0), recorded into `rec` (begun here) and
   // submitted, not waited for. Within the step, the loss partials are copied into `lossReadback`
   // (host-readable, lossPartials()'s size); returns the rays whose partials it recorded.
-  uint32_t submitTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at, gpu::Buffer& lossReadback) {
+  uint32_t submitTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at, gpu::Buffer& lossReadback) {
     gpu::MemoryAccount::Scope charge(memory_);
     rec.begin();
     const uint32_t recorded = doRecordTrainStep(rec, data, at);
@@ -146,7 +146,7 @@ class FieldPipeline {
  private:
   virtual void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) = 0;
   // Records the step's commands into the begun `rec`; returns the rays it recorded.
-  virtual uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) = 0;
+  virtual uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at) = 0;
   virtual StepSize doCollectTrainStep(uint32_t slot) = 0;
   virtual ModelStatistics modelStatistics() = 0;
 
@@ -162,4 +162,4 @@ std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig
                                                  uint32_t rayCapacity, bool training,
                                                  const RenderSettings& overrides = {});
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

@@ -88,16 +88,16 @@ const std::string& tinyRefinedModel() {
 }
 
 // A copy of the tiny model with its config or parameters changed and the checksum recomputed.
-std::string craftedCheckpoint(const std::string& name, const std::function<void(vknerf::nerf::Checkpoint&)>& change,
+std::string craftedCheckpoint(const std::string& name, const std::function<void(vknerf::io::Checkpoint&)>& change,
                               const std::string& from = "") {
-  auto ck = vknerf::nerf::Checkpoint::load(from.empty() ? tinyModel() : from);
+  auto ck = vknerf::io::Checkpoint::load(from.empty() ? tinyModel() : from);
   change(ck);
   const std::string path = temp(name + ".vknerf");
   ck.save(path);
   return path;
 }
 
-void editConfig(vknerf::nerf::Checkpoint& ck, const std::function<void(json&)>& edit) {
+void editConfig(vknerf::io::Checkpoint& ck, const std::function<void(json&)>& edit) {
   json j = json::parse(ck.config);
   edit(j["config"]);
   ck.config = j.dump(2);

@@ -214,7 +214,7 @@ TEST(ExportCamerasCli, AnOlderCheckpointSaysWhatItLacks) {
   const fs::path scene = lensScene(tmp.path() / "scene");
   const std::string model = tmp.file("m.vknerf"), old = tmp.file("old.vknerf"), out = tmp.file("t.json");
   ASSERT_EQ(runCli("train " + scene.string() + " -o " + model + " --steps 1" + kTiny).code, 0);
-  auto ck = nerf::Checkpoint::load(model);
+  auto ck = io::Checkpoint::load(model);
   json record = json::parse(ck.config);
   ASSERT_TRUE(record.contains("training_cameras"));
   record.erase("training_cameras");

@@ -69,7 +69,7 @@ TEST_F(AppearanceTraining, VectorsLearnEachPhotosExposure) {
   EXPECT_LT(last, 0.7 * first) << "first " << first << " last " << last;
   const auto path = tmp.file("appearance.vknerf");
   t.save(path);
-  const auto table = nerf::Checkpoint::load(path).get<float>("appearance.params", size_t(n) * kDims);
+  const auto table = io::Checkpoint::load(path).get<float>("appearance.params", size_t(n) * kDims);
 
   // The direction in which the vectors of the brighter half of the even photos differ from the
   // darker half's; along it, the odd photos' vectors (not used to find it) must order themselves

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
 #include "support/app_device.h"
 #include "support/app_vulkan.h"
 #include "support/gpu_test.h"

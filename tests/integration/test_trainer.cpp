@@ -91,9 +91,9 @@ TEST_F(TrainerTest, RunProgressReachesTheOptimizer) {
   b.step();
   a.save(start);
   b.save(end);
-  const auto p0 = nerf::Checkpoint::load(init).get<float>("coarse.params");
-  const auto pa = nerf::Checkpoint::load(start).get<float>("coarse.params");
-  const auto pb = nerf::Checkpoint::load(end).get<float>("coarse.params");
+  const auto p0 = io::Checkpoint::load(init).get<float>("coarse.params");
+  const auto pa = io::Checkpoint::load(start).get<float>("coarse.params");
+  const auto pb = io::Checkpoint::load(end).get<float>("coarse.params");
   ASSERT_EQ(pa.size(), p0.size());
   ASSERT_EQ(pb.size(), p0.size());
   // Parameters that moved by nearly the whole rate at the start (|g| >> eps, not a rounding of a

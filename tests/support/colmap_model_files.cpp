@@ -88,7 +88,7 @@ struct Bytes {
 };
 
 int modelId(const std::string& name) {
-  const auto* m = nerf::detail::colmapModelByName(name);
+  const auto* m = io::detail::colmapModelByName(name);
   if (!m) throw std::runtime_error("no COLMAP camera model '" + name + "'");
   return m->id;
 }

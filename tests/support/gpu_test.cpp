@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "gpu/device.h"
+#include "gpu/device/device.h"
 #include "nerf/encoding/hash_encoding.h"
 
 namespace vknerf::test {

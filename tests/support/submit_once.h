@@ -2,7 +2,7 @@
 // One recording, submitted once and waited for: what most GPU tests do with a Recorder.
 #include <utility>
 
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 #include "vknerf/context.h"
 
 namespace vknerf::test {

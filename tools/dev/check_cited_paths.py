@@ -30,7 +30,7 @@ C_LIKE = (".h", ".hpp", ".cpp", ".c", ".comp", ".glsl", ".in")
 
 # Cited on purpose although they are not files of this repository.
 ALLOWED = {
-    "generated/shader_ids.h", "gpu/shader_ids.h",  # written by the build: build/generated/gpu/shader_ids.h
+    "generated/shader_ids.h", "gpu/kernels/shader_ids.h",  # written by the build: build/generated/gpu/kernels/shader_ids.h
 }
 # Other projects' files, cited by their own paths (what vknerf follows or compares with).
 ALLOWED_PREFIXES = (

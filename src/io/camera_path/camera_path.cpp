@@ -15,8 +15,8 @@
 namespace vknerf {
 
 using nlohmann::json;
-using nerf::detail::fieldError;
-using nerf::detail::JsonFile;
+using io::detail::fieldError;
+using io::detail::JsonFile;
 
 namespace {
 
@@ -24,7 +24,7 @@ constexpr double kMaxSize = 16384;
 
 double number(const JsonFile& f, const json& obj, const char* key, const std::string& prefix, double lo, double hi,
               bool loOpen) {
-  auto v = nerf::detail::optNumber(f, obj, key, prefix);
+  auto v = io::detail::optNumber(f, obj, key, prefix);
   if (!v) fieldError(f, prefix + key, "is missing");
   if (!((loOpen ? *v > lo : *v >= lo) && *v <= hi))
     fieldError(f, prefix + key, "must be in " + std::string(loOpen ? "(" : "[") + std::to_string(lo) + ", " +
@@ -54,10 +54,10 @@ CameraPath readNerfstudioCameraPath(const JsonFile& f) {
     const std::string prefix = "camera_path[" + std::to_string(i) + "].";
     const json& entry = (*list)[i];
     if (!entry.is_object()) fieldError(f, "camera_path[" + std::to_string(i) + "]", "must be an object");
-    nerf::detail::FrameSpec spec;
+    io::detail::FrameSpec spec;
     spec.where = f.name() + ": camera_path[" + std::to_string(i) + "]";
-    spec.c2w = nerf::detail::readMatrixField(f, entry, "camera_to_world", prefix);
-    nerf::detail::checkRigid(spec.c2w, f.name() + ": " + prefix + "camera_to_world", "the pose");
+    spec.c2w = io::detail::readMatrixField(f, entry, "camera_to_world", prefix);
+    io::detail::checkRigid(spec.c2w, f.name() + ": " + prefix + "camera_to_world", "the pose");
     const double fov = number(f, entry, "fov", prefix, 0, 180, true);
     if (fov >= 180) fieldError(f, prefix + "fov", "must be below 180 degrees");
     spec.intrinsics.angleY = fov * std::numbers::pi / 180;
@@ -65,7 +65,7 @@ CameraPath readNerfstudioCameraPath(const JsonFile& f) {
     spec.poseField = "camera_to_world";
     spec.intrinsics.width = width;
     spec.intrinsics.height = height;
-    out.cameras.push_back(nerf::detail::completeCamera(spec, width, height));
+    out.cameras.push_back(io::detail::completeCamera(spec, width, height));
   }
   return out;
 }
@@ -73,8 +73,8 @@ CameraPath readNerfstudioCameraPath(const JsonFile& f) {
 }  // namespace
 
 CameraPath loadCameraPath(const std::string& path, const CameraPathOptions& options) {
-  const JsonFile f = nerf::detail::readJson(path, "camera path");
-  if (!f.root.contains("camera_path") && f.root.contains("path")) return nerf::detail::readNgpCameraPath(f, options);
+  const JsonFile f = io::detail::readJson(path, "camera path");
+  if (!f.root.contains("camera_path") && f.root.contains("path")) return io::detail::readNgpCameraPath(f, options);
   if (!f.root.contains("camera_path"))
     fieldError(f, "camera_path", "is missing (nor is there instant-ngp's keyframe list 'path')");
   return readNerfstudioCameraPath(f);

@@ -13,7 +13,7 @@
 #include "io/dataset/dataset_loaders.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -199,4 +199,4 @@ CameraPath readNgpCameraPath(const JsonFile& f, const CameraPathOptions& o) {
   return out;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -10,7 +10,7 @@
 #include "io/file/json_file.h"
 #include "vknerf/camera_path.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 struct NgpKeyframe {
   std::array<double, 4> R{0, 0, 0, 1};  // quaternion, x y z w (Eigen's coefficient order)
@@ -42,4 +42,4 @@ NgpFrame ngpFrameOfScene(const std::string& scene);
 
 CameraPath readNgpCameraPath(const JsonFile& f, const CameraPathOptions& options);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

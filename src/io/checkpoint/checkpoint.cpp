@@ -10,7 +10,7 @@
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 namespace {
 
 constexpr char kMagic[8] = {'V', 'K', 'N', 'E', 'R', 'F', 'C', 'K'};
@@ -121,4 +121,4 @@ const std::vector<uint8_t>& Checkpoint::section(const std::string& name, size_t 
   return it->second;
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 
 struct Checkpoint {
   static constexpr uint32_t kVersion = 1;
@@ -46,4 +46,4 @@ struct Checkpoint {
 
 uint64_t fnv1a(const uint8_t* data, size_t n, uint64_t h = 1469598103934665603ull);
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

@@ -9,7 +9,7 @@
 #include "io/checkpoint/config_json.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 namespace {
 
 using nlohmann::json;
@@ -207,4 +207,4 @@ void CheckpointRecord::checkScene(const SceneFacts& scene) const {
   }
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

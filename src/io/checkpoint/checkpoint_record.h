@@ -27,7 +27,7 @@
 #include "vknerf/camera.h"
 #include "vknerf/config.h"
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 
 // The training set a checkpoint was fitted to, as recorded.
 struct SceneRecord {
@@ -71,4 +71,4 @@ class CheckpointRecord {
   nlohmann::json j_;
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

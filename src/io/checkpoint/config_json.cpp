@@ -3,7 +3,7 @@
 #include "vknerf/config_fields.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 
 using nlohmann::json;
 
@@ -67,4 +67,4 @@ TrainConfig trainConfigFromJson(const json& j, const std::string& file) {
   }
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

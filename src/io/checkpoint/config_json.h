@@ -7,7 +7,7 @@
 
 #include "vknerf/config.h"
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 
 nlohmann::json toJson(const TrainConfig& c);
 // Keys added after the first checkpoint version fall back to the defaults (or to what models saved
@@ -15,4 +15,4 @@ nlohmann::json toJson(const TrainConfig& c);
 // throws vknerf::Error naming `file` and the key.
 TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& file);
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

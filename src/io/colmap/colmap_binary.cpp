@@ -19,7 +19,7 @@
 #include "io/colmap/colmap_model.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 // Smallest record of each file: the fixed fields, the fewest camera parameters (3) and a one-byte
@@ -183,4 +183,4 @@ ColmapModel readColmapBinary(const fs::path& modelDir) {
   return model;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

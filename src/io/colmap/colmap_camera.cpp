@@ -7,7 +7,7 @@
 
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 const ColmapCameraModel kModels[] = {
@@ -86,4 +86,4 @@ Intrinsics colmapIntrinsics(const ColmapCameraModel& model, uint64_t cameraId, u
   return in;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -8,7 +8,7 @@
 
 #include "io/dataset/dataset_loaders.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 struct ColmapCameraModel {
   int id;  // COLMAP's model id (sensor/models.h), as cameras.bin stores it
@@ -30,4 +30,4 @@ const ColmapCameraModel* colmapModelById(int64_t id);
 Intrinsics colmapIntrinsics(const ColmapCameraModel& model, uint64_t cameraId, uint64_t width, uint64_t height,
                             std::span<const double> params, const std::string& where);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -11,7 +11,7 @@
 #include "io/colmap/colmap_camera.h"
 #include "io/dataset/dataset_loaders.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 struct ColmapCamera {
   const ColmapCameraModel* model = nullptr;
@@ -43,4 +43,4 @@ struct ColmapModel {
 ColmapModel readColmapText(const fs::path& modelDir);
 ColmapModel readColmapBinary(const fs::path& modelDir);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

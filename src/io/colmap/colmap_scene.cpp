@@ -10,7 +10,7 @@
 #include "io/colmap/colmap_model.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 void ColmapModel::addCamera(uint64_t id, ColmapCamera camera) {
   const std::string where = camera.where;
@@ -193,4 +193,4 @@ SceneSpec readColmap(const fs::path& modelDir, const fs::path& imagesDir, const 
   throw Error("'" + modelDir.string() + "' holds no COLMAP model (cameras.txt / images.txt or cameras.bin / images.bin)");
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

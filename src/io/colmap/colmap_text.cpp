@@ -7,7 +7,7 @@
 #include "io/colmap/colmap_model.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 struct Line {
@@ -140,4 +140,4 @@ ColmapModel readColmapText(const fs::path& modelDir) {
   return model;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

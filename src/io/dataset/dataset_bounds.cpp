@@ -8,7 +8,7 @@
 #include "io/dataset/dataset_loaders.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 using Vec3 = std::array<double, 3>;
@@ -263,4 +263,4 @@ bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8>
   return true;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -12,7 +12,7 @@
 
 #include "vknerf/dataset.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 namespace fs = std::filesystem;
 
@@ -113,4 +113,4 @@ Aabb boxFromCameras(std::span<const Camera> cameras);
 // has lens distortion (the carving projects through the pinhole model) or the masks leave nothing.
 bool carveWithAlpha(std::span<const Camera> cameras, std::span<const ImageRGBA8> images, Aabb& box);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

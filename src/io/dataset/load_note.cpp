@@ -5,7 +5,7 @@
 #include <mutex>
 #include <set>
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 void noteOnce(const std::string& line) {
   static std::mutex lock;
@@ -15,4 +15,4 @@ void noteOnce(const std::string& line) {
   std::fprintf(stderr, "vknerf: %s\n", line.c_str());
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

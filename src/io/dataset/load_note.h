@@ -4,10 +4,10 @@
 // used, so that a result is never trained on other photos than the user thinks without a word.
 #include <string>
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 // Writes "vknerf: <line>" to stderr, once per process for each distinct line: a scene loaded again
 // (train's split, then eval's) does not repeat it. Safe to call from several threads.
 void noteOnce(const std::string& line);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -8,7 +8,7 @@
 
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 
 uint64_t rgba8Bytes(std::span<const ImageSize> sizes, uint32_t downscale) {
   uint64_t total = 0;
@@ -52,4 +52,4 @@ void requireFit(const std::string& what, std::span<const ImageSize> sizes, uint6
               ") but " + where + " has " + mebibytes(available) + advice);
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 
 using ImageSize = std::pair<uint32_t, uint32_t>;  // width, height
 
@@ -25,4 +25,4 @@ void requireFit(const std::string& what, std::span<const ImageSize> sizes, uint6
 
 std::string mebibytes(uint64_t bytes);  // "12.3 MiB"
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

@@ -14,7 +14,7 @@
 #include "io/file/json_file.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 using nlohmann::json;
@@ -342,4 +342,4 @@ SceneSpec readTransformsJson(const fs::path& target, const DatasetOptions& optio
   return scene;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -9,7 +9,7 @@
 
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -91,4 +91,4 @@ std::array<double, 16> readMatrixField(const JsonFile& f, const json& obj, const
   return out;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 struct JsonFile {
   std::filesystem::path path;
@@ -30,4 +30,4 @@ std::optional<double> optNumber(const JsonFile& f, const nlohmann::json& obj, co
 std::array<double, 16> readMatrixField(const JsonFile& f, const nlohmann::json& obj, const char* key,
                                        const std::string& prefix);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

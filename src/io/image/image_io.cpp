@@ -15,9 +15,9 @@
 
 namespace vknerf {
 
-using nerf::decodeJpeg;
-using nerf::jpegSize;
-using nerf::JpegSize;
+using io::decodeJpeg;
+using io::jpegSize;
+using io::JpegSize;
 
 namespace {
 

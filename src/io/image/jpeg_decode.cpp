@@ -6,7 +6,7 @@
 
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 namespace {
 
 struct HandleDeleter {
@@ -49,4 +49,4 @@ void decodeJpeg(const uint8_t* data, size_t size, const std::string& name, uint3
     fail();
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

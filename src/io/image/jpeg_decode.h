@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace vknerf::nerf {
+namespace vknerf::io {
 
 struct JpegSize {
   uint32_t width = 0, height = 0;
@@ -23,4 +23,4 @@ bool jpegSize(const uint8_t* data, size_t size, JpegSize& out);
 void decodeJpeg(const uint8_t* data, size_t size, const std::string& name, uint32_t& width, uint32_t& height,
                 std::vector<uint8_t>& rgba);
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::io

@@ -8,7 +8,7 @@
 #include "io/dataset/load_note.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 namespace fs = std::filesystem;
@@ -110,4 +110,4 @@ LlffPhotos findLlffPhotos(const fs::path& file, size_t rows, uint32_t downscale,
   return out;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <vector>
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 struct LlffPhotos {
   std::vector<std::filesystem::path> files;  // one per row of the .npy, in sorted name order
@@ -26,4 +26,4 @@ struct LlffPhotos {
 LlffPhotos findLlffPhotos(const std::filesystem::path& file, size_t rows, uint32_t downscale, uint32_t width,
                           uint32_t height);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -18,7 +18,7 @@
 #include "io/llff/npy.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 constexpr size_t kColumns = 17;
@@ -144,4 +144,4 @@ SceneSpec readLlff(const fs::path& file, const DatasetOptions& options) {
   return scene;
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

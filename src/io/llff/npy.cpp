@@ -15,7 +15,7 @@
 
 #include "vknerf/error.h"
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 namespace {
 
 constexpr char kMagic[] = "\x93NUMPY";
@@ -236,4 +236,4 @@ NpyArray readNpy(const std::filesystem::path& path) {
   return parseNpy(bytes, name);
 }
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace vknerf::nerf::detail {
+namespace vknerf::io::detail {
 
 struct NpyArray {
   std::vector<uint64_t> shape;  // as the header states it; () for a scalar
@@ -26,4 +26,4 @@ NpyArray parseNpy(std::span<const uint8_t> bytes, const std::string& name);
 // its values are read.
 NpyArray readNpy(const std::filesystem::path& path);
 
-}  // namespace vknerf::nerf::detail
+}  // namespace vknerf::io::detail

@@ -5,10 +5,10 @@
 #include "reference/encoding/appearance.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 Appearance::Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, uint32_t width, const AppearanceInit& init,
-                       const std::optional<AdamConfig>& adam, std::optional<uint32_t> renderPhoto)
+                       const std::optional<nerf::AdamConfig>& adam, std::optional<uint32_t> renderPhoto)
     : numPhotos_(numPhotos),
       renderPhoto_(renderPhoto),
       vectors_(ctx, "appearance", std::vector<float>(size_t(numPhotos) * dims, 0.0f), adam),
@@ -23,13 +23,13 @@ Appearance::Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, uint32_t
                 std::to_string(numPhotos) + " photos (0.." + std::to_string(numPhotos - 1) + ")");
 }
 
-RowBias Appearance::recordTrainingBias(gpu::Recorder& rec, const gpu::BufferRange& sampleRay,
+nerf::RowBias Appearance::recordTrainingBias(gpu::Recorder& rec, const gpu::BufferRange& sampleRay,
                                        const gpu::BufferRange& pixelIds) {
   kernels_.recordBias(rec, parameters(), 0, numPhotos_, bias_);
   return {bias_, sampleRay, pixelIds};
 }
 
-RowBias Appearance::recordRenderBias(gpu::Recorder& rec) {
+nerf::RowBias Appearance::recordRenderBias(gpu::Recorder& rec) {
   if (renderPhoto_) {
     kernels_.recordBias(rec, parameters(), *renderPhoto_, 1, bias_);
   } else {
@@ -39,11 +39,11 @@ RowBias Appearance::recordRenderBias(gpu::Recorder& rec) {
   return {bias_};
 }
 
-void Appearance::recordGradient(gpu::Recorder& rec, const AppearanceGradientInputs& in) {
+void Appearance::recordGradient(gpu::Recorder& rec, const nerf::AppearanceGradientInputs& in) {
   kernels_.recordGradient(rec, in, numPhotos_, parameters(), {vectors_.grads(), weights_.grads(), photoSums_});
 }
 
-void Appearance::recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) {
+void Appearance::recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at) {
   vectors_.recordOptimizerStep(rec, at);
   weights_.recordOptimizerStep(rec, at);
 }
@@ -53,4 +53,4 @@ void Appearance::appendState(std::vector<StateArray>& out) {
   weights_.appendState(out);
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

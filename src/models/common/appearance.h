@@ -15,13 +15,13 @@
 #include <optional>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/common/trainable_parameters.h"
 #include "nerf/encoding/appearance_embedding.h"
 #include "nerf/network/dense_layer.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 // What the weights W_a are drawn from: uniform in +-bound (the colour layer's own initialisation,
 // its fan-in counting the vector), deterministic in seed.
@@ -35,18 +35,18 @@ class Appearance {
   // Without `adam`: the parameters alone (a render loads them from the checkpoint). width: the colour
   // layer's. renderPhoto: the photo whose vector renders use, or none for the mean.
   Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, uint32_t width, const AppearanceInit& init,
-             const std::optional<AdamConfig>& adam, std::optional<uint32_t> renderPhoto);
+             const std::optional<nerf::AdamConfig>& adam, std::optional<uint32_t> renderPhoto);
 
   uint32_t numPhotos() const { return numPhotos_; }
   uint32_t dims() const { return kernels_.dims(); }
   // Training: every photo's bias from the parameters now; a sample adds its ray's photo's (sampleRay:
   // uint per sample, its ray; pixelIds: uvec2 (photo, pixel) per ray).
-  RowBias recordTrainingBias(gpu::Recorder& rec, const gpu::BufferRange& sampleRay, const gpu::BufferRange& pixelIds);
+  nerf::RowBias recordTrainingBias(gpu::Recorder& rec, const gpu::BufferRange& sampleRay, const gpu::BufferRange& pixelIds);
   // A render: every sample adds the bias of the mean vector (recomputed now) or of the chosen photo's.
-  RowBias recordRenderBias(gpu::Recorder& rec);
+  nerf::RowBias recordRenderBias(gpu::Recorder& rec);
   // The gradients of the vectors and of W_a from a trained batch (before the optimizer step).
-  void recordGradient(gpu::Recorder& rec, const AppearanceGradientInputs& in);
-  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at);
+  void recordGradient(gpu::Recorder& rec, const nerf::AppearanceGradientInputs& in);
+  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at);
   // "appearance.params" (dims floats per photo), "appearance_weights.params" (W_a: dims rows of the
   // colour layer's width) and, when training, Adam's moments.
   void appendState(std::vector<StateArray>& out);
@@ -54,13 +54,13 @@ class Appearance {
   std::vector<float> vectors() { return vectors_.params().download<float>(vectors_.count()); }
 
  private:
-  AppearanceParameters parameters() { return {vectors_.params(), weights_.params()}; }
+  nerf::AppearanceParameters parameters() { return {vectors_.params(), weights_.params()}; }
 
   uint32_t numPhotos_;
   std::optional<uint32_t> renderPhoto_;
   TrainableParameters vectors_, weights_;
   gpu::Buffer mean_, bias_, photoSums_;
-  AppearanceEmbedding kernels_;
+  nerf::AppearanceEmbedding kernels_;
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

@@ -7,15 +7,15 @@
 #include <cstdint>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/common/trainable_parameters.h"
 #include "nerf/rays/pose_correction.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 struct CameraRefinementSettings {
-  AdamConfig adam;     // the corrections' own rate and schedule
+  nerf::AdamConfig adam;     // the corrections' own rate and schedule
   float penalty = 0;   // L2 weight on the corrections
 };
 
@@ -28,19 +28,19 @@ class CameraRefinement {
   void recordApply(gpu::Recorder& rec, const gpu::Buffer& trainingCameras);
   const gpu::Buffer& cameras() const { return corrected_; }
   // The corrections' gradient from a trained batch (before the field's optimizer step).
-  void recordGradient(gpu::Recorder& rec, const PoseGradientInputs& in);
-  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) { corrections_.recordOptimizerStep(rec, at); }
+  void recordGradient(gpu::Recorder& rec, const nerf::PoseGradientInputs& in);
+  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at) { corrections_.recordOptimizerStep(rec, at); }
   // "cameras.params" (6 per camera: w, tau) and Adam's moments, for checkpoints.
   void appendState(std::vector<StateArray>& out) { corrections_.appendState(out); }
   // The corrections now, read back.
-  std::vector<std::array<float, kCorrectionFloats>> corrections();
+  std::vector<std::array<float, nerf::kCorrectionFloats>> corrections();
 
  private:
   uint32_t numCameras_;
   float penalty_;
   TrainableParameters corrections_;
   gpu::Buffer corrected_;
-  PoseCorrection kernels_;
+  nerf::PoseCorrection kernels_;
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

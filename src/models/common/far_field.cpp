@@ -8,7 +8,7 @@
 #include "vknerf/error.h"
 #include "render/far_field_shared.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 namespace {
 using CountPush = glsl::FarFieldPush;
@@ -36,7 +36,7 @@ ref::FarFieldShape LearnedFarField::shape() {
   return {g, ref::DenseMlpShape::make(g.levels * g.featuresPerLevel, kMlpWidth, 1, 3)};
 }
 
-std::vector<float> LearnedFarField::initialMlpParameters(const DenseMlp& net, const std::array<float, 3>& initial) {
+std::vector<float> LearnedFarField::initialMlpParameters(const nerf::DenseMlp& net, const std::array<float, 3>& initial) {
   std::vector<float> p = net.initialParameters();
   const ref::DenseShape& out = net.shape().layers.back();
   const uint64_t bias = out.biasOffset();
@@ -49,10 +49,10 @@ std::vector<float> LearnedFarField::initialMlpParameters(const DenseMlp& net, co
 }
 
 LearnedFarField::LearnedFarField(Context& ctx, uint32_t rayCapacity, uint32_t seed, const std::array<float, 3>& initial,
-                                 const std::optional<AdamConfig>& tableAdam, const std::optional<AdamConfig>& mlpAdam)
+                                 const std::optional<nerf::AdamConfig>& tableAdam, const std::optional<nerf::AdamConfig>& mlpAdam)
     : capacity_(rayCapacity),
       hash_(ctx, shape().grid),
-      net_(ctx, DenseMlpConfig{shape().mlp.inputs, kMlpWidth, 1, 3, seed + 0x9e37u}),
+      net_(ctx, nerf::DenseMlpConfig{shape().mlp.inputs, kMlpWidth, 1, 3, seed + 0x9e37u}),
       table_(ctx, "far_field.table", hash_.initialParameters(seed + 0x9e37u), tableAdam, usedPartsOf(hash_)),
       mlp_(ctx, "far_field.mlp", initialMlpParameters(net_, initial), mlpAdam),
       directionsKernel_(ctx, {gpu::shaders::far_field_directions, {gpu::Binding::Storage, gpu::Binding::Storage},
@@ -74,7 +74,7 @@ void LearnedFarField::recordForward(gpu::Recorder& rec, uint32_t count, const gp
     throw Error("far field: " + std::to_string(count) + " rays over capacity " + std::to_string(capacity_));
   if (keep && !workspace_) throw Error("far field: built without training, nothing to keep");
   if (count == 0) return;
-  rec.dispatch(directionsKernel_, {holding(rays, count, kRayBytes), gpu::BufferRange(directions_)}, CountPush{count},
+  rec.dispatch(directionsKernel_, {holding(rays, count, nerf::kRayBytes), gpu::BufferRange(directions_)}, CountPush{count},
                gpu::groupsFor(count, kLocal), 1, 1, "far_field_directions");
   hash_.recordForward(rec, {count, directions_, features_, net_.inputStride(), 0}, table_.params());
   net_.recordForward(rec, {count, features_, holding(background, count, 16)}, mlp_.params(),
@@ -92,7 +92,7 @@ void LearnedFarField::recordBackward(gpu::Recorder& rec, uint32_t count, const g
   hash_.recordBackward(rec, {count, directions_, dFeatures_, net_.inputStride(), 0}, table_.grads());
 }
 
-void LearnedFarField::recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) {
+void LearnedFarField::recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at) {
   table_.recordOptimizerStep(rec, at);
   mlp_.recordOptimizerStep(rec, at);
 }
@@ -102,4 +102,4 @@ void LearnedFarField::appendState(std::vector<StateArray>& out) {
   mlp_.appendState(out);
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

@@ -11,15 +11,15 @@
 #include <optional>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/common/trainable_parameters.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
 #include "reference/render/far_field.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 class LearnedFarField {
  public:
@@ -27,10 +27,10 @@ class LearnedFarField {
   // table: every entry, also those no ray touched). It starts as the constant
   // `initial` everywhere (each channel clamped to [0.05, 0.95], where the sigmoid still learns).
   LearnedFarField(Context& ctx, uint32_t rayCapacity, uint32_t seed, const std::array<float, 3>& initial,
-                  const std::optional<AdamConfig>& tableAdam, const std::optional<AdamConfig>& mlpAdam);
+                  const std::optional<nerf::AdamConfig>& tableAdam, const std::optional<nerf::AdamConfig>& mlpAdam);
   // The MLP's initial parameters: PyTorch's layers, then the output layer's weights zero and its
   // bias logit(initial), so that bg(d) = initial for every d and the first steps move the bias.
-  static std::vector<float> initialMlpParameters(const DenseMlp& net, const std::array<float, 3>& initial);
+  static std::vector<float> initialMlpParameters(const nerf::DenseMlp& net, const std::array<float, 3>& initial);
 
   static ref::FarFieldShape shape();
   size_t parameterCount() const { return table_.count() + mlp_.count(); }
@@ -47,20 +47,20 @@ class LearnedFarField {
   // opacity) and dL/dcolour, into the grads (accumulated until recordOptimizerStep).
   void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& background,
                       const gpu::BufferRange& color, const gpu::BufferRange& dColor);
-  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at);
+  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at);
   // "far_field.table.*", "far_field.mlp.*" (TrainableParameters::appendState).
   void appendState(std::vector<StateArray>& out);
 
  private:
   uint32_t capacity_;
-  HashEncoding hash_;
-  DenseMlp net_;
+  nerf::HashEncoding hash_;
+  nerf::DenseMlp net_;
   TrainableParameters table_, mlp_;
   gpu::Kernel directionsKernel_, gradientKernel_;
   gpu::Buffer directions_, features_;
   // training
-  std::optional<DenseMlp::Workspace> workspace_;
+  std::optional<nerf::DenseMlp::Workspace> workspace_;
   gpu::Buffer dBackground_, dFeatures_;
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

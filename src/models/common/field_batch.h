@@ -5,23 +5,23 @@
 #include <cstdint>
 #include <memory>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/network/mlp.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 struct FieldBatch {
   FieldBatch() = default;
   // Zeroed, so a render recorded over the whole capacity never reads garbage.
-  FieldBatch(Context& ctx, const NerfMlp& mlp, uint32_t capacity, bool training);
+  FieldBatch(Context& ctx, const nerf::NerfMlp& mlp, uint32_t capacity, bool training);
 
   // The first `count` rows as the MLP reads (the encodings) and writes them (the field).
-  NerfRows mlpRows(uint32_t count) const { return {count, posFeatures, dirFeatures, field}; }
+  nerf::NerfRows mlpRows(uint32_t count) const { return {count, posFeatures, dirFeatures, field}; }
 
   uint32_t capacity = 0;
   gpu::Buffer positions, directions, posFeatures, dirFeatures, field;
   gpu::Buffer dField;                             // training
-  std::unique_ptr<NerfMlp::Workspace> workspace;  // training: activations kept for backward
+  std::unique_ptr<nerf::NerfMlp::Workspace> workspace;  // training: activations kept for backward
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

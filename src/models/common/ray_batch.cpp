@@ -2,11 +2,11 @@
 
 #include <string>
 
-#include "gpu/device.h"
+#include "gpu/device/device.h"
 #include "reference/rng.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 uint32_t stepSeed(const TrainConfig& config, uint32_t step) { return ref::pcgHash(config.seed * 7919u + step); }
 
@@ -15,10 +15,10 @@ namespace {
 // limit is a configuration error, said before anything is allocated.
 uint32_t checkedCapacity(Context& ctx, uint32_t capacity) {
   const uint64_t limit = gpu::device(ctx).properties().limits.maxStorageBufferRange;
-  if (uint64_t(capacity) * kRayBytes > limit)
-    throw Error("a batch of " + std::to_string(capacity) + " rays needs " + std::to_string(uint64_t(capacity) * kRayBytes) +
+  if (uint64_t(capacity) * nerf::kRayBytes > limit)
+    throw Error("a batch of " + std::to_string(capacity) + " rays needs " + std::to_string(uint64_t(capacity) * nerf::kRayBytes) +
                 " bytes of rays in one binding, over this device's maxStorageBufferRange (" + std::to_string(limit) +
-                "): at most " + std::to_string(limit / kRayBytes) + " rays per batch");
+                "): at most " + std::to_string(limit / nerf::kRayBytes) + " rays per batch");
   return capacity;
 }
 }  // namespace
@@ -30,8 +30,8 @@ RayBatch::RayBatch(Context& ctx, uint32_t capacity, float nearPlane, bool inCame
       generation_(ctx),
       backgrounds_(ctx),
       // Zeroed: a recorded render evaluates the field over whole buffers, never over garbage.
-      rays_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * kRayBytes, "the rays of a batch")),
-      pixelIds_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * kPixelIdBytes, "the pixel ids of a batch")),
+      rays_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * nerf::kRayBytes, "the rays of a batch")),
+      pixelIds_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * nerf::kPixelIdBytes, "the pixel ids of a batch")),
       background_(gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * 16, "the backgrounds of a batch")) {}
 
 void RayBatch::recordTraining(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t count,
@@ -49,4 +49,4 @@ void RayBatch::recordView(gpu::Recorder& rec, const ViewBlock& view, const Aabb&
   backgrounds_.recordConstant(rec, background_, view.count, view.background);
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

@@ -4,15 +4,15 @@
 #include <array>
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/field_pipeline.h"
 #include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/rays/rays.h"
 #include "nerf/render/composite.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 // The seed of training step `step`: rays, samples and backgrounds of a step all derive from it.
 uint32_t stepSeed(const TrainConfig& config, uint32_t step);
@@ -40,18 +40,18 @@ class RayBatch {
   gpu::Buffer& background() { return background_; }  // vec4 per ray (nerf::kColorBytes)
   const gpu::Buffer& background() const { return background_; }
   // Rays [first, first + count) and their backgrounds, each binding exactly those rays.
-  RaySpan rays(uint32_t first, uint32_t count) { return {gpu::rowsOf(rays_, kRayBytes, first, count), count}; }
+  nerf::RaySpan rays(uint32_t first, uint32_t count) { return {gpu::rowsOf(rays_, nerf::kRayBytes, first, count), count}; }
   gpu::BufferRange backgrounds(uint32_t first, uint32_t count) {
-    return gpu::rowsOf(background_, kColorBytes, first, count);
+    return gpu::rowsOf(background_, nerf::kColorBytes, first, count);
   }
 
  private:
   uint32_t capacity_;
   float nearPlane_;
   bool inCameraRuns_;
-  RayGeneration generation_;
-  BackgroundColors backgrounds_;
+  nerf::RayGeneration generation_;
+  nerf::BackgroundColors backgrounds_;
   gpu::Buffer rays_, pixelIds_, background_;
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

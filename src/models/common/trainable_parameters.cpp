@@ -2,10 +2,10 @@
 
 #include <utility>
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
-AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
-  AdamConfig ac;
+nerf::AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
+  nerf::AdamConfig ac;
   ac.initialLearningRate = config.learningRate * rateScale;
   ac.decayRate = config.learningRateFinal / config.learningRate;
   ac.decaySteps = float(config.decaySteps);
@@ -16,14 +16,14 @@ AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
   return ac;
 }
 
-std::vector<ParameterRange> usedPartsOf(const HashEncoding& hash) {
-  std::vector<ParameterRange> parts;
+std::vector<nerf::ParameterRange> usedPartsOf(const nerf::HashEncoding& hash) {
+  std::vector<nerf::ParameterRange> parts;
   for (const ref::TableRun& r : ref::hashGridUsedRuns(hash.config())) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
   return parts;
 }
 
 TrainableParameters::TrainableParameters(Context& ctx, std::string name, const std::vector<float>& initial,
-                                         const std::optional<AdamConfig>& adam, std::vector<ParameterRange> stepped)
+                                         const std::optional<nerf::AdamConfig>& adam, std::vector<nerf::ParameterRange> stepped)
     : name_(std::move(name)),
       count_(initial.size()),
       params_(gpu::Buffer::of(ctx, initial, "the trainable parameters")),
@@ -36,7 +36,7 @@ TrainableParameters::TrainableParameters(Context& ctx, std::string name, const s
   adam_.emplace(ctx, *adam);
 }
 
-void TrainableParameters::recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at) {
+void TrainableParameters::recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at) {
   // Adam counts steps from 1 (bias correction); the rate schedule from 0.
   adam_->record(rec, {uint32_t(count_), params_, grads_, m_, v_, stepped_}, at.step + 1, adam_->config().learningRate(at.rateStep));
 }
@@ -48,4 +48,4 @@ void TrainableParameters::appendState(std::vector<StateArray>& out) {
   out.push_back({name_ + ".adam_v", &v_, count_, true});
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

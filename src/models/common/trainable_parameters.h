@@ -5,37 +5,37 @@
 #include <string>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/field_pipeline.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/optim/adam.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 // Adam's rates and moments as a training configuration sets them: the learning rate decays
 // exponentially from learningRate to learningRateFinal over decaySteps and holds there, times
 // `rateScale`.
-AdamConfig adamConfigOf(const TrainConfig& config, float rateScale = 1.0f);
+nerf::AdamConfig adamConfigOf(const TrainConfig& config, float rateScale = 1.0f);
 
 // The parts of a hash table that a lookup can reach (ref::hashGridUsedRuns), as
 // TrainableParameters' `stepped`: Adam's dense step would otherwise run over the unused end of each
 // dense level's slot too (2^17 entries a level on the 800x800 object: 27% of the table).
-std::vector<ParameterRange> usedPartsOf(const HashEncoding& hash);
+std::vector<nerf::ParameterRange> usedPartsOf(const nerf::HashEncoding& hash);
 
 class TrainableParameters {
  public:
   // Without `adam`: parameters only (inference). Gradients and moments start at zero. `stepped`:
   // the parts Adam steps (AdamState::stepped; empty: all), where the rest is never given a gradient.
   TrainableParameters(Context& ctx, std::string name, const std::vector<float>& initial,
-                      const std::optional<AdamConfig>& adam, std::vector<ParameterRange> stepped = {});
+                      const std::optional<nerf::AdamConfig>& adam, std::vector<nerf::ParameterRange> stepped = {});
 
   size_t count() const { return count_; }
   gpu::Buffer& params() { return params_; }
   gpu::Buffer& grads() { return grads_; }
 
   // Adam's update for training step `at` at the configured rate schedule; zeroes grads.
-  void recordOptimizerStep(gpu::Recorder& rec, OptimizerStep at);
+  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at);
   // "<name>.params" and, when training, "<name>.adam_m" and "<name>.adam_v", for checkpoints.
   void appendState(std::vector<StateArray>& out);
 
@@ -43,8 +43,8 @@ class TrainableParameters {
   std::string name_;
   size_t count_;
   gpu::Buffer params_, grads_, m_, v_;
-  std::optional<Adam> adam_;
-  std::vector<ParameterRange> stepped_;
+  std::optional<nerf::Adam> adam_;
+  std::vector<nerf::ParameterRange> stepped_;
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

@@ -8,7 +8,7 @@
 #include "nerf/sampling/ray_marcher.h"
 #include "reference/occupancy/view_bounds.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 namespace {
 
 constexpr double kCellsPerFootprint = 2.0;  // Nyquist
@@ -129,7 +129,7 @@ TypicalView typicalViewOf(const Dataset& train) {
 
 std::string resolveMarchSteps(FastModel& m, const Dataset& train, bool cpuDevice) {
   const bool open = m.marchSteps == 0;
-  const double diagonal = RayMarcher::diagonal(RayMarcher::innerCube(train.bounds, std::max(m.cascades, 1u)));
+  const double diagonal = nerf::RayMarcher::diagonal(nerf::RayMarcher::innerCube(train.bounds, std::max(m.cascades, 1u)));
   const double footprint = typicalViewOf(train).footprint;
   const double wanted = footprint > 0 ? diagonal / (kFootprintsPerStep * footprint) : kMaxMarchSteps;
   const uint32_t most = cpuDevice ? kMaxMarchStepsCpu : kMaxMarchSteps;
@@ -224,4 +224,4 @@ std::string resolveFastCapacity(FastModel& m, const Dataset& train, bool cpuDevi
   return note;
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

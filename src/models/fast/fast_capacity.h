@@ -28,9 +28,9 @@
 #include "vknerf/config.h"
 #include "vknerf/dataset.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 // Fills what `model` leaves open from `train`; returns one line saying what was chosen and why.
 std::string resolveFastCapacity(FastModel& model, const Dataset& train, bool cpuDevice);
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

@@ -5,7 +5,7 @@
 #include "models/fast/fast_capacity.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 uint32_t cascadesFor(float aabbScale) {
   uint32_t c = 1;
@@ -31,4 +31,4 @@ std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevi
   return note;
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

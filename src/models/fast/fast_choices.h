@@ -8,7 +8,7 @@
 #include "vknerf/config.h"
 #include "vknerf/dataset.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 // instant-ngp's cascades for an aabb_scale: enough doublings of the inner cube to reach the box.
 uint32_t cascadesFor(float aabbScale);
@@ -18,4 +18,4 @@ uint32_t cascadesFor(float aabbScale);
 // vknerf::Error for a learned far field over transparent photos.
 std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevice, bool transparentPixels);
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

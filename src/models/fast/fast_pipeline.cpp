@@ -8,7 +8,7 @@
 #include "reference/rng.h"
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 namespace {
 
@@ -49,9 +49,9 @@ FastModel checked(FastModel m, bool training) {
 
 // Cascades march with cone steps from the inner cube's step dt up to the outermost cell's diagonal
 // (or dt, for a render asking for coarser steps than that).
-ConeSteps coneStepsFor(const FastModel& m, const Aabb& box, float dt) {
+nerf::ConeSteps coneStepsFor(const FastModel& m, const Aabb& box, float dt) {
   if (m.cascades <= 1) return {};
-  return {m.coneAngle, std::max(dt, RayMarcher::diagonal(box) / float(m.gridResolution))};
+  return {m.coneAngle, std::max(dt, nerf::RayMarcher::diagonal(box) / float(m.gridResolution))};
 }
 
 // A capacity that always holds kRayAlign whole rays, so every sub-batch makes progress: twice a
@@ -65,8 +65,8 @@ uint32_t sampleCapacityFor(const FastModel& m, uint32_t rayCapacity, bool traini
 // A training pipeline runs its forward with the activations kept layer by layer (MlpTuning::fused);
 // its occupancy update needs only the density (NerfMlp::recordDensity: the same trunk kernels and
 // a small sigma kernel), so no fused inference kernel is compiled for it (~20 s on a fresh lavapipe).
-MlpTuning mlpTuningFor(const Context& ctx, bool training) {
-  MlpTuning t = MlpTuning::forDevice(ctx);
+nerf::MlpTuning mlpTuningFor(const Context& ctx, bool training) {
+  nerf::MlpTuning t = nerf::MlpTuning::forDevice(ctx);
   if (training && !(t.fused & 2u)) t.fused = 0;
   return t;
 }
@@ -76,7 +76,7 @@ MlpTuning mlpTuningFor(const Context& ctx, bool training) {
 // sparse; at these tables (2^15 entries a level, ~16k samples a step) they are not: the skip saved
 // about 1 ms of a ~65 ms step, and held-out PSNR in equal time was the same or better without it
 // (docs/performance.md: +0.5 dB on the sample scene at 60 s and on an 800x800 object scene at 120 s).
-AdamConfig tableAdamOf(const TrainConfig& config) {
+nerf::AdamConfig tableAdamOf(const TrainConfig& config) {
   return adamConfigOf(config, config.fastModel().hashLearningRateScale);
 }
 
@@ -87,8 +87,8 @@ AdamConfig tableAdamOf(const TrainConfig& config) {
 // level alike: a coarse level's few entries are all touched every step either way, and the unused
 // part of its slot (past its (res + 1)^3 vertices) would cost the dense step as much as a used one.
 constexpr uint64_t kDenseEntriesPerSample = 4;
-AdamConfig fieldTableAdamOf(const TrainConfig& config, const HashGridConfig& grid) {
-  AdamConfig a = tableAdamOf(config);
+nerf::AdamConfig fieldTableAdamOf(const TrainConfig& config, const nerf::HashGridConfig& grid) {
+  nerf::AdamConfig a = tableAdamOf(config);
   if ((uint64_t(1) << grid.log2TableSize) > kDenseEntriesPerSample * config.fastModel().samplesPerBatch)
     a.skipZeroGradientsFrom = 0;
   return a;
@@ -96,10 +96,10 @@ AdamConfig fieldTableAdamOf(const TrainConfig& config, const HashGridConfig& gri
 
 }  // namespace
 
-HashGridConfig hashGridConfigFor(const FastModel& m) {
+nerf::HashGridConfig hashGridConfigFor(const FastModel& m) {
   if (m.hashLog2Size == 0 || m.hashGrowth == 0)
     throw Error("fast model: the hash table size or finest resolution is left to the dataset (0); a Trainer sets it");
-  HashGridConfig c;
+  nerf::HashGridConfig c;
   c.levels = m.hashLevels;
   c.featuresPerLevel = m.hashFeatures;
   c.log2TableSize = m.hashLog2Size;
@@ -110,9 +110,9 @@ HashGridConfig hashGridConfigFor(const FastModel& m) {
 
 FastPipeline::Packed::Packed(Context& ctx, uint32_t rays, uint32_t samples)
     : offsets(gpu::Buffer::zeros(ctx, (VkDeviceSize(rays) + 1) * 4)),
-      samples(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * kSampleBytes, "the marched samples")),
+      samples(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * nerf::kSampleBytes, "the marched samples")),
       sampleRay(gpu::Buffer::zeros(ctx, VkDeviceSize(samples) * 4, "the marched samples' ray ids")),
-      totals(gpu::Buffer::zeros(ctx, PackedLayout::kTotalsBytes)) {}
+      totals(gpu::Buffer::zeros(ctx, nerf::PackedLayout::kTotalsBytes)) {}
 
 FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
                            bool training, const RenderSettings& overrides)
@@ -123,13 +123,13 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       rayCapacity_(std::max(rayCapacity, kRayAlign)),
       sampleCapacity_(sampleCapacityFor(model_, rayCapacity_, training)),
       training_(training),
-      dt_(RayMarcher::diagonal(RayMarcher::innerCube(box, model_.cascades)) /
+      dt_(nerf::RayMarcher::diagonal(nerf::RayMarcher::innerCube(box, model_.cascades)) /
           float(overrides.marchSteps ? overrides.marchSteps : model_.marchSteps)),
-      trainedDt_(RayMarcher::diagonal(RayMarcher::innerCube(box, model_.cascades)) / float(model_.marchSteps)),
+      trainedDt_(nerf::RayMarcher::diagonal(nerf::RayMarcher::innerCube(box, model_.cascades)) / float(model_.marchSteps)),
       cone_(coneStepsFor(model_, box, dt_)),
       hash_(ctx, hashGridConfigFor(model_)),
       sh_(ctx, model_.shDegree),
-      mlp_(ctx, MlpConfig{.depth = model_.depth,
+      mlp_(ctx, nerf::MlpConfig{.depth = model_.depth,
                           .width = model_.width,
                           .skipLayer = 0,  // the hash grid's features need no re-injection through a shallow trunk
                           .posDims = hash_.outputDims(),
@@ -180,10 +180,10 @@ void FastPipeline::allocateTraining(Context& ctx) {
   loss_.emplace(ctx);
   dColor_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 16);
   zeroDepthGrad_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity_) * 4);
-  partials_ = gpu::Buffer::zeros(ctx, gpu::groupsFor(rayCapacity_, PhotometricLoss::kRaysPerPartial) * 4);
+  partials_ = gpu::Buffer::zeros(ctx, gpu::groupsFor(rayCapacity_, nerf::PhotometricLoss::kRaysPerPartial) * 4);
   dPos_ = gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * mlp_.posStride() * 4, "the encoding gradients");
   occPoints_ = std::min(grid_.numCells(), kMaxOccupancyPoints);
-  occPositions_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * kPointBytes, "the occupancy update's points");
+  occPositions_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * nerf::kPointBytes, "the occupancy update's points");
   occFeatures_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * mlp_.posStride() * 4,
                                     "the occupancy update's position encodings");
   occDensity_ = gpu::Buffer::zeros(ctx, VkDeviceSize(occPoints_) * 4, "the occupancy update's densities");
@@ -196,23 +196,23 @@ void FastPipeline::allocateTraining(Context& ctx) {
   }
 }
 
-void FastPipeline::recordMarch(gpu::Recorder& rec, const RaySpan& rays, uint32_t maxSamples, uint32_t seed,
+void FastPipeline::recordMarch(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t maxSamples, uint32_t seed,
                                bool jitter) {
   marcher_.record(rec, rays, grid_, box_, {dt_, maxSamples, seed, jitter, cone_}, marched_.view());
 }
 
-void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool keep) {
+void FastPipeline::recordField(gpu::Recorder& rec, const nerf::RaySpan& rays, bool keep) {
   FieldBatch& f = field_;
   const uint32_t count = sampleCapacity_;
-  const PackedSamples batch = marched_.view();
+  const nerf::PackedSamples batch = marched_.view();
   points_.record(rec, count, rays.range, batch, box_, {f.positions, f.directions});
-  const std::optional<RowBias> colourBias = recordAppearance(rec, keep);
+  const std::optional<nerf::RowBias> colourBias = recordAppearance(rec, keep);
   // A training step runs in segments, the field over the rows the compositor will read, once the
   // last step kept few of its marched samples; while rays keep most of theirs (early in training),
   // segments would only add dispatches.
   if (!keep || !segmentRows_ || lastKeptFraction_ > segmentsBelowKept_)
     return recordFieldRows(rec, batch.total(), std::nullopt, colourBias, keep);
-  const float maxDepth = Compositor::maxOpticalDepth(kMinTransmittance);
+  const float maxDepth = nerf::Compositor::maxOpticalDepth(kMinTransmittance);
   for (size_t s = 0; s + 1 < kTrainingSegments.size(); ++s) {
     segmentRows_->record(rec, rays.count, batch, gpu::BufferRange(f.field), maxDepth, kTrainingSegments[s],
                          kTrainingSegments[s + 1]);
@@ -222,20 +222,20 @@ void FastPipeline::recordField(gpu::Recorder& rec, const RaySpan& rays, bool kee
 
 void FastPipeline::recordFieldRows(gpu::Recorder& rec, const gpu::BufferRange& limit,
                                    const std::optional<gpu::BufferRange>& gather,
-                                   const std::optional<RowBias>& colourBias, bool keep) {
+                                   const std::optional<nerf::RowBias>& colourBias, bool keep) {
   FieldBatch& f = field_;
   const uint32_t count = sampleCapacity_;
   hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0, limit, gather}, table_.params());
   sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, limit, gather});
-  NerfRows rows = f.mlpRows(count);
+  nerf::NerfRows rows = f.mlpRows(count);
   rows.rowLimit = limit;
   rows.colourBias = colourBias;
   rows.rowGather = gather;
   mlp_.recordForward(rec, rows, network_.params(), keep ? f.workspace.get() : nullptr);
 }
 
-CompositeInputs FastPipeline::compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background) {
-  CompositeInputs in = CompositeInputs::packed(count, marched_.view(), field_.field);
+nerf::CompositeInputs FastPipeline::compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background) {
+  nerf::CompositeInputs in = nerf::CompositeInputs::packed(count, marched_.view(), field_.field);
   in.background = background;
   in.perRayBackground = rays_.backgrounds(first, count);
   return in;
@@ -264,9 +264,9 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
       mayWait ? std::min(count, std::max(kRayAlign, sampleCapacity_ / kFirstSegment / kRayAlign * kRayAlign)) : count;
   for (uint32_t done = 0; done < count; done += block) {
     const uint32_t n = std::min(block, count - done);
-    const RaySpan rays = rays_.rays(done, n);
-    const SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, kColorBytes, done, n),
-                                                gpu::rowsOf(depth_, kDepthBytes, done, n)};
+    const nerf::RaySpan rays = rays_.rays(done, n);
+    const nerf::SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, nerf::kColorBytes, done, n),
+                                                gpu::rowsOf(depth_, nerf::kDepthBytes, done, n)};
     for (uint32_t marched = 0, live = n; live > 0 && marched < most;) {
       const uint32_t cap = std::min({std::max(1u, sampleCapacity_ / live), marched == 0 || !mayWait ? kFirstSegment : most,
                                      most - marched});
@@ -274,7 +274,7 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
       if (mayWait) segments_.recordResetCounts(rec);
       recordMarch(rec, rays, cap, 0, false);
       recordField(rec, rays, false);
-      compositor_.recordForward(rec, CompositeInputs::packed(n, marched_.view(), field_.field),
+      compositor_.recordForward(rec, nerf::CompositeInputs::packed(n, marched_.view(), field_.field),
                                 {segments_.segmentColor(), segments_.segmentDepth(), weights_});
       segments_.record(rec, {cap, first, last, renderMinTransmittance_}, rays, marched_.view(), gathered);
       marched += cap;
@@ -291,12 +291,12 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
 void FastPipeline::recordFieldAt(gpu::Recorder& rec, FieldBatch& f, uint32_t count) {
   hash_.recordForward(rec, {count, f.positions, f.posFeatures, mlp_.posStride(), 0}, table_.params());
   sh_.recordForward(rec, {count, f.directions, f.dirFeatures, mlp_.dirStride(), 0});
-  NerfRows rows = f.mlpRows(count);
+  nerf::NerfRows rows = f.mlpRows(count);
   rows.colourBias = recordAppearance(rec, false);
   mlp_.recordForward(rec, rows, network_.params(), nullptr);
 }
 
-std::optional<RowBias> FastPipeline::recordAppearance(gpu::Recorder& rec, bool training) {
+std::optional<nerf::RowBias> FastPipeline::recordAppearance(gpu::Recorder& rec, bool training) {
   if (!model_.appearanceDims) return std::nullopt;
   if (!appearance_)
     throw Error("fast model: model.appearance_dims is " + std::to_string(model_.appearanceDims) +
@@ -320,15 +320,15 @@ void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
   // (before this update, computed on the device; a cell no camera sees counts as 0) when that is
   // lower, so that a young field whose densities are all small is not declared empty everywhere
   // (nothing would be sampled, and nothing learnt).
-  const float threshold = OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
+  const float threshold = nerf::OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
   // The density alone: the colour branch would cost more than the trunk and is not looked at.
   hash_.recordForward(rec, {count, occPositions_, occFeatures_, mlp_.posStride(), 0}, table_.params());
   mlp_.recordDensity(rec, count, network_.params(), occFeatures_, occDensity_);
-  const float decay = OccupancyGrid::decayFor(kOccupancyDecay, count, grid_.numCells());
+  const float decay = nerf::OccupancyGrid::decayFor(kOccupancyDecay, count, grid_.numCells());
   grid_.recordUpdate(rec, {occCells_, occDensity_, count}, {decay, threshold, true});
 }
 
-uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
+uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at) {
   if (!training_) throw Error("fast model: pipeline was not built for training");
   const uint32_t step = at.step;
   const uint32_t seed = stepSeed(config_, step);
@@ -347,8 +347,8 @@ uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData&
     throw Error("fast model: " + std::to_string(data.numCameras) + " training photos, but the appearance embedding was set up for " +
                 std::to_string(appearance_->numPhotos()));
   const uint32_t slot = slotOf(step);
-  const RaySpan batch = recordTrainingBatch(rec, cameras, seed, raysFor_[slot]);
-  const CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
+  const nerf::RaySpan batch = recordTrainingBatch(rec, cameras, seed, raysFor_[slot]);
+  const nerf::CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
   recordTrainingBackward(rec, batch, composite);
   network_.recordOptimizerStep(rec, at);
   table_.recordOptimizerStep(rec, at);
@@ -359,10 +359,10 @@ uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData&
   return batch.count;
 }
 
-RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R) {
+nerf::RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R) {
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   if (farField_) farField_->recordForward(rec, R, rays_.rays(), rays_.background(), true);
-  const RaySpan batch = rays_.rays(0, R);
+  const nerf::RaySpan batch = rays_.rays(0, R);
   recordMarch(rec, batch, model_.maxSamplesPerRay, seed, true);
   // The batch's size stays on the device: the rays that fit the sample capacity whole, and their
   // sample total (the march's totals, rewritten); every later kernel is recorded for the capacity
@@ -371,8 +371,8 @@ RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const TrainingData
   return batch;
 }
 
-CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, const TrainingData& data,
-                                                    const RaySpan& batch) {
+nerf::CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, const TrainingData& data,
+                                                    const nerf::RaySpan& batch) {
   // The field forward with activations kept, in segments over the samples in front of each ray's
   // cut (SegmentRows). The compositor stops each ray where the transmittance falls below 1e-4
   // (instant-ngp's early termination) and gives the samples behind that zero gradient, so the step
@@ -381,9 +381,9 @@ CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, const Tr
   // the forward's rows through their packed index (KeptRows).
   // The rays past the whole ones have no samples: the loss neither counts them nor gives them a gradient.
   const uint32_t R = batch.count;
-  CompositeInputs composite = compositeInputs(0, R, config_.background);
-  if (model_.earlyTermination) composite.maxOpticalDepth = Compositor::maxOpticalDepth(kMinTransmittance);
-  CompositeOutputs composited{gpu::rowsOf(color_, kColorBytes, 0, R), gpu::rowsOf(depth_, kDepthBytes, 0, R), weights_};
+  nerf::CompositeInputs composite = compositeInputs(0, R, config_.background);
+  if (model_.earlyTermination) composite.maxOpticalDepth = nerf::Compositor::maxOpticalDepth(kMinTransmittance);
+  nerf::CompositeOutputs composited{gpu::rowsOf(color_, nerf::kColorBytes, 0, R), gpu::rowsOf(depth_, nerf::kDepthBytes, 0, R), weights_};
   if (kept_) composited.keptCounts = gpu::rowsOf(kept_->counts(), sizeof(uint32_t), 0, R);
   recordField(rec, batch, true);
   compositor_.recordForward(rec, composite, composited);
@@ -392,12 +392,12 @@ CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, const Tr
   return composite;
 }
 
-void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& batch, const CompositeInputs& composite) {
+void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const nerf::RaySpan& batch, const nerf::CompositeInputs& composite) {
   const uint32_t R = batch.count;
   // The distortion loss, a mean over the batch's rays like the photometric loss (over the R rays
   // recorded: the rays past the device's cut have no samples, so they add nothing), its distances
   // even in the march's steps.
-  const DistortionLoss distortion{model_.distortionLoss / float(R), cone_.coneAngle, dt_, std::max(dt_, cone_.dtMax),
+  const nerf::DistortionLoss distortion{model_.distortionLoss / float(R), cone_.coneAngle, dt_, std::max(dt_, cone_.dtMax),
                                   batch.range};
   compositor_.recordBackward(rec, composite, {dColor_, zeroDepthGrad_, field_.dField, distortion});
   if (farField_) farField_->recordBackward(rec, R, *composite.perRayBackground, color_, dColor_);
@@ -405,29 +405,29 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const RaySpan& bat
   // rows through their index, the hash grid's reads the kept positions beside the packed encoding
   // gradients. Else it runs over every marched sample.
   gpu::BufferRange positions(field_.positions), limit = marched_.view().total();
-  NerfGradients gradients{field_.dField, network_.grads(), gpu::BufferRange(dPos_)};
+  nerf::NerfGradients gradients{field_.dField, network_.grads(), gpu::BufferRange(dPos_)};
   if (gatherBackward_) {
     kept_->record(rec, R, marched_.offsets, field_.positions);
     positions = kept_->positions(), limit = kept_->total(), gradients.rowGather = kept_->rows();
   }
   // The appearance embedding trains from the colour layer's pre-activation gradient.
   if (appearance_) gradients.dColour = gpu::BufferRange(dColour_);
-  NerfRows rows = field_.mlpRows(sampleCapacity_);
+  nerf::NerfRows rows = field_.mlpRows(sampleCapacity_);
   rows.rowLimit = limit;
   mlp_.recordBackward(rec, rows, network_.params(), gradients, *field_.workspace);
   const gpu::Buffer& rowOffsets = gatherBackward_ ? kept_->offsets() : marched_.offsets;
   if (appearance_)
     appearance_->recordGradient(rec, {R, rays_.pixelIds(), rowOffsets, dColour_, wholeRayCount()});
-  const EncodedRows encoded{sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit};
+  const nerf::EncodedRows encoded{sampleCapacity_, positions, dPos_, mlp_.posStride(), 0, limit};
   // Camera refinement: the table's backward also gives dL/dp (from the table before its optimizer
   // step), which the per-camera sums then carry to the poses.
-  std::optional<PositionGradientTarget> position;
-  if (cameras_) position = PositionGradientTarget{table_.params(), dPosition_};
+  std::optional<nerf::PositionGradientTarget> position;
+  if (cameras_) position = nerf::PositionGradientTarget{table_.params(), dPosition_};
   hash_.recordBackward(rec, encoded, table_.grads(), position);
   if (cameras_) recordCameraGradient(rec, batch, rowOffsets);
 }
 
-void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const RaySpan& batch, const gpu::BufferRange& rowOffsets) {
+void FastPipeline::recordCameraGradient(gpu::Recorder& rec, const nerf::RaySpan& batch, const gpu::BufferRange& rowOffsets) {
   // The learned far field's colour also depends on the direction; that part is left out (its
   // gradient is small and blurred: a colour per direction at infinity).
   cameras_->recordGradient(rec, {batch, rays_.pixelIds(), marched_.offsets, rowOffsets, marched_.samples, dPosition_,
@@ -530,4 +530,4 @@ ModelStatistics FastPipeline::modelStatistics() {
   return s;
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

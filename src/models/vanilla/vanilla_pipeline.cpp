@@ -2,7 +2,7 @@
 
 #include "vknerf/error.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 namespace {
 
@@ -15,8 +15,8 @@ VanillaModel withOverrides(VanillaModel m, const RenderSettings& overrides) {
 }  // namespace
 
 Network::Network(Context& ctx, const VanillaModel& m, uint32_t seed, const std::string& name,
-                 const std::optional<AdamConfig>& adam)
-    : mlp(ctx, MlpConfig{.depth = m.depth,
+                 const std::optional<nerf::AdamConfig>& adam)
+    : mlp(ctx, nerf::MlpConfig{.depth = m.depth,
                          .width = m.width,
                          .skipLayer = m.skipLayer,
                          .posDims = 3 + 6 * m.posLevels,
@@ -25,16 +25,16 @@ Network::Network(Context& ctx, const VanillaModel& m, uint32_t seed, const std::
                          .seed = seed}),
       parameters(ctx, name, mlp.initialParameters(), adam) {}
 
-Level::Level(Context& ctx, const NerfMlp& mlp, uint32_t rays, uint32_t spr, bool training)
+Level::Level(Context& ctx, const nerf::NerfMlp& mlp, uint32_t rays, uint32_t spr, bool training)
     : samplesPerRay(spr),
-      samples(ctx, VkDeviceSize(rays) * spr * kSampleBytes, "the samples along the rays"),
+      samples(ctx, VkDeviceSize(rays) * spr * nerf::kSampleBytes, "the samples along the rays"),
       weights(ctx, VkDeviceSize(rays) * spr * sizeof(float), "the compositing weights"),
       color(ctx, VkDeviceSize(rays) * 16, "the rendered colours"),
       depth(ctx, VkDeviceSize(rays) * sizeof(float), "the rendered depths"),
       field(ctx, mlp, rays * spr, training) {
   if (!training) return;
   dColor = gpu::Buffer(ctx, VkDeviceSize(rays) * 16);
-  partials = gpu::Buffer(ctx, gpu::groupsFor(rays, PhotometricLoss::kRaysPerPartial) * sizeof(float));
+  partials = gpu::Buffer(ctx, gpu::groupsFor(rays, nerf::PhotometricLoss::kRaysPerPartial) * sizeof(float));
 }
 
 VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
@@ -80,7 +80,7 @@ void VanillaPipeline::recordLevel(gpu::Recorder& rec, Level& l, Network& net, ui
   compositor_.recordForward(rec, compositeInputs(l, numRays), {l.color, l.depth, l.weights});
 }
 
-CompositeInputs VanillaPipeline::compositeInputs(const Level& l, uint32_t numRays) {
+nerf::CompositeInputs VanillaPipeline::compositeInputs(const Level& l, uint32_t numRays) {
   return {.numRays = numRays,
           .samplesPerRay = l.samplesPerRay,
           .samples = l.samples,
@@ -93,7 +93,7 @@ void VanillaPipeline::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32
   if (numRays > capacity_) throw Error("VanillaPipeline: batch of " + std::to_string(numRays) + " rays over capacity");
   Level& c = levels_[0];
   Level& f = levels_[1];
-  const RaySpan rays{rays_.rays(), numRays};
+  const nerf::RaySpan rays{rays_.rays(), numRays};
   stratified_.record(rec, rays, c.samplesPerRay, {seed, jitter}, c.samples);
   recordLevel(rec, c, coarse_, numRays, training_);
   pdf_.record(rec, rays, {c.samples, c.weights, c.samplesPerRay},
@@ -101,7 +101,7 @@ void VanillaPipeline::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32
   recordLevel(rec, f, fine(), numRays, training_);
 }
 
-void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, OptimizerStep at) {
+void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, nerf::OptimizerStep at) {
   for (int li = 0; li < 2; ++li) {
     Level& l = levels_[li];
     Network& net = li == 0 ? coarse_ : fine();
@@ -121,7 +121,7 @@ void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, 
   recordForward(rec, view.count, 0, false);
 }
 
-uint32_t VanillaPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) {
+uint32_t VanillaPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at) {
   if (!training_) throw Error("vanilla model: pipeline was not built for training");
   const uint32_t step = at.step;
   const uint32_t R = capacity_;
@@ -153,4 +153,4 @@ ModelStatistics VanillaPipeline::modelStatistics() {
   return s;
 }
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

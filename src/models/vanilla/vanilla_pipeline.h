@@ -8,8 +8,8 @@
 #include <memory>
 #include <optional>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/common/field_batch.h"
 #include "models/common/ray_batch.h"
 #include "models/common/trainable_parameters.h"
@@ -22,20 +22,20 @@
 #include "nerf/sampling/samplers.h"
 #include "vknerf/config.h"
 
-namespace vknerf::nerf {
+namespace vknerf::models {
 
 // One network and its trainable parameters.
 struct Network {
   Network(Context& ctx, const VanillaModel& model, uint32_t seed, const std::string& name,
-          const std::optional<AdamConfig>& adam);
-  NerfMlp mlp;
+          const std::optional<nerf::AdamConfig>& adam);
+  nerf::NerfMlp mlp;
   TrainableParameters parameters;
 };
 
 // One level of the hierarchy (coarse: Nc samples per ray, fine: Nc + Nf): its samples, their
 // field, and per ray the composited colour and depth (and, training, the loss's gradient).
 struct Level {
-  Level(Context& ctx, const NerfMlp& mlp, uint32_t rays, uint32_t samplesPerRay, bool training);
+  Level(Context& ctx, const nerf::NerfMlp& mlp, uint32_t rays, uint32_t samplesPerRay, bool training);
   uint32_t samplesPerRay;
   gpu::Buffer samples, weights, color, depth;
   FieldBatch field;
@@ -58,7 +58,7 @@ class VanillaPipeline final : public FieldPipeline {
 
  private:
   void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) override;
-  uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, OptimizerStep at) override;
+  uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at) override;
   StepSize doCollectTrainStep(uint32_t slot) override;
   ModelStatistics modelStatistics() override;
 
@@ -67,11 +67,11 @@ class VanillaPipeline final : public FieldPipeline {
   void recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t seed, bool jitter);
   void recordLevel(gpu::Recorder& rec, Level& level, Network& net, uint32_t numRays, bool keep);
   // What the compositor reads of a level's first `numRays` rays, forward and backward.
-  CompositeInputs compositeInputs(const Level& level, uint32_t numRays);
+  nerf::CompositeInputs compositeInputs(const Level& level, uint32_t numRays);
   // Encodings and `net` at the first `count` positions and directions of `f`.
   void recordNetwork(gpu::Recorder& rec, FieldBatch& f, Network& net, uint32_t count, bool keep);
   // Loss against the training pixels and backward through both levels; then Adam.
-  void recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, OptimizerStep at);
+  void recordBackward(gpu::Recorder& rec, uint32_t numRays, const TrainingData& data, nerf::OptimizerStep at);
 
   TrainConfig config_;
   VanillaModel model_;
@@ -79,17 +79,17 @@ class VanillaPipeline final : public FieldPipeline {
   uint32_t capacity_;
   bool training_;
   RayBatch rays_;
-  StratifiedSampler stratified_;
-  PdfSampler pdf_;
-  SamplePoints points_;
-  FrequencyEncoding posEncoding_, dirEncoding_;
-  Compositor compositor_;
-  std::optional<PhotometricLoss> loss_;
-  std::optional<AdamConfig> adam_;  // training
+  nerf::StratifiedSampler stratified_;
+  nerf::PdfSampler pdf_;
+  nerf::SamplePoints points_;
+  nerf::FrequencyEncoding posEncoding_, dirEncoding_;
+  nerf::Compositor compositor_;
+  std::optional<nerf::PhotometricLoss> loss_;
+  std::optional<nerf::AdamConfig> adam_;  // training
   Network coarse_;
   std::unique_ptr<Network> fine_;  // separateFineNetwork; null: the coarse network is queried twice
   Level levels_[2];
   gpu::Buffer zeroDepthGrad_;
 };
 
-}  // namespace vknerf::nerf
+}  // namespace vknerf::models

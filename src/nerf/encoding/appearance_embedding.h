@@ -9,8 +9,8 @@
 // (models/common/appearance.h). CPU twin: src/reference/encoding/appearance.h.
 #include <cstdint>
 
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::nerf {
 

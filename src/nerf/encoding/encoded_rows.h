@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 
 namespace vknerf::nerf {
 

@@ -10,8 +10,8 @@
 // gamma(x) and gamma(d) can thus share one matrix at offsets 0 and paddedDims of the first.
 #include <cstdint>
 
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::nerf {
 

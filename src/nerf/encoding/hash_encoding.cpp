@@ -5,7 +5,7 @@
 
 #include "encoding/encode_hash_backward_reduce_shared.h"
 #include "encoding/hash_grid_shared.h"
-#include "gpu/prefix_sum.h"
+#include "gpu/dispatch/prefix_sum.h"
 #include "nerf/network/gradient_paths.h"
 #include "vknerf/error.h"
 

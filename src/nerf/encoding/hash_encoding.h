@@ -10,9 +10,9 @@
 #include <optional>
 #include <vector>
 
-#include "gpu/kernel.h"
-#include "gpu/limited_dispatch.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/limited_dispatch.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/encoded_rows.h"
 #include "reference/encoding/hash_encoding.h"
 #include "encoding/encode_hash_shared.h"

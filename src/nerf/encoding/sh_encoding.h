@@ -6,9 +6,9 @@
 // columns outside the block untouched. No backward: directions are not optimised.
 #include <cstdint>
 
-#include "gpu/kernel.h"
-#include "gpu/limited_dispatch.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/limited_dispatch.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/encoded_rows.h"
 
 namespace vknerf::nerf {

@@ -4,8 +4,8 @@
 #include <array>
 #include <cstdint>
 
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::nerf {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "gpu/limited_dispatch.h"
+#include "gpu/dispatch/limited_dispatch.h"
 #include "reference/loss/photometric_loss.h"
 #include "vknerf/error.h"
 #include "loss/loss_photometric_shared.h"

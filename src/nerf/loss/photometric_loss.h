@@ -9,8 +9,8 @@
 #include <optional>
 #include <span>
 
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::nerf {
 

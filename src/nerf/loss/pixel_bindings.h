@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/context.h"
 

@@ -5,9 +5,9 @@
 #include <array>
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/mesh/sample_blocks.h"
 #include "reference/mesh/marching_cubes.h"
 #include "vknerf/camera.h"

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 #include "vknerf/error.h"
 #include "mesh/marching_cubes_shared.h"
 

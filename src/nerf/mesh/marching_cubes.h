@@ -10,9 +10,9 @@
 // pass 1, so extraction submits and waits.
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/prefix_sum.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/prefix_sum.h"
 #include "reference/mesh/marching_cubes.h"
 #include "vknerf/context.h"
 

@@ -10,10 +10,10 @@
 #include <tuple>
 #include <vector>
 
-#include "gpu/kernel.h"
-#include "gpu/limited_dispatch.h"
-#include "gpu/recorder.h"
-#include "gpu/shader_code.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/limited_dispatch.h"
+#include "gpu/dispatch/recorder.h"
+#include "gpu/kernels/shader_code.h"
 #include "reference/network/mlp.h"
 
 namespace vknerf::nerf {
@@ -77,7 +77,7 @@ const gpu::ShaderCode& weightGradientShader(const MlpTuning& tuning);
 enum class GradMode : uint32_t { Skip = 0, Store = 1, StoreReluMasked = 2, Add = 3 };
 
 // The rows one layer call runs over, as one value: `count` rows, uncut or cut on the device to a
-// limit (gpu/limited_dispatch.h) whose arguments were recorded for the call's rows per workgroup;
+// limit (gpu/dispatch/limited_dispatch.h) whose arguments were recorded for the call's rows per workgroup;
 // `gather` (backward only, uint per row): row i reads the forward's activations at row gather[i]
 // (a packed batch, shaders/gpu/row_gather.glsl); `label` names the dispatches.
 struct LayerRows {

@@ -7,7 +7,7 @@
 // device lacks is invalid: each path is its own SPIR-V module.
 #include <cstdint>
 
-#include "gpu/device.h"
+#include "gpu/device/device.h"
 
 namespace vknerf::nerf {
 

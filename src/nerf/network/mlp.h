@@ -16,8 +16,8 @@
 #include <optional>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/network/dense_layer.h"
 #include "reference/network/mlp.h"
 

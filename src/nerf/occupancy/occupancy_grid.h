@@ -18,9 +18,9 @@
 #include <span>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {

@@ -8,9 +8,9 @@
 #include <memory>
 #include <vector>
 
-#include "gpu/kernel.h"
-#include "gpu/limited_dispatch.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/limited_dispatch.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::glsl {
 struct AdamPush;

@@ -6,8 +6,8 @@
 // [R | c] becomes [exp(w) R | c + tau] (src/reference/rays/pose_correction.h).
 #include <cstdint>
 
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/camera.h"
 

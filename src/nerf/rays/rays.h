@@ -5,8 +5,8 @@
 #include <span>
 #include <vector>
 
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {

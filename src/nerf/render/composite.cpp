@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 

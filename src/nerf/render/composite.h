@@ -27,9 +27,9 @@
 
 #include "nerf/sampling/packed_samples.h"
 #include "nerf/sampling/sample_layout.h"
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "render/composite_shared.h"
 
 namespace vknerf::nerf {

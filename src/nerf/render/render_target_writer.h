@@ -4,9 +4,9 @@
 // image (shaders/render/write_render_target*.comp).
 #include <memory>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "vknerf/camera.h"
 #include "vknerf/render_target.h"
 

@@ -11,9 +11,9 @@
 // also the ~40% of a trained object's that lie behind its surfaces.
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/packed_samples.h"
 

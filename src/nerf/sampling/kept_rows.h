@@ -8,9 +8,9 @@
 // sample with a zero gradient behind each ray's cut.
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/sampling/packed_layout.h"
 
 namespace vknerf::nerf {

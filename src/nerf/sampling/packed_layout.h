@@ -11,10 +11,10 @@
 #include <cstdint>
 #include <memory>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/prefix_sum.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/prefix_sum.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/sampling/packed_samples.h"
 
 namespace vknerf::nerf {

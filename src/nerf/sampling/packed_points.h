@@ -5,10 +5,10 @@
 // `chunkRows`); `capacity` (the samples the output buffers hold) bounds them.
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/limited_dispatch.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/limited_dispatch.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/sampling/packed_samples.h"
 #include "nerf/sampling/point_buffers.h"
 #include "vknerf/camera.h"

@@ -5,7 +5,7 @@
 //   samples    vec2 (t, delta) per sample (nerf::kSampleBytes)
 //   sampleRay  uint per sample: the ray it belongs to
 //   totals     uint[4] (PackedLayout::kTotalsBytes): the sample total, then the indirect dispatch
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 
 namespace vknerf::nerf {
 
@@ -13,7 +13,7 @@ struct PackedSamples {
   gpu::BufferRange offsets, samples, sampleRay, totals;
 
   // The sample total alone, the first uint of the totals: what the per-sample kernels are cut to
-  // (gpu/limited_dispatch.h).
+  // (gpu/dispatch/limited_dispatch.h).
   gpu::BufferRange total() const { return gpu::BufferRange(*totals.buffer, totals.offset, sizeof(uint32_t)); }
 };
 

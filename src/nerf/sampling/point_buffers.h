@@ -1,6 +1,6 @@
 #pragma once
 // Where the field inputs of a batch of samples go (SamplePoints, PackedSamplePoints).
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 
 namespace vknerf::nerf {
 

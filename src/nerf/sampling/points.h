@@ -3,8 +3,8 @@
 // [r*N, (r+1)*N); each sample (t, delta) becomes a position o + t d mapped from the scene box onto
 // [-1, 1]^3 and the ray's unit direction, both written as vec4 with w = 0.
 #include "nerf/sampling/sample_layout.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/point_buffers.h"
 #include "vknerf/camera.h"

@@ -19,9 +19,9 @@
 // samples of its first rays and the offsets are clamped, so off[numRays] <= capacity always.
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/packed_layout.h"

@@ -11,8 +11,8 @@
 
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/sample_layout.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::nerf {
 

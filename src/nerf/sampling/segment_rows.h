@@ -9,9 +9,9 @@
 // the rows behind a cut are left as they were.
 #include <cstdint>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/sampling/packed_samples.h"
 
 namespace vknerf::nerf {

@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/appearance_embedding.h"
 #include "reference/encoding/appearance.h"
 #include "reference/network/mlp.h"

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "reference/encoding/hash_encoding.h"
 #include "support/gpu_test.h"

@@ -2,9 +2,9 @@
 #include <cstdlib>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/error_message.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"

@@ -1,5 +1,5 @@
-// Device profiles (src/gpu/device_profile.h): lavapipe behaving like other classes of device, and
-// the limits every kernel and dispatch is checked against (src/gpu/kernel_limits.h).
+// Device profiles (src/gpu/device/device_profile.h): lavapipe behaving like other classes of device, and
+// the limits every kernel and dispatch is checked against (src/gpu/kernels/kernel_limits.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/device.h"
-#include "gpu/device_profile.h"
-#include "gpu/kernel.h"
-#include "gpu/kernel_limits.h"
-#include "gpu/physical_devices.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/device/device.h"
+#include "gpu/device/device_profile.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/kernels/kernel_limits.h"
+#include "gpu/device/physical_devices.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/error_message.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"

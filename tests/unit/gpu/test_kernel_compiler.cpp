@@ -1,4 +1,4 @@
-// Compiling kernels before they first run (src/gpu/kernel_compiler.h): on lavapipe every kernel
+// Compiling kernels before they first run (src/gpu/compile/kernel_compiler.h): on lavapipe every kernel
 // variant a recording dispatches starts compiling once, and its submission waits for it, with
 // progress on the submitting thread; results are unchanged; a training step or render after the first compiles
 // nothing and creates no pipeline.
@@ -15,12 +15,12 @@
 #include <utility>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/device.h"
-#include "gpu/kernel.h"
-#include "gpu/kernel_compiler.h"
-#include "gpu/mesa_disk_cache.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/device/device.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/compile/kernel_compiler.h"
+#include "gpu/compile/mesa_disk_cache.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/gpu_test.h"
 #include "support/sample_scene.h"
 #include "support/tiny_config.h"

@@ -9,9 +9,9 @@
 #include <cstring>
 #include <string>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/rays/rays.h"
 #include "rays/rays_shared.h"
 #include "support/gpu_test.h"

@@ -16,8 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nerf::Checkpoint sample() {
-  nerf::Checkpoint ck;
+io::Checkpoint sample() {
+  io::Checkpoint ck;
   ck.config = R"({"model":"vanilla","step":1234})";
   ck.put("params", std::vector<float>{1.5f, -2.0f, 3.25f});
   ck.put("adam_m", std::vector<float>(1000, 0.125f));
@@ -27,7 +27,7 @@ nerf::Checkpoint sample() {
 
 std::string errorOf(const std::string& path) {
   try {
-    nerf::Checkpoint::load(path);
+    io::Checkpoint::load(path);
   } catch (const Error& e) {
     return e.what();
   }
@@ -40,7 +40,7 @@ TEST(Checkpoint, RoundTrip) {
   const test::TempDir tmp("checkpoint");
   const auto path = tmp.file("a.vknerf");
   sample().save(path);
-  auto ck = nerf::Checkpoint::load(path);
+  auto ck = io::Checkpoint::load(path);
   EXPECT_EQ(ck.config, sample().config);
   EXPECT_EQ(ck.get<float>("params", 3), (std::vector<float>{1.5f, -2.0f, 3.25f}));
   EXPECT_EQ(ck.get<float>("adam_m").size(), 1000u);
@@ -55,7 +55,7 @@ TEST(Checkpoint, SaveReplacesAtomically) {
   auto ck = sample();
   ck.config = R"({"step":9})";
   ck.save(path);
-  EXPECT_EQ(nerf::Checkpoint::load(path).config, R"({"step":9})");
+  EXPECT_EQ(io::Checkpoint::load(path).config, R"({"step":9})");
 }
 
 TEST(Checkpoint, MissingFileNamesThePath) {
@@ -108,7 +108,7 @@ TEST(Checkpoint, MissingOrMissizedSectionIsNamed) {
   const test::TempDir tmp("checkpoint");
   const auto path = tmp.file("f.vknerf");
   sample().save(path);
-  auto ck = nerf::Checkpoint::load(path);
+  auto ck = io::Checkpoint::load(path);
   EXPECT_THROW(ck.get<float>("nope"), Error);
   try {
     ck.get<float>("params", 4);
@@ -144,12 +144,12 @@ TEST(Checkpoint, ParseFromMemoryMatchesLoad) {
   sample().save(path);
   std::ifstream in(path, std::ios::binary);
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto ck = nerf::Checkpoint::parse(bytes.data(), bytes.size(), "in memory");
+  auto ck = io::Checkpoint::parse(bytes.data(), bytes.size(), "in memory");
   EXPECT_EQ(ck.config, sample().config);
   EXPECT_EQ(ck.sections, sample().sections);
   EXPECT_EQ(ck.path, "in memory");
   try {
-    nerf::Checkpoint::parse(bytes.data(), bytes.size() - 1, "in memory");
+    io::Checkpoint::parse(bytes.data(), bytes.size() - 1, "in memory");
     ADD_FAILURE() << "a truncated checkpoint parsed";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("in memory"), std::string::npos) << e.what();

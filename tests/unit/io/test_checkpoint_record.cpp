@@ -64,11 +64,11 @@ std::vector<uint32_t> bitsOf(const Camera& c) {
 }
 
 // A checkpoint whose record holds `cameras`, as Trainer::save writes it; `edit` changes its JSON.
-nerf::Checkpoint checkpointWith(const std::vector<TrainedCamera>& cameras,
+io::Checkpoint checkpointWith(const std::vector<TrainedCamera>& cameras,
                                 const std::function<void(json&)>& edit = {}) {
-  nerf::Checkpoint ck;
+  io::Checkpoint ck;
   ck.path = "model.vknerf";
-  ck.config = nerf::CheckpointRecord::write(TrainConfig{}, 7, Aabb{}, {uint32_t(cameras.size()), 8, 8}, cameras);
+  ck.config = io::CheckpointRecord::write(TrainConfig{}, 7, Aabb{}, {uint32_t(cameras.size()), 8, 8}, cameras);
   if (edit) {
     json j = json::parse(ck.config);
     edit(j);
@@ -77,8 +77,8 @@ nerf::Checkpoint checkpointWith(const std::vector<TrainedCamera>& cameras,
   return ck;
 }
 
-std::string camerasError(const nerf::Checkpoint& ck) {
-  return test::errorOf([&] { nerf::CheckpointRecord(ck).trainingCameras(); });
+std::string camerasError(const io::Checkpoint& ck) {
+  return test::errorOf([&] { io::CheckpointRecord(ck).trainingCameras(); });
 }
 
 }  // namespace
@@ -86,7 +86,7 @@ std::string camerasError(const nerf::Checkpoint& ck) {
 TEST(CheckpointRecord, TrainingCamerasReadBackBitForBit) {
   for (uint32_t seed : {1u, 2u, 3u}) {
     const auto cameras = randomCameras(seed);
-    const auto back = nerf::CheckpointRecord(checkpointWith(cameras)).trainingCameras();
+    const auto back = io::CheckpointRecord(checkpointWith(cameras)).trainingCameras();
     ASSERT_EQ(back.size(), cameras.size());
     for (size_t i = 0; i < cameras.size(); ++i) {
       SCOPED_TRACE(i);
@@ -94,14 +94,14 @@ TEST(CheckpointRecord, TrainingCamerasReadBackBitForBit) {
       EXPECT_EQ(bitsOf(back[i].camera), bitsOf(cameras[i].camera));
     }
   }
-  EXPECT_TRUE(nerf::CheckpointRecord(checkpointWith({})).trainingCameras().empty());
+  EXPECT_TRUE(io::CheckpointRecord(checkpointWith({})).trainingCameras().empty());
 }
 
 // A checkpoint written before the cameras were recorded: the rest of its record reads as before,
 // and only the cameras fail, in one line naming the file and the field.
 TEST(CheckpointRecord, OlderCheckpointWithoutCamerasLoadsButHasNone) {
   const auto ck = checkpointWith(randomCameras(4), [](json& j) { j.erase("training_cameras"); });
-  const nerf::CheckpointRecord record(ck);
+  const io::CheckpointRecord record(ck);
   EXPECT_EQ(record.step(), 7u);
   EXPECT_NO_THROW(record.config());
   EXPECT_NO_THROW(record.bounds());

@@ -23,7 +23,7 @@ TrainConfig fastConfig(uint32_t featureWidth) {
 
 TEST(ConfigJson, FeatureWidthRoundTrips) {
   for (uint32_t v : {16u, 12u, 0u}) {
-    const TrainConfig back = nerf::trainConfigFromJson(nerf::toJson(fastConfig(v)), "m.vknerf");
+    const TrainConfig back = io::trainConfigFromJson(io::toJson(fastConfig(v)), "m.vknerf");
     EXPECT_EQ(back.fastModel().featureWidth, v);
   }
 }
@@ -31,15 +31,15 @@ TEST(ConfigJson, FeatureWidthRoundTrips) {
 // Models saved before the feature width was a setting passed the whole trunk width on (0 = width),
 // whatever today's default is, so their parameters still line up.
 TEST(ConfigJson, AModelWithoutAFeatureWidthPassesTheWholeWidth) {
-  auto j = nerf::toJson(fastConfig(16));
+  auto j = io::toJson(fastConfig(16));
   j["model"].erase("feature_width");
-  EXPECT_EQ(nerf::trainConfigFromJson(j, "old.vknerf").fastModel().featureWidth, 0u);
+  EXPECT_EQ(io::trainConfigFromJson(j, "old.vknerf").fastModel().featureWidth, 0u);
 }
 
 TEST(ConfigJson, AFeatureWidthThatCannotWorkNamesTheKey) {
   for (uint32_t v : {6u, 128u}) {  // not a multiple of 4; wider than the 64-wide trunk
     try {
-      nerf::trainConfigFromJson(nerf::toJson(fastConfig(v)), "bad.vknerf");
+      io::trainConfigFromJson(io::toJson(fastConfig(v)), "bad.vknerf");
       ADD_FAILURE() << "feature width " << v << " was accepted";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("model.feature_width"), std::string::npos) << e.what();
@@ -52,14 +52,14 @@ TEST(ConfigJson, AFeatureWidthThatCannotWorkNamesTheKey) {
 TEST(ConfigJson, DistortionLossRoundTripsAndDefaultsToNoneForOldModels) {
   TrainConfig c = fastConfig(16);
   c.fastModel().distortionLoss = 0.01f;
-  EXPECT_EQ(nerf::trainConfigFromJson(nerf::toJson(c), "m.vknerf").fastModel().distortionLoss, 0.01f);
-  auto j = nerf::toJson(c);
+  EXPECT_EQ(io::trainConfigFromJson(io::toJson(c), "m.vknerf").fastModel().distortionLoss, 0.01f);
+  auto j = io::toJson(c);
   j.erase("distortion_loss");
-  EXPECT_EQ(nerf::trainConfigFromJson(j, "old.vknerf").fastModel().distortionLoss, 0.0f);
+  EXPECT_EQ(io::trainConfigFromJson(j, "old.vknerf").fastModel().distortionLoss, 0.0f);
   for (float bad : {-0.5f, std::numeric_limits<float>::infinity()}) {
     c.fastModel().distortionLoss = bad;
     try {
-      nerf::trainConfigFromJson(nerf::toJson(c), "bad.vknerf");
+      io::trainConfigFromJson(io::toJson(c), "bad.vknerf");
       ADD_FAILURE() << "distortion loss " << bad << " was accepted";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("distortion_loss"), std::string::npos) << e.what();
@@ -73,14 +73,14 @@ TEST(ConfigJson, FarFieldRoundTripsAndDefaultsToConstantForOldModels) {
   TrainConfig c = fastConfig(16);
   for (FarField f : {FarField::Constant, FarField::Learned}) {
     c.fastModel().farField = f;
-    EXPECT_EQ(nerf::trainConfigFromJson(nerf::toJson(c), "m.vknerf").fastModel().farField, f);
+    EXPECT_EQ(io::trainConfigFromJson(io::toJson(c), "m.vknerf").fastModel().farField, f);
   }
-  auto j = nerf::toJson(c);
+  auto j = io::toJson(c);
   j["model"].erase("far_field");
-  EXPECT_EQ(nerf::trainConfigFromJson(j, "old.vknerf").fastModel().farField, FarField::Constant);
+  EXPECT_EQ(io::trainConfigFromJson(j, "old.vknerf").fastModel().farField, FarField::Constant);
   j["model"]["far_field"] = "painted";
   try {
-    nerf::trainConfigFromJson(j, "bad.vknerf");
+    io::trainConfigFromJson(j, "bad.vknerf");
     ADD_FAILURE() << "far field \"painted\" was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.vknerf"), std::string::npos) << e.what();
@@ -102,7 +102,7 @@ TEST(ConfigJson, TheFirstFormatsKeysStayWhereTheyWere) {
   };
   const std::set<std::string> common = {"background", "beta1", "beta2", "decay_steps", "epsilon", "lr", "lr_final",
                                         "model", "random_background", "rays_per_batch", "seed"};
-  const nlohmann::json vanilla = nerf::toJson(TrainConfig{}), fast = nerf::toJson(fastConfig(16));
+  const nlohmann::json vanilla = io::toJson(TrainConfig{}), fast = io::toJson(fastConfig(16));
   EXPECT_TRUE(has(keys(vanilla), common)) << vanilla.dump();
   EXPECT_TRUE(has(keys(vanilla["model"]), {"name", "width", "depth", "skip_layer", "pos_levels", "dir_levels", "density",
                                            "coarse_samples", "fine_samples", "separate_fine"}))
@@ -125,7 +125,7 @@ TEST(ConfigJson, TheFirstFormatsKeysStayWhereTheyWere) {
 // A fast model saved by the first format (its keys only) loads as it trained then.
 TEST(ConfigJson, AFastModelOfTheFirstFormatLoads) {
   const TrainConfig defaults = fastConfig(16);
-  auto j = nerf::toJson(defaults);
+  auto j = io::toJson(defaults);
   for (const char* later : {"feature_width", "hash_levels", "hash_features", "hash_log2_size", "hash_base_resolution",
                             "hash_growth", "sh_degree", "grid_resolution", "cascades", "cone_angle", "near_distance",
                             "march_steps", "max_samples_per_ray", "far_field"})
@@ -133,7 +133,7 @@ TEST(ConfigJson, AFastModelOfTheFirstFormatLoads) {
   for (const char* later : {"samples_per_batch", "grid_update_interval", "grid_warmup_steps", "hash_lr_scale",
                             "early_termination", "distortion_loss"})
     j.erase(later);
-  const FastModel m = nerf::trainConfigFromJson(j, "first.vknerf").fastModel();
+  const FastModel m = io::trainConfigFromJson(j, "first.vknerf").fastModel();
   EXPECT_EQ(m.featureWidth, 0u);  // the whole width
   EXPECT_EQ(m.cascades, 1u);
   EXPECT_EQ(m.nearDistance, 0.0f);
@@ -148,20 +148,20 @@ TEST(ConfigJson, AFastModelOfTheFirstFormatLoads) {
 // names the file and the key.
 TEST(ConfigJson, AMissingOrMistypedFirstFormatKeyNamesFileAndKey) {
   for (const TrainConfig& c : {TrainConfig{}, fastConfig(16)}) {
-    const auto j = nerf::toJson(c);
+    const auto j = io::toJson(c);
     for (const char* key : {"lr", "seed", "background"}) {
       auto broken = j;
       broken.erase(key);
-      const std::string message = test::errorOf([&] { nerf::trainConfigFromJson(broken, "old.vknerf"); });
+      const std::string message = test::errorOf([&] { io::trainConfigFromJson(broken, "old.vknerf"); });
       EXPECT_MESSAGE_HAS(message, "old.vknerf: checkpoint config: ");
       EXPECT_MESSAGE_HAS(message, std::string("key '") + key + "' not found");
     }
     auto broken = j;
     broken["model"].erase("width");
-    EXPECT_MESSAGE_HAS(test::errorOf([&] { nerf::trainConfigFromJson(broken, "old.vknerf"); }), "key 'width' not found");
+    EXPECT_MESSAGE_HAS(test::errorOf([&] { io::trainConfigFromJson(broken, "old.vknerf"); }), "key 'width' not found");
     broken = j;
     broken["model"]["depth"] = "deep";
-    EXPECT_MESSAGE_HAS(test::errorOf([&] { nerf::trainConfigFromJson(broken, "old.vknerf"); }),
+    EXPECT_MESSAGE_HAS(test::errorOf([&] { io::trainConfigFromJson(broken, "old.vknerf"); }),
                        "old.vknerf: checkpoint config: [json.exception.type_error.302]");
   }
 }
@@ -176,8 +176,8 @@ TEST(ConfigJson, EveryFieldRoundTrips) {
   m.coneAngle = 1.0f / 64, m.cascades = 3, m.nearDistance = 0.1f, m.hashGrowth = 1.38f, m.earlyTermination = false;
   m.farField = FarField::Learned, m.density = DensityActivation::Softplus, m.distortionLoss = 0.001f;
   for (const TrainConfig& c : {v, f}) {
-    const auto j = nerf::toJson(c);
-    EXPECT_EQ(nerf::toJson(nerf::trainConfigFromJson(j, "m.vknerf")), j);
+    const auto j = io::toJson(c);
+    EXPECT_EQ(io::toJson(io::trainConfigFromJson(j, "m.vknerf")), j);
   }
 }
 

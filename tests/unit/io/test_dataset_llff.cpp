@@ -9,7 +9,7 @@
 #include <limits>
 #include <random>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "io/dataset/dataset_loaders.h"
 #include "vknerf/image_io.h"
 #include "nerf/rays/rays.h"
@@ -443,7 +443,7 @@ TEST(DatasetLlff, FrustumBoxOfOneCameraIsItsCorners) {
   // x in +-z, y in +-0.75 z.
   const Camera c = pinholeFromFocal(40, 30, 20);
   const std::array<float, 2> bounds{1, 3};
-  const Aabb box = nerf::detail::boxFromFrustums(std::span(&c, 1), std::span(&bounds, 1));
+  const Aabb box = io::detail::boxFromFrustums(std::span(&c, 1), std::span(&bounds, 1));
   EXPECT_EQ(box.min, (std::array<float, 3>{-3, -2.25f, -3}));
   EXPECT_EQ(box.max, (std::array<float, 3>{3, 2.25f, -1}));
 }
@@ -454,7 +454,7 @@ TEST(DatasetLlff, FrustumBoxHoldsEveryFrustumAndNoMore) {
                               pinholeFromFocal(64, 48, 80, lookAt({0, -5, 0.5f}, {0, 0, 1}, {0, 0, 1}))};
   cams[1].cx = 7.5f;  // an off-centre principal point
   const std::vector<std::array<float, 2>> bounds = {{1, 6}, {0.5f, 3}, {2, 9}};
-  const Aabb box = nerf::detail::boxFromFrustums(cams, bounds);
+  const Aabb box = io::detail::boxFromFrustums(cams, bounds);
   // Points of the frustums, reached along the reference's rays: depth z along the axis is distance
   // z / cos on a ray. Every one lies in the box; the corners reach each face (the box is tight).
   std::mt19937 rng(3);
@@ -496,10 +496,10 @@ TEST(DatasetLlff, FrustumBoxHoldsEveryFrustumAndNoMore) {
 TEST(DatasetLlff, FrustumBoxRefusesLensesAndMismatchedBounds) {
   Camera c = pinholeFromFocal(8, 6, 10);
   const std::array<float, 2> b{1, 2};
-  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::detail::boxFromFrustums(std::span(&c, 1), {}); }), "one {near, far} per camera");
+  EXPECT_MESSAGE_HAS(errorOf([&] { io::detail::boxFromFrustums(std::span(&c, 1), {}); }), "one {near, far} per camera");
   c.lens.model = LensModel::OpenCV;
   c.lens.k1 = 0.1f;
-  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::detail::boxFromFrustums(std::span(&c, 1), std::span(&b, 1)); }), "pinhole");
+  EXPECT_MESSAGE_HAS(errorOf([&] { io::detail::boxFromFrustums(std::span(&c, 1), std::span(&b, 1)); }), "pinhole");
 }
 
 // A forward-facing capture's cascades: a 3x3 grid of cameras 0.1 apart looking down -Z, 40x30 at
@@ -518,8 +518,8 @@ TEST(DatasetLlff, ForwardFacingBoxNestsCascadesFromTheNearContentOut) {
     bounds.push_back({i == 4 ? 0.8f : 1.0f, 20});
   }
   float scale = 0;
-  const Aabb frustums = nerf::detail::boxFromFrustums(cams, bounds);
-  const Aabb box = nerf::detail::cascadedBoxFromDepths(cams, bounds, frustums, scale);
+  const Aabb frustums = io::detail::boxFromFrustums(cams, bounds);
+  const Aabb box = io::detail::cascadedBoxFromDepths(cams, bounds, frustums, scale);
   ASSERT_GE(scale, 2.0f);
   EXPECT_EQ(std::exp2(std::round(std::log2(scale))), scale) << "a power of two";
   std::array<double, 3> centre, half;

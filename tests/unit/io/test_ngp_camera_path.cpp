@@ -17,8 +17,8 @@
 
 using namespace vknerf;
 using namespace vknerf::test;
-using nerf::detail::NgpFrame;
-using nerf::detail::NgpKeyframe;
+using io::detail::NgpFrame;
+using io::detail::NgpKeyframe;
 
 namespace {
 
@@ -186,7 +186,7 @@ TEST(NgpCameraFrame, PosesConvertAsWorkedOutByHand) {
                                         1, 0, 0,  0,           //
                                         0, -1, 0, 0.1 / 0.33,  //
                                         0, 0, 0,  1};
-  auto m = nerf::detail::ngpPoseToDataset(k, defaults);
+  auto m = io::detail::ngpPoseToDataset(k, defaults);
   for (size_t i = 0; i < 16; ++i) EXPECT_NEAR(m[i], identity[i], 1e-12) << i;
   // 90 degrees about instant-ngp's y: right = ngp -z (dataset -x), down = ngp +y (dataset +z),
   // forward = ngp +x (dataset +y).
@@ -196,14 +196,14 @@ TEST(NgpCameraFrame, PosesConvertAsWorkedOutByHand) {
                                       0,  0, -1, 0,  //
                                       0,  -1, 0, 0,  //
                                       0,  0, 0,  1};
-  m = nerf::detail::ngpPoseToDataset(k, defaults);
+  m = io::detail::ngpPoseToDataset(k, defaults);
   for (size_t i = 0; i < 16; ++i) EXPECT_NEAR(m[i], turned[i], 1e-12) << i;
 }
 
 TEST_F(NgpCameraPathTest, SceneFrameComesFromTransformsJsonAsInstantNgpReadsIt) {
   // "aabb" overrides scale and offset: its longest side becomes 1, its centre (0.5, 0.5, 0.5).
   writeJson(dir() / "box.json", {{"scale", 3.0}, {"aabb", {{0, 0, 0}, {2, 4, 2}}}});
-  NgpFrame f = nerf::detail::ngpFrameOfScene((dir() / "box.json").string());
+  NgpFrame f = io::detail::ngpFrameOfScene((dir() / "box.json").string());
   EXPECT_DOUBLE_EQ(f.scale, 0.25);
   EXPECT_DOUBLE_EQ(f.offset[0], 0.25);
   EXPECT_DOUBLE_EQ(f.offset[1], 0.0);
@@ -211,16 +211,16 @@ TEST_F(NgpCameraPathTest, SceneFrameComesFromTransformsJsonAsInstantNgpReadsIt) 
   // One number is the offset of every axis; a split scene's transforms_train.json is read.
   fs::create_directories(dir() / "split");
   writeJson(dir() / "split" / "transforms_train.json", {{"offset", 0.25}});
-  f = nerf::detail::ngpFrameOfScene((dir() / "split").string());
+  f = io::detail::ngpFrameOfScene((dir() / "split").string());
   EXPECT_DOUBLE_EQ(f.scale, 0.33);
   EXPECT_EQ(f.offset, (std::array<double, 3>{0.25, 0.25, 0.25}));
   // A folder with no transforms file (a COLMAP scene): instant-ngp's defaults, said so.
   fs::create_directories(dir() / "colmap");
-  f = nerf::detail::ngpFrameOfScene((dir() / "colmap").string());
+  f = io::detail::ngpFrameOfScene((dir() / "colmap").string());
   EXPECT_DOUBLE_EQ(f.scale, 0.33);
   EXPECT_MESSAGE_HAS(f.source, "instant-ngp's defaults (no transforms.json in");
   writeJson(dir() / "bad.json", {{"scale", -1}});
-  EXPECT_MESSAGE_HAS(errorOf([&] { nerf::detail::ngpFrameOfScene((dir() / "bad.json").string()); }),
+  EXPECT_MESSAGE_HAS(errorOf([&] { io::detail::ngpFrameOfScene((dir() / "bad.json").string()); }),
                      "bad.json: field 'scale' must be positive");
 }
 

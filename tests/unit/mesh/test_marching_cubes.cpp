@@ -9,7 +9,7 @@
 
 #include <random>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/mesh/marching_cubes.h"
 #include "reference/mesh/marching_cubes.h"
 #include "support/gpu_test.h"

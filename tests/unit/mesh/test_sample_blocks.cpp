@@ -7,8 +7,8 @@
 #include <cmath>
 #include <functional>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/mesh/density_grid.h"
 #include "nerf/mesh/marching_cubes.h"
 #include "nerf/mesh/sample_blocks.h"

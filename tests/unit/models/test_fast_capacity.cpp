@@ -55,7 +55,7 @@ Resolved resolvedAt(uint32_t marchSteps, float fovX, bool cpu, Set set) {
   r.m.marchSteps = marchSteps;
   r.m.maxSamplesPerRay = 0;
   set(r.m);
-  r.note = nerf::resolveFastCapacity(r.m, ring(4, 400, 400, fovX, 4), cpu);
+  r.note = models::resolveFastCapacity(r.m, ring(4, 400, 400, fovX, 4), cpu);
   return r;
 }
 
@@ -66,33 +66,33 @@ Resolved resolvedAt(uint32_t marchSteps, float fovX, bool cpu, Set set) {
 TEST(FastCapacity, FinestResolutionResolvesThePixelFootprint) {
   const Dataset d = ring(8, 400, 400, 60, 4);
   FastModel m = openModel();
-  const std::string note = nerf::resolveFastCapacity(m, d, false);
+  const std::string note = models::resolveFastCapacity(m, d, false);
   const double focal = 200 / std::tan(30 * M_PI / 180), distance = std::sqrt(16 + 0.25);
   const double wanted = 2 * 2 / (distance / focal);  // ~327
   EXPECT_NEAR(finestOf(m), std::exp2(std::ceil(std::log2(wanted))), 1e-2);
   EXPECT_NE(note.find("finest 512"), std::string::npos) << note;
   // Twice the pixels across: twice the resolution.
   FastModel sharper = openModel();
-  nerf::resolveFastCapacity(sharper, ring(8, 800, 800, 60, 4), false);
+  models::resolveFastCapacity(sharper, ring(8, 800, 800, 60, 4), false);
   EXPECT_NEAR(finestOf(sharper), 2 * finestOf(m), 1e-2);
 }
 
 // The table: at most a parameter per training pixel (levels x features per entry), within 2^15..2^19.
 TEST(FastCapacity, TableFollowsTheTrainingPixels) {
   FastModel few = openModel(), many = openModel();
-  nerf::resolveFastCapacity(few, ring(4, 100, 100, 60, 4), false);  // 40k pixels: the floor, 2^15
+  models::resolveFastCapacity(few, ring(4, 100, 100, 60, 4), false);  // 40k pixels: the floor, 2^15
   EXPECT_EQ(few.hashLog2Size, 15u);
-  nerf::resolveFastCapacity(many, ring(100, 800, 800, 60, 4), false);  // 64M pixels / 16: 2^21, capped
+  models::resolveFastCapacity(many, ring(100, 800, 800, 60, 4), false);  // 64M pixels / 16: 2^21, capped
   EXPECT_EQ(many.hashLog2Size, 19u);
   FastModel mid = openModel();
-  nerf::resolveFastCapacity(mid, ring(16, 256, 256, 60, 4), false);  // 1M pixels / 16 = 2^16
+  models::resolveFastCapacity(mid, ring(16, 256, 256, 60, 4), false);  // 1M pixels / 16 = 2^16
   EXPECT_EQ(mid.hashLog2Size, 16u);
 }
 
 // A CPU device: the table at most 2^17 and the finest level at most 512, whatever the data asks for.
 TEST(FastCapacity, CpuDeviceCapsTheModel) {
   FastModel m = openModel();
-  const std::string note = nerf::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), true);
+  const std::string note = models::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), true);
   EXPECT_EQ(m.hashLog2Size, 17u);
   EXPECT_NEAR(finestOf(m), 512, 1e-2);
   EXPECT_NE(note.find("at most 512 on a CPU"), std::string::npos) << note;
@@ -104,12 +104,12 @@ TEST(FastCapacity, ExplicitSettingsWin) {
   m.hashLog2Size = 17;
   m.hashGrowth = 1.5f;
   const FastModel before = m;
-  nerf::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), false);
+  models::resolveFastCapacity(m, ring(100, 800, 800, 60, 4), false);
   EXPECT_EQ(m.hashLog2Size, before.hashLog2Size);
   EXPECT_EQ(m.hashGrowth, before.hashGrowth);
   FastModel growthOnly = openModel();
   growthOnly.hashGrowth = 1.5f;
-  nerf::resolveFastCapacity(growthOnly, ring(100, 800, 800, 60, 4), false);
+  models::resolveFastCapacity(growthOnly, ring(100, 800, 800, 60, 4), false);
   EXPECT_EQ(growthOnly.hashGrowth, 1.5f);
   EXPECT_EQ(growthOnly.hashLog2Size, 19u);
 }
@@ -119,15 +119,15 @@ TEST(FastCapacity, ExplicitSettingsWin) {
 // more per doubling; on a CPU the cap holds for the inner cube.
 TEST(FastCapacity, CascadesKeepTheInnerCubesDetail) {
   FastModel alone = openModel();
-  nerf::resolveFastCapacity(alone, ring(8, 400, 400, 60, 4), false);
+  models::resolveFastCapacity(alone, ring(8, 400, 400, 60, 4), false);
   FastModel cascaded = openModel();
   cascaded.cascades = 3;
-  const std::string note = nerf::resolveFastCapacity(cascaded, ring(8, 400, 400, 60, 4, 4), false);
+  const std::string note = models::resolveFastCapacity(cascaded, ring(8, 400, 400, 60, 4, 4), false);
   EXPECT_EQ(cascaded.hashLevels, alone.hashLevels + 2);
   EXPECT_NEAR(finestOf(cascaded), 4 * finestOf(alone), 1e-2 * finestOf(alone)) << note;
   FastModel cpu = openModel();
   cpu.cascades = 3;
-  nerf::resolveFastCapacity(cpu, ring(100, 800, 800, 60, 4, 4), true);
+  models::resolveFastCapacity(cpu, ring(100, 800, 800, 60, 4, 4), true);
   EXPECT_NEAR(finestOf(cpu), 4 * 512, 1e-1);
 }
 
@@ -140,7 +140,7 @@ TEST(FastCapacity, MarchStepFollowsThePixelFootprint) {
     FastModel m = openModel();
     m.marchSteps = m.maxSamplesPerRay = 0;
     m.cascades = cascades;
-    const std::string note = nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4, boxHalf), cpu);
+    const std::string note = models::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4, boxHalf), cpu);
     EXPECT_EQ(m.maxSamplesPerRay, m.marchSteps);
     EXPECT_NE(note.find("march: " + std::to_string(m.marchSteps) + " steps"), std::string::npos) << note;
     return m.marchSteps;
@@ -165,7 +165,7 @@ TEST(FastCapacity, MarchStepFollowsThePixelFootprint) {
     FastModel m = openModel();
     m.marchSteps = marchSteps;
     m.maxSamplesPerRay = maxSamplesPerRay;
-    nerf::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4), true);
+    models::resolveFastCapacity(m, ring(4, 400, 400, fovX, 4), true);
     return std::pair{m.marchSteps, m.maxSamplesPerRay};
   };
   EXPECT_EQ(resolved(200, 0, 4.6f), std::pair(200u, 200u));
@@ -176,18 +176,18 @@ TEST(FastCapacity, MarchStepFollowsThePixelFootprint) {
 // box 10 times larger, 10 times the distance), the inner cube with cascades; one set is kept.
 TEST(FastCapacity, NearDistanceFollowsTheInnerCube) {
   FastModel m = openModel();
-  nerf::resolveFastCapacity(m, ring(8, 100, 100, 60, 4), true);
+  models::resolveFastCapacity(m, ring(8, 100, 100, 60, 4), true);
   EXPECT_FLOAT_EQ(m.nearDistance, 0.05f * 2);
   FastModel large = openModel();
-  nerf::resolveFastCapacity(large, ring(8, 100, 100, 60, 40, 10), true);
+  models::resolveFastCapacity(large, ring(8, 100, 100, 60, 40, 10), true);
   EXPECT_FLOAT_EQ(large.nearDistance, 0.05f * 20);
   FastModel cascaded = openModel();
   cascaded.cascades = 3;
-  nerf::resolveFastCapacity(cascaded, ring(8, 100, 100, 60, 4, 4), true);
+  models::resolveFastCapacity(cascaded, ring(8, 100, 100, 60, 4, 4), true);
   EXPECT_FLOAT_EQ(cascaded.nearDistance, 0.05f * 2);
   FastModel set = openModel();
   set.nearDistance = 0.3f;
-  nerf::resolveFastCapacity(set, ring(8, 100, 100, 60, 4), true);
+  models::resolveFastCapacity(set, ring(8, 100, 100, 60, 4), true);
   EXPECT_EQ(set.nearDistance, 0.3f);
 }
 

@@ -6,8 +6,8 @@
 #include <set>
 #include <map>
 
-#include "gpu/device.h"
-#include "gpu/recorder.h"
+#include "gpu/device/device.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "support/temp_dir.h"
@@ -55,7 +55,7 @@ TrainConfig smallFast() {
 }
 
 // colour vec4 per ray of camera 0's first `count` pixels, rendered by `pipe`.
-std::vector<float> renderBlock(nerf::FieldPipeline& pipe, const Camera& cam, uint32_t count, bool mayWait) {
+std::vector<float> renderBlock(models::FieldPipeline& pipe, const Camera& cam, uint32_t count, bool mayWait) {
   Context& ctx = test::context();
   auto packed = nerf::packCameras(std::span<const Camera>(&cam, 1));
   auto camBuf = gpu::Buffer::of(ctx, packed);
@@ -133,8 +133,8 @@ TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {
   const Aabb box = scene("train").bounds;
   const Camera& cam = scene("test").cameras[1];
   const uint32_t count = 2048;
-  nerf::FastPipeline small(test::context(), cfg, box, count, true);  // sample capacity ~8k
-  nerf::FastPipeline large(test::context(), cfg, box, count, false);  // 64 samples per ray of capacity: 131k
+  models::FastPipeline small(test::context(), cfg, box, count, true);  // sample capacity ~8k
+  models::FastPipeline large(test::context(), cfg, box, count, false);  // 64 samples per ray of capacity: 131k
   auto split = renderBlock(small, cam, count, true);
   auto whole = renderBlock(large, cam, count, true);
   expectSameImage(split, whole, 1e-5);
@@ -151,13 +151,13 @@ TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {
 // Every MLP parameter set to `value` (padding included): with 0.3 the density is ~e^6 wherever the
 // hash features are near 0 (all of an untrained table), so a ray through the box is opaque after a
 // few of its 64 samples.
-void setNetworkParameters(nerf::FastPipeline& pipe, float value) {
+void setNetworkParameters(models::FastPipeline& pipe, float value) {
   for (const auto& s : pipe.state())
     if (s.name.rfind("mlp", 0) == 0 && !s.optimizer) s.buffer->upload(std::vector<float>(s.count, value));
 }
 
 // Submissions of a render of camera 1's first `count` pixels.
-size_t renderSubmissions(nerf::FieldPipeline& pipe, const Camera& cam, uint32_t count) {
+size_t renderSubmissions(models::FieldPipeline& pipe, const Camera& cam, uint32_t count) {
   Context& ctx = test::context();
   auto packed = nerf::packCameras(std::span<const Camera>(&cam, 1));
   auto camBuf = gpu::Buffer::of(ctx, packed);
@@ -185,7 +185,7 @@ TEST_F(FastPipelineTest, ARenderStopsEachRayWhereItIsOpaque) {
   const uint32_t count = 2048;
   RenderSettings everySample;
   everySample.minTransmittance = 0;
-  nerf::FastPipeline opaque(test::context(), cfg, box, count, false),
+  models::FastPipeline opaque(test::context(), cfg, box, count, false),
       whole(test::context(), cfg, box, count, false, everySample);
   setNetworkParameters(opaque, 0.3f);
   setNetworkParameters(whole, 0.3f);
@@ -227,14 +227,14 @@ TEST_F(FastPipelineTest, ATrainingStepInSegmentsCompositesWhatOneForwardDoes) {
   nerf::TrainingPixels pixels(ctx, nerf::planPixelBindings(pixelCounts, nerf::pixelBytesPerBinding(ctx)));
   for (uint32_t i = 0; i < train.images.size(); ++i) pixels.upload(i, train.images[i].rgba.data());
   auto cameras = gpu::Buffer::of(ctx, nerf::packCameras(train.cameras, pixels.layout().images));
-  const nerf::TrainingData data{pixels.bindings(), &cameras, uint32_t(train.cameras.size()), true};
+  const models::TrainingData data{pixels.bindings(), &cameras, uint32_t(train.cameras.size()), true};
   struct Step {
-    nerf::FieldPipeline::StepSize size;
+    models::FieldPipeline::StepSize size;
     std::vector<float> color, partials;
     double samplesPerRay;
   };
   auto step = [&](double segmentsBelowKept) {
-    nerf::FastPipeline pipe(ctx, cfg, train.bounds, cfg.raysPerBatch, true);
+    models::FastPipeline pipe(ctx, cfg, train.bounds, cfg.raysPerBatch, true);
     pipe.segmentTrainingBelowKept(segmentsBelowKept);
     pipe.setTrainingCameras(data.numCameras);
     setNetworkParameters(pipe, 0.3f);
@@ -272,7 +272,7 @@ TEST_F(FastPipelineTest, RenderSettingsOutOfRangeAreErrors) {
   for (float t : {-1e-3f, 1.0f, std::nanf("")}) {
     RenderSettings s;
     s.minTransmittance = t;
-    EXPECT_THROW(nerf::FastPipeline(test::context(), smallFast(), box, 64, false, s), Error) << t;
+    EXPECT_THROW(models::FastPipeline(test::context(), smallFast(), box, 64, false, s), Error) << t;
   }
 }
 

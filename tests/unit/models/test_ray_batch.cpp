@@ -25,7 +25,7 @@ class RayBatchBackground : public test::GpuTest {
     TrainConfig config;
     config.randomBackground = random;
     config.background = {0.25f, 0.5f, 0.75f};
-    nerf::RayBatch batch(ctx(), 64);
+    models::RayBatch batch(ctx(), 64);
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
       batch.recordTraining(rec, {pixels, &cameras, 1, transparentPixels}, 7, 64, Aabb{}, config);
     });

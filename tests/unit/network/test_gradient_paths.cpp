@@ -9,8 +9,8 @@
 #include <set>
 #include <string>
 
-#include "gpu/device.h"
-#include "gpu/shader_ids.h"
+#include "gpu/device/device.h"
+#include "gpu/kernels/shader_ids.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/dense_layer.h"
 #include "nerf/network/gradient_paths.h"

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/encoding/sh_encoding.h"
 #include "nerf/network/mlp.h"

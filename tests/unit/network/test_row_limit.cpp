@@ -1,4 +1,4 @@
-// Row limits (shaders/gpu/row_limit.glsl, gpu/limited_dispatch.h): the per-sample forward kernels
+// Row limits (shaders/gpu/row_limit.glsl, gpu/dispatch/limited_dispatch.h): the per-sample forward kernels
 // recorded for a capacity but cut to a row count that only the device knows (the marcher's sample
 // total, in a render recorded into a caller's command buffer), their workgroup counts written on
 // the device (indirect dispatch). Below the limit a limited dispatch must write exactly what the unlimited
@@ -11,9 +11,9 @@
 #include <functional>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/limited_dispatch.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/limited_dispatch.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/gpu_test.h"
 #include "support/random_values.h"
 #include "support/row_batches.h"

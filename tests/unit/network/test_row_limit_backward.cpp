@@ -11,8 +11,8 @@
 #include <tuple>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
 #include "support/gpu_test.h"

@@ -5,8 +5,8 @@
 #include <span>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "models/common/trainable_parameters.h"
@@ -124,13 +124,13 @@ TEST(AdamReference, LearningRateHoldsAfterTheDecayEnds) {
   t.learningRate = 2e-3f;
   t.learningRateFinal = 2e-4f;
   t.decaySteps = 100;
-  const nerf::AdamConfig a = nerf::adamConfigOf(t);
+  const nerf::AdamConfig a = models::adamConfigOf(t);
   EXPECT_FLOAT_EQ(a.learningRate(100), 2e-4f);
   EXPECT_FLOAT_EQ(a.learningRate(1000), 2e-4f);
   EXPECT_GT(a.learningRate(99), a.learningRate(100));
   // A rising schedule holds at its final rate too.
   t.learningRateFinal = 4e-3f;
-  EXPECT_FLOAT_EQ(nerf::adamConfigOf(t).learningRate(5000), 4e-3f);
+  EXPECT_FLOAT_EQ(models::adamConfigOf(t).learningRate(5000), 4e-3f);
 }
 
 TEST_F(Adam, OneStepMatchesReference) {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/lens.h"
 #include "reference/rays/rays.h"

@@ -5,8 +5,8 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/rays/pose_correction.h"
 #include "nerf/rays/rays.h"
 #include "reference/rays/camera_runs.h"

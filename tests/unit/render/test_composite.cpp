@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "nerf/render/composite.h"

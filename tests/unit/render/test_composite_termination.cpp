@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/render/composite.h"
 #include "reference/occupancy/occupancy_grid.h"
 #include "support/gpu_test.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "models/common/far_field.h"
 #include "nerf/optim/adam.h"
 #include "reference/render/far_field.h"
@@ -72,8 +72,8 @@ class FarFieldTest : public test::GpuTest {};
 
 TEST_F(FarFieldTest, ForwardAndBackwardMatchReference) {
   nerf::AdamConfig adam;
-  nerf::LearnedFarField ff(ctx(), 512, 3, {0.3f, 0.6f, 0.9f}, adam, adam);
-  const ref::FarFieldShape s = nerf::LearnedFarField::shape();
+  models::LearnedFarField ff(ctx(), 512, 3, {0.3f, 0.6f, 0.9f}, adam, adam);
+  const ref::FarFieldShape s = models::LearnedFarField::shape();
   // Parameters of a trained-looking field (the initial ones are a near-zero table and a zero output
   // layer, which would test nothing).
   auto table = test::uniformFloats(ref::hashGridParameterCount(s.grid), 21, -0.5f, 0.5f);
@@ -110,8 +110,8 @@ TEST_F(FarFieldTest, ForwardAndBackwardMatchReference) {
 TEST_F(FarFieldTest, OpaqueRaysTeachNothing) {
   // Every ray opaque: no light reaches the far field, so no parameter gets a gradient.
   nerf::AdamConfig adam;
-  nerf::LearnedFarField ff(ctx(), 64, 3, {0.5f, 0.5f, 0.5f}, adam, adam);
-  const ref::FarFieldShape s = nerf::LearnedFarField::shape();
+  models::LearnedFarField ff(ctx(), 64, 3, {0.5f, 0.5f, 0.5f}, adam, adam);
+  const ref::FarFieldShape s = models::LearnedFarField::shape();
   ff.tableParams().upload(test::uniformFloats(ref::hashGridParameterCount(s.grid), 21, -0.5f, 0.5f));
   ff.mlpParams().upload(test::uniformFloats(s.mlp.total, 22, -0.3f, 0.3f));
   ff.tableGrads().zero();
@@ -131,7 +131,7 @@ TEST_F(FarFieldTest, OpaqueRaysTeachNothing) {
 
 TEST_F(FarFieldTest, StartsAsTheConstantColour) {
   // The initial parameters give `initial` (clamped to [0.05, 0.95]) in every direction.
-  nerf::LearnedFarField ff(ctx(), 128, 9, {1.0f, 0.25f, 0.0f}, std::nullopt, std::nullopt);
+  models::LearnedFarField ff(ctx(), 128, 9, {1.0f, 0.25f, 0.0f}, std::nullopt, std::nullopt);
   const Batch b = makeBatch(128);
   auto rays = gpu::Buffer::of(ctx(), b.rays);
   gpu::Buffer bg = gpu::Buffer::zeros(ctx(), 128 * 16);
@@ -147,7 +147,7 @@ TEST(FarFieldReference, GradientMatchesFiniteDifferences) {
   // L = dColor . (T_final bg(d)) for a few rays, in double: the reference's gradient against central
   // differences at entries the rays touch (the table's entries at their corners) and at every MLP
   // parameter of the output layer and a sample of the hidden one.
-  const ref::FarFieldShape s = nerf::LearnedFarField::shape();
+  const ref::FarFieldShape s = models::LearnedFarField::shape();
   std::vector<double> table(ref::hashGridParameterCount(s.grid)), mlp(s.mlp.total);
   const auto t0 = test::uniformFloats(table.size(), 31, -0.5f, 0.5f), m0 = test::uniformFloats(mlp.size(), 32, -0.3f, 0.3f);
   std::copy(t0.begin(), t0.end(), table.begin());

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/render/segment_accumulator.h"
 #include "reference/render/segments.h"
 #include "support/gpu_test.h"

@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/sampling/ray_marcher.h"
 #include "reference/occupancy/occupancy_grid.h"

@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/sampling/kept_rows.h"
 #include "support/gpu_test.h"
 #include "support/random_values.h"

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/sampling/packed_layout.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"

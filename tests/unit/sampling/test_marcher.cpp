@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/prefix_sum.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/prefix_sum.h"
+#include "gpu/dispatch/recorder.h"
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "nerf/occupancy/occupancy_grid.h"

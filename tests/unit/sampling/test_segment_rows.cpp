@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 #include "nerf/render/composite.h"
 #include "nerf/sampling/segment_rows.h"
 #include "reference/occupancy/occupancy_grid.h"

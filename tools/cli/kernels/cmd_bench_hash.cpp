@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "command.h"
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "models/fast/fast_pipeline.h"  // hashGridConfigFor
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/gradient_paths.h"
@@ -75,7 +75,7 @@ int run(const Options& o, Context& ctx) {
   FastModel sample = TrainConfig::fast(ctx).fastModel();
   sample.hashLog2Size = 15;
   sample.hashGrowth = float(std::pow(256.0 / sample.hashBaseResolution, 1.0 / (sample.hashLevels - 1)));
-  const nerf::HashGridConfig fastGrid = nerf::hashGridConfigFor(sample);
+  const nerf::HashGridConfig fastGrid = models::hashGridConfigFor(sample);
   auto label = [](const nerf::HashGridConfig& c, const char* what) {
     return "L=" + std::to_string(c.levels) + " F=" + std::to_string(c.featuresPerLevel) +
            " T=" + std::to_string(c.log2TableSize) + what;

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/render/composite.h"
 #include "nerf/encoding/frequency_encoding.h"
 #include "nerf/loss/background_colors.h"

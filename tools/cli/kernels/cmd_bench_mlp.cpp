@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "command.h"
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/network/mlp.h"
 #include "reference/rng.h"
 #include "vknerf/error.h"

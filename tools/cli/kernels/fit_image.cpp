@@ -2,8 +2,8 @@
 
 #include <string>
 
-#include "gpu/buffer.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/frequency_encoding.h"
 #include "nerf/loss/background_colors.h"
 #include "nerf/loss/photometric_loss.h"

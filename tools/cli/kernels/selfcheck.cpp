@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 #include "vknerf/camera.h"
 #include "nerf/render/composite.h"
 #include "nerf/sampling/points.h"

@@ -1,4 +1,4 @@
-#include "gpu/device.h"
+#include "gpu/device/device.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -8,9 +8,9 @@
 #include <thread>
 #include <vector>
 
-#include "gpu/kernel_compiler.h"
-#include "gpu/physical_devices.h"
-#include "gpu/vk_check.h"
+#include "gpu/compile/kernel_compiler.h"
+#include "gpu/device/physical_devices.h"
+#include "gpu/device/vk_check.h"
 
 namespace vknerf::gpu {
 namespace {

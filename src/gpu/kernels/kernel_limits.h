@@ -9,7 +9,7 @@
 #include <string>
 #include <cstdint>
 
-#include "gpu/kernel.h"
+#include "gpu/kernels/kernel.h"
 
 namespace vknerf::gpu {
 

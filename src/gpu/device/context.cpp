@@ -3,9 +3,9 @@
 #include <sstream>
 #include <utility>
 
-#include "gpu/device.h"
-#include "gpu/kernel_compiler.h"
-#include "gpu/physical_devices.h"
+#include "gpu/device/device.h"
+#include "gpu/compile/kernel_compiler.h"
+#include "gpu/device/physical_devices.h"
 
 namespace vknerf {
 

@@ -11,8 +11,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "gpu/device.h"
-#include "gpu/kernel.h"
+#include "gpu/device/device.h"
+#include "gpu/kernels/kernel.h"
 
 namespace vknerf::gpu {
 

@@ -1,9 +1,9 @@
-#include "gpu/compile_device.h"
+#include "gpu/compile/compile_device.h"
 
 #include <string>
 
-#include "gpu/kernel_limits.h"
-#include "gpu/vk_check.h"
+#include "gpu/kernels/kernel_limits.h"
+#include "gpu/device/vk_check.h"
 
 namespace vknerf::gpu {
 namespace {

@@ -1,13 +1,13 @@
-#include "gpu/kernel.h"
+#include "gpu/kernels/kernel.h"
 
 #include <bit>
 #include <chrono>
 #include <utility>
 
-#include "gpu/device.h"
-#include "gpu/kernel_compiler.h"
-#include "gpu/kernel_limits.h"
-#include "gpu/vk_check.h"
+#include "gpu/device/device.h"
+#include "gpu/compile/kernel_compiler.h"
+#include "gpu/kernels/kernel_limits.h"
+#include "gpu/device/vk_check.h"
 
 namespace vknerf::gpu {
 namespace {

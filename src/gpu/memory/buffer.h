@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "gpu/memory_account.h"
+#include "gpu/memory/memory_account.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {

@@ -1,4 +1,4 @@
-#include "gpu/device_profile.h"
+#include "gpu/device/device_profile.h"
 
 #include <algorithm>
 #include <cstdlib>

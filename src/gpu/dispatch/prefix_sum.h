@@ -4,9 +4,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::gpu {
 

@@ -1,4 +1,4 @@
-#include "gpu/buffer.h"
+#include "gpu/memory/buffer.h"
 
 #include <algorithm>
 #include <atomic>
@@ -7,8 +7,8 @@
 #include <string>
 #include <utility>
 
-#include "gpu/device.h"
-#include "gpu/vk_check.h"
+#include "gpu/device/device.h"
+#include "gpu/device/vk_check.h"
 
 namespace vknerf::gpu {
 namespace {

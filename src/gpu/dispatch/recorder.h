@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {

@@ -1,11 +1,11 @@
-#include "gpu/kernel_compiler.h"
+#include "gpu/compile/kernel_compiler.h"
 
 #include <algorithm>
 #include <chrono>
 #include <memory>
 #include <utility>
 
-#include "gpu/mesa_disk_cache.h"
+#include "gpu/compile/mesa_disk_cache.h"
 
 namespace vknerf::gpu {
 

@@ -1,4 +1,4 @@
-#include "gpu/prefix_sum.h"
+#include "gpu/dispatch/prefix_sum.h"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-#include "gpu/limited_dispatch.h"
+#include "gpu/dispatch/limited_dispatch.h"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
-#include "gpu/kernel_limits.h"
+#include "gpu/kernels/kernel_limits.h"
 
 #include <string>
 
-#include "gpu/device.h"
+#include "gpu/device/device.h"
 #include "vknerf/error.h"
 
 namespace vknerf::gpu {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "gpu/device_profile.h"
+#include "gpu/device/device_profile.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {

@@ -1,4 +1,4 @@
-#include "gpu/mesa_disk_cache.h"
+#include "gpu/compile/mesa_disk_cache.h"
 
 #include <strings.h>
 

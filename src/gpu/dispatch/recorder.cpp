@@ -1,12 +1,12 @@
-#include "gpu/recorder.h"
+#include "gpu/dispatch/recorder.h"
 
 #include <functional>
 #include <string>
 
-#include "gpu/device.h"
-#include "gpu/kernel_compiler.h"
-#include "gpu/kernel_limits.h"
-#include "gpu/vk_check.h"
+#include "gpu/device/device.h"
+#include "gpu/compile/kernel_compiler.h"
+#include "gpu/kernels/kernel_limits.h"
+#include "gpu/device/vk_check.h"
 
 namespace vknerf::gpu {
 

@@ -1,4 +1,4 @@
-#include "gpu/vk_check.h"
+#include "gpu/device/vk_check.h"
 
 namespace vknerf::gpu {
 

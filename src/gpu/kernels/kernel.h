@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/shader_code.h"
-#include "gpu/shader_ids.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/shader_code.h"
+#include "gpu/kernels/shader_ids.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {

@@ -1,11 +1,11 @@
-#include "gpu/physical_devices.h"
+#include "gpu/device/physical_devices.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
 
-#include "gpu/vk_check.h"
+#include "gpu/device/vk_check.h"
 
 namespace vknerf::gpu {
 namespace {

@@ -1,4 +1,4 @@
-#include "gpu/memory_account.h"
+#include "gpu/memory/memory_account.h"
 
 #include <utility>
 

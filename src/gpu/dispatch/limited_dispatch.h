@@ -8,9 +8,9 @@
 #include <initializer_list>
 #include <memory>
 
-#include "gpu/buffer.h"
-#include "gpu/kernel.h"
-#include "gpu/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/kernels/kernel.h"
+#include "gpu/dispatch/recorder.h"
 
 namespace vknerf::gpu {
 

@@ -36,9 +36,9 @@
 #include <thread>
 #include <vector>
 
-#include "gpu/buffer.h"
-#include "gpu/compile_device.h"
-#include "gpu/kernel.h"
+#include "gpu/memory/buffer.h"
+#include "gpu/compile/compile_device.h"
+#include "gpu/kernels/kernel.h"
 #include "vknerf/context.h"
 
 namespace vknerf::gpu {

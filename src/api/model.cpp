@@ -156,10 +156,10 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   impl->config = record.config();
   impl->box = record.bounds();
   impl->trainingCameras = [record, path] { return checkedTrainingCameras(record, path); };
-  impl->own = models::makeFieldPipeline(*ctx, impl->config, impl->box, models::kRenderRays, false, settings);
-  impl->pipe = impl->own.get();
   // State kept per training photo (the fast model's appearance vectors) is sized by their count.
-  if (const auto cameras = record.trainingPhotoCount()) impl->pipe->setTrainingCameras(*cameras);
+  const models::TrainingPhotos photos{record.trainingPhotoCount().value_or(0)};
+  impl->own = models::makeFieldPipeline(*ctx, impl->config, impl->box, models::kRenderRays, false, settings, photos);
+  impl->pipe = impl->own.get();
   uploadState(ck, *impl->pipe, impl->box);
   return Model(std::move(impl));
 }

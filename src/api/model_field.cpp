@@ -115,7 +115,7 @@ Mesh Model::extractMesh(const MeshSettings& s, const std::function<void(uint64_t
   // The blocks of the grid to sample: near the occupied cells where the model has an occupancy
   // grid (elsewhere a render never looks, and the grid keeps 0, below any positive threshold).
   std::optional<nerf::OccupancyBits> occupancy;
-  if (s.occupiedOnly && s.threshold > 0) occupancy = m.pipe->occupancyBits();
+  if (s.occupiedOnly && s.threshold > 0) occupancy = m.pipe->sampledCells();
   const nerf::SampleBlocks blocks =
       occupancy ? nerf::occupiedSampleBlocks(g, m.box, *occupancy) : nerf::allSampleBlocks(g);
   gpu::Buffer blockIds(ctx, std::max<VkDeviceSize>(4, blocks.ids.size() * 4), "the sampled blocks of the density grid");

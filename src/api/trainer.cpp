@@ -19,7 +19,6 @@
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
-#include "reference/rays/pose_correction.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -107,17 +106,7 @@ struct Trainer::Impl {
 
   // The cameras the checkpoint records: with camera refinement the refined poses, what the model
   // was fitted through, not what the dataset said.
-  std::vector<Camera> savedCameras() const {
-    std::vector<Camera> out = trainCameras;
-    const auto corrections = pipe->cameraCorrections();
-    for (size_t i = 0; i < corrections.size() && i < out.size(); ++i) {
-      const std::array<double, 6> c{corrections[i][0], corrections[i][1], corrections[i][2],
-                                    corrections[i][3], corrections[i][4], corrections[i][5]};
-      const auto pose = ref::correctedPose<double>(out[i].c2w, c.data());
-      for (int k = 0; k < 16; ++k) out[i].c2w[k] = float(pose[k]);
-    }
-    return out;
-  }
+  std::vector<Camera> savedCameras() const { return pipe->trainedCameras(trainCameras); }
   std::vector<TrainedCamera> namedSavedCameras() const {
     std::vector<Camera> cams = savedCameras();
     std::vector<TrainedCamera> out;
@@ -168,7 +157,8 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
   const std::string device = "the device (" + ctx->deviceName() + ")";
   io::requireFit("training", sizes, 0, "", deviceBytes, device);
   auto layout = nerf::planPixelBindings(pixelCounts, nerf::pixelBytesPerBinding(*ctx));
-  s.pipe = models::makeFieldPipeline(*ctx, s.config, s.box, s.config.raysPerBatch, true);
+  s.pipe = models::makeFieldPipeline(*ctx, s.config, s.box, s.config.raysPerBatch, true, {},
+                                     {s.numCameras, std::span<const Camera>(train.cameras)});
   io::requireFit("training", sizes, s.pipe->memory()->bytes(), "model", deviceBytes, device);
   // On a CPU device the device's memory is the host's: the pixels come out of what is left of it.
   if (ctx->isCpu()) io::requireFit("training", sizes, 0, "", io::availableHostBytes(), "host memory (available)");
@@ -178,8 +168,6 @@ Trainer::Trainer(std::shared_ptr<Context> ctx, const Dataset& train, const Train
     if (release) std::vector<uint8_t>().swap(release->images[i].rgba);
   }
   s.cameras = gpu::Buffer::of(*ctx, nerf::packCameras(train.cameras, layout.images));
-  s.pipe->markUnseenEmpty(train.cameras);
-  s.pipe->setTrainingCameras(s.numCameras);
   for (uint32_t k = 0; k < Impl::kSlots; ++k) {
     s.recs[k] = std::make_unique<gpu::Recorder>(*ctx, true);
     s.lossReadback[k] = gpu::Buffer::hostReadable(*ctx, s.pipe->lossPartials().size(), "a training step's loss partials");

@@ -6,14 +6,21 @@
 
 namespace vknerf::models {
 
+std::vector<Camera> FieldPipeline::trainedCameras(std::span<const Camera> given) {
+  std::vector<Camera> out(given.begin(), given.end());
+  for (StepExtension* e : extensions_) e->adjustTrainedCameras(out);
+  return out;
+}
+
 std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig& config, const Aabb& box,
-                                                 uint32_t rayCapacity, bool training, const RenderSettings& overrides) {
+                                                 uint32_t rayCapacity, bool training, const RenderSettings& overrides,
+                                                 const TrainingPhotos& photos) {
   // Every buffer the pipeline's members allocate while it is built is charged to its account.
   gpu::MemoryAccount::Scope charge(std::make_shared<gpu::MemoryAccount>());
   if (overrides.appearancePhoto && !(config.isFast() && config.fastModel().appearanceDims))
     throw Error("render settings: an appearance photo was chosen, but the model has no appearance embedding "
                 "(model.appearance_dims is 0)");
-  if (config.isFast()) return std::make_unique<FastPipeline>(ctx, config, box, rayCapacity, training, overrides);
+  if (config.isFast()) return std::make_unique<FastPipeline>(ctx, config, box, rayCapacity, training, overrides, photos);
   return std::make_unique<VanillaPipeline>(ctx, config, box, rayCapacity, training, overrides);
 }
 

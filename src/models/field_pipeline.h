@@ -1,8 +1,11 @@
 #pragma once
 // What Model and Trainer drive: one model configuration's whole device pipeline (vanilla:
-// nerf::VanillaPipeline, fast: nerf::FastPipeline), rendering a block of pixels and, when built for
-// training, one optimisation step. Buffers are allocated once for a ray capacity; every buffer a
-// pipeline allocates, when it is built or later, is charged to its memory account.
+// models::VanillaPipeline, fast: models::FastPipeline), rendering a block of pixels and, when built
+// for training, one optimisation step. Buffers are allocated once for a ray capacity; every buffer a
+// pipeline allocates, when it is built or later, is charged to its memory account. A pipeline's
+// state is one registry of parts (models/common/parameter_groups.h): its optimizer steps, its
+// checkpoint and its parameter counts; per-photo state trained beside the field is a step extension
+// (models/common/step_extension.h), which the pipeline calls at fixed points of its step.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -14,6 +17,8 @@
 #include "gpu/memory/buffer.h"
 #include "gpu/memory/memory_account.h"
 #include "gpu/dispatch/recorder.h"
+#include "models/common/parameter_groups.h"
+#include "models/common/step_extension.h"
 #include "nerf/occupancy/occupancy_grid.h"
 #include "nerf/optim/adam.h"
 #include "vknerf/camera.h"
@@ -30,26 +35,6 @@ struct FieldBatch;
 // (models saved before FastModel::nearDistance).
 constexpr float kNearPlane = 0.05f;
 
-// A named float array of the model's state, for checkpoints.
-struct StateArray {
-  std::string name;
-  gpu::Buffer* buffer;
-  size_t count;
-  bool optimizer;  // Adam moments: saved for resuming, not needed to render
-  bool numbers = true;  // floats, checked finite on load; false for words of bits stored in float slots
-};
-
-// The training set on the device: the pixel bindings (nerf::TrainingPixels) and the cameras packed
-// with each image's place in them (nerf::packCameras).
-struct TrainingData {
-  std::span<const gpu::BufferRange> pixels;
-  const gpu::Buffer* cameras;
-  uint32_t numCameras;
-  // Some pixel has alpha < 255. Only then does a random background teach something (that the
-  // transparent space is empty); behind opaque photos it is noise, and the constant one is used.
-  bool transparentPixels = true;
-};
-
 // A block of one view to render, as one value: pixels [first, first + count) (row-major) of camera
 // `camera` in `cameras` (nerf::packCameras), over a constant `background`.
 struct ViewBlock {
@@ -62,7 +47,7 @@ class FieldPipeline {
  public:
   virtual ~FieldPipeline() = default;
 
-  virtual uint32_t rayCapacity() const = 0;
+  uint32_t rayCapacity() const { return rayCapacity_; }
 
   // Renders `view` (a block of view.count <= rayCapacity() pixels). Afterwards color() holds vec4
   // (rgb over view.background, opacity) and depth()
@@ -73,10 +58,15 @@ class FieldPipeline {
     gpu::MemoryAccount::Scope charge(memory_);
     doRecordRender(rec, view, mayWait);
   }
-  virtual const gpu::Buffer& color() const = 0;
-  virtual const gpu::Buffer& depth() const = 0;
-  // vec4 (r, g, b, -) per ray of the last recorded render: what color() is composited over.
-  virtual const gpu::Buffer& backgrounds() const = 0;
+  // What the last recorded render wrote, per ray: colour (vec4: rgb over its background, opacity),
+  // depth (float) and the background each colour is composited over (vec4 r, g, b, -).
+  struct RenderOutputs {
+    const gpu::Buffer &color, &depth, &background;
+  };
+  virtual RenderOutputs renderOutputs() const = 0;
+  const gpu::Buffer& color() const { return renderOutputs().color; }
+  const gpu::Buffer& depth() const { return renderOutputs().depth; }
+  const gpu::Buffer& backgrounds() const { return renderOutputs().background; }
 
   // The field at points chosen by the caller (an exporter): queryBatch()'s positions (vec4, the
   // scene box mapped onto [-1, 1]^3) and directions (vec4, unit) for `count` <= its capacity points
@@ -84,9 +74,9 @@ class FieldPipeline {
   // while a render is in flight.
   virtual FieldBatch& queryBatch() = 0;
   virtual void recordQuery(gpu::Recorder& rec, uint32_t count) = 0;
-  // Where a render marches at all: the occupancy grid's bits (fast model), for an exporter that
-  // samples the field only there; none for a model that marches everywhere (vanilla).
-  virtual std::optional<nerf::OccupancyBits> occupancyBits() const { return std::nullopt; }
+  // Where a render samples the field at all (the fast model's occupied cells), for an exporter that
+  // samples it only there; none for a model that samples everywhere (vanilla).
+  virtual std::optional<nerf::OccupancyBits> sampledCells() const { return std::nullopt; }
 
   // Training runs kStepsInFlight steps deep: step N is recorded and submitted while step N-1 still
   // runs on the device, and the host reads what step N-1 left (its counts, its loss) only after
@@ -115,18 +105,12 @@ class FieldPipeline {
   // partials hold (the rays past the device's cut add zero) and the field evaluations it made.
   StepSize collectTrainStep(uint32_t step) { return doCollectTrainStep(slotOf(step)); }
   virtual const gpu::Buffer& lossPartials() const = 0;
-  // Before the first step: the training cameras, so that space none of them sees is never modelled
-  // (the fast model's occupancy grid marks it empty for good). A model without such a structure ignores them.
-  virtual void markUnseenEmpty(std::span<const Camera> cameras) { (void)cameras; }
-  // Before the first step and before a resume loads the state: how many training cameras there
-  // are, for state kept per camera (the fast model's camera refinement).
-  virtual void setTrainingCameras(uint32_t count) { (void)count; }
-  // Each training camera's learned pose correction (w, tau: nerf/rays/pose_correction.h), read
-  // back; empty when the cameras are not refined.
-  virtual std::vector<std::array<float, 6>> cameraCorrections() { return {}; }
 
   // Parameters (and, when training, optimizer state and auxiliary structures) by name.
-  virtual std::vector<StateArray> state() = 0;
+  std::vector<StateArray> state() { return parts_.state(); }
+  // The training cameras (as given, one per photo) as the model was fitted through them: with
+  // camera refinement, the refined poses.
+  std::vector<Camera> trainedCameras(std::span<const Camera> given);
   // What the model spends; deviceMiB counts every buffer charged to the pipeline.
   ModelStatistics statistics() {
     ModelStatistics s = modelStatistics();
@@ -140,8 +124,18 @@ class FieldPipeline {
 
  protected:
   // The account open on this thread when the pipeline is constructed, or a new one.
-  FieldPipeline() : memory_(gpu::MemoryAccount::current() ? gpu::MemoryAccount::current()
-                                                           : std::make_shared<gpu::MemoryAccount>()) {}
+  explicit FieldPipeline(uint32_t rayCapacity)
+      : rayCapacity_(rayCapacity),
+        memory_(gpu::MemoryAccount::current() ? gpu::MemoryAccount::current() : std::make_shared<gpu::MemoryAccount>()) {}
+
+  // The model's parts, registered once in checkpoint order by the model's constructor.
+  ParameterGroups& parts() { return parts_; }
+  const ParameterGroups& parts() const { return parts_; }
+  void addExtension(StepExtension& extension) {
+    parts_.add(extension);
+    extensions_.push_back(&extension);
+  }
+  std::span<StepExtension* const> extensions() const { return extensions_; }
 
  private:
   virtual void doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) = 0;
@@ -150,16 +144,21 @@ class FieldPipeline {
   virtual StepSize doCollectTrainStep(uint32_t slot) = 0;
   virtual ModelStatistics modelStatistics() = 0;
 
+  uint32_t rayCapacity_;
   std::shared_ptr<gpu::MemoryAccount> memory_;
+  ParameterGroups parts_;
+  std::vector<StepExtension*> extensions_;
 };
 
 // Rays per render batch of a loaded model.
 constexpr uint32_t kRenderRays = 4096;
 
 // The pipeline for config.model, its buffers charged to its own memory account; `overrides` are a
-// loaded model's render-time sampling settings (zero fields keep the trained ones).
+// loaded model's render-time sampling settings (zero fields keep the trained ones); `photos`: the
+// training photos, for state kept per photo and, when their cameras are given, the space none of
+// them sees (never modelled).
 std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig& config, const Aabb& box,
                                                  uint32_t rayCapacity, bool training,
-                                                 const RenderSettings& overrides = {});
+                                                 const RenderSettings& overrides = {}, const TrainingPhotos& photos = {});
 
 }  // namespace vknerf::models

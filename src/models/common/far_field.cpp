@@ -53,7 +53,7 @@ LearnedFarField::LearnedFarField(Context& ctx, uint32_t rayCapacity, uint32_t se
     : capacity_(rayCapacity),
       hash_(ctx, shape().grid),
       net_(ctx, nerf::DenseMlpConfig{shape().mlp.inputs, kMlpWidth, 1, 3, seed + 0x9e37u}),
-      table_(ctx, "far_field.table", hash_.initialParameters(seed + 0x9e37u), tableAdam, usedPartsOf(hash_)),
+      table_(ctx, "far_field.table", hash_.initialParameters(seed + 0x9e37u), tableAdam, hash_.trainedParts()),
       mlp_(ctx, "far_field.mlp", initialMlpParameters(net_, initial), mlpAdam),
       directionsKernel_(ctx, {gpu::shaders::far_field_directions, {gpu::Binding::Storage, gpu::Binding::Storage},
                               sizeof(CountPush), {}}),

@@ -21,7 +21,7 @@
 
 namespace vknerf::models {
 
-class LearnedFarField {
+class LearnedFarField final : public ParameterGroup {
  public:
   // Without Adam configurations: inference only (the fast model steps this table as its field's
   // table: every entry, also those no ray touched). It starts as the constant
@@ -33,7 +33,7 @@ class LearnedFarField {
   static std::vector<float> initialMlpParameters(const nerf::DenseMlp& net, const std::array<float, 3>& initial);
 
   static ref::FarFieldShape shape();
-  size_t parameterCount() const { return table_.count() + mlp_.count(); }
+  size_t parameterCount() const override { return table_.count() + mlp_.count(); }
   gpu::Buffer& tableParams() { return table_.params(); }
   gpu::Buffer& mlpParams() { return mlp_.params(); }
   gpu::Buffer& tableGrads() { return table_.grads(); }
@@ -47,9 +47,9 @@ class LearnedFarField {
   // opacity) and dL/dcolour, into the grads (accumulated until recordOptimizerStep).
   void recordBackward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& background,
                       const gpu::BufferRange& color, const gpu::BufferRange& dColor);
-  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at);
+  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at) override;
   // "far_field.table.*", "far_field.mlp.*" (TrainableParameters::appendState).
-  void appendState(std::vector<StateArray>& out);
+  void appendState(std::vector<StateArray>& out) override;
 
  private:
   uint32_t capacity_;

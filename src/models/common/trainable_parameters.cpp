@@ -16,12 +16,6 @@ nerf::AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
   return ac;
 }
 
-std::vector<nerf::ParameterRange> usedPartsOf(const nerf::HashEncoding& hash) {
-  std::vector<nerf::ParameterRange> parts;
-  for (const ref::TableRun& r : ref::hashGridUsedRuns(hash.config())) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
-  return parts;
-}
-
 TrainableParameters::TrainableParameters(Context& ctx, std::string name, const std::vector<float>& initial,
                                          const std::optional<nerf::AdamConfig>& adam, std::vector<nerf::ParameterRange> stepped)
     : name_(std::move(name)),

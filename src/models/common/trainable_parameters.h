@@ -7,9 +7,9 @@
 
 #include "gpu/memory/buffer.h"
 #include "gpu/dispatch/recorder.h"
-#include "models/field_pipeline.h"
-#include "nerf/encoding/hash_encoding.h"
+#include "models/common/parameter_groups.h"
 #include "nerf/optim/adam.h"
+#include "vknerf/config.h"
 
 namespace vknerf::models {
 
@@ -18,12 +18,7 @@ namespace vknerf::models {
 // `rateScale`.
 nerf::AdamConfig adamConfigOf(const TrainConfig& config, float rateScale = 1.0f);
 
-// The parts of a hash table that a lookup can reach (ref::hashGridUsedRuns), as
-// TrainableParameters' `stepped`: Adam's dense step would otherwise run over the unused end of each
-// dense level's slot too (2^17 entries a level on the 800x800 object: 27% of the table).
-std::vector<nerf::ParameterRange> usedPartsOf(const nerf::HashEncoding& hash);
-
-class TrainableParameters {
+class TrainableParameters final : public ParameterGroup {
  public:
   // Without `adam`: parameters only (inference). Gradients and moments start at zero. `stepped`:
   // the parts Adam steps (AdamState::stepped; empty: all), where the rest is never given a gradient.
@@ -31,13 +26,14 @@ class TrainableParameters {
                       const std::optional<nerf::AdamConfig>& adam, std::vector<nerf::ParameterRange> stepped = {});
 
   size_t count() const { return count_; }
+  size_t parameterCount() const override { return count_; }
   gpu::Buffer& params() { return params_; }
   gpu::Buffer& grads() { return grads_; }
 
   // Adam's update for training step `at` at the configured rate schedule; zeroes grads.
-  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at);
+  void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at) override;
   // "<name>.params" and, when training, "<name>.adam_m" and "<name>.adam_v", for checkpoints.
-  void appendState(std::vector<StateArray>& out);
+  void appendState(std::vector<StateArray>& out) override;
 
  private:
   std::string name_;

@@ -39,10 +39,10 @@ Level::Level(Context& ctx, const nerf::NerfMlp& mlp, uint32_t rays, uint32_t spr
 
 VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
                                  bool training, const RenderSettings& overrides)
-    : config_(config),
+    : FieldPipeline(rayCapacity),
+      config_(config),
       model_(withOverrides(config.vanillaModel(), overrides)),
       box_(box),
-      capacity_(rayCapacity),
       training_(training),
       rays_(ctx, rayCapacity),
       stratified_(ctx),
@@ -59,11 +59,13 @@ VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const 
               {ctx, fine().mlp, rayCapacity, model_.coarseSamples + model_.fineSamples, training}},
       zeroDepthGrad_(gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity) * sizeof(float))) {
   if (training) loss_.emplace(ctx);
+  parts().add(coarse_.parameters, ParameterRole::Network);
+  if (fine_) parts().add(fine_->parameters, ParameterRole::Network);
 }
 
 void VanillaPipeline::recordNetwork(gpu::Recorder& rec, FieldBatch& f, Network& net, uint32_t n, bool keep) {
-  posEncoding_.recordForward(rec, n, f.positions, f.posFeatures, net.mlp.posStride(), 0);
-  dirEncoding_.recordForward(rec, n, f.directions, f.dirFeatures, net.mlp.dirStride(), 0);
+  posEncoding_.recordForward(rec, {n, f.positions, f.posFeatures, net.mlp.posStride(), 0});
+  dirEncoding_.recordForward(rec, {n, f.directions, f.dirFeatures, net.mlp.dirStride(), 0});
   net.mlp.recordForward(rec, f.mlpRows(n), net.parameters.params(), keep ? f.workspace.get() : nullptr);
 }
 
@@ -90,7 +92,7 @@ nerf::CompositeInputs VanillaPipeline::compositeInputs(const Level& l, uint32_t 
 }
 
 void VanillaPipeline::recordForward(gpu::Recorder& rec, uint32_t numRays, uint32_t seed, bool jitter) {
-  if (numRays > capacity_) throw Error("VanillaPipeline: batch of " + std::to_string(numRays) + " rays over capacity");
+  if (numRays > rayCapacity()) throw Error("VanillaPipeline: batch of " + std::to_string(numRays) + " rays over capacity");
   Level& c = levels_[0];
   Level& f = levels_[1];
   const nerf::RaySpan rays{rays_.rays(), numRays};
@@ -112,8 +114,7 @@ void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const
     net.mlp.recordBackward(rec, f.mlpRows(numRays * l.samplesPerRay), net.parameters.params(),
                            {f.dField, net.parameters.grads()}, *f.workspace);
   }
-  coarse_.parameters.recordOptimizerStep(rec, at);
-  if (fine_) fine_->parameters.recordOptimizerStep(rec, at);
+  parts().recordOptimizerSteps(rec, at);
 }
 
 void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool) {
@@ -124,7 +125,7 @@ void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, 
 uint32_t VanillaPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at) {
   if (!training_) throw Error("vanilla model: pipeline was not built for training");
   const uint32_t step = at.step;
-  const uint32_t R = capacity_;
+  const uint32_t R = rayCapacity();
   const uint32_t seed = stepSeed(config_, step);
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   recordForward(rec, R, seed, true);
@@ -134,22 +135,15 @@ uint32_t VanillaPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingDa
 
 // The batch is the same every step: nothing to read back.
 FieldPipeline::StepSize VanillaPipeline::doCollectTrainStep(uint32_t) {
-  return {capacity_, uint64_t(capacity_) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay)};
-}
-
-std::vector<StateArray> VanillaPipeline::state() {
-  std::vector<StateArray> out;
-  coarse_.parameters.appendState(out);
-  if (fine_) fine_->parameters.appendState(out);
-  return out;
+  return {rayCapacity(), uint64_t(rayCapacity()) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay)};
 }
 
 ModelStatistics VanillaPipeline::modelStatistics() {
   ModelStatistics s;
-  s.mlpParameters = coarse_.parameters.count() + (fine_ ? fine_->parameters.count() : 0);
+  s.mlpParameters = parts().parameterCount(ParameterRole::Network);
   s.samplesPerRay = double(levels_[0].samplesPerRay + levels_[1].samplesPerRay);
-  s.raysPerStep = capacity_;
-  s.samplesPerStep = uint64_t(capacity_) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay);
+  s.raysPerStep = rayCapacity();
+  s.samplesPerStep = uint64_t(rayCapacity()) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay);
   return s;
 }
 

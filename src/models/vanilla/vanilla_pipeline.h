@@ -47,12 +47,8 @@ class VanillaPipeline final : public FieldPipeline {
   VanillaPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity, bool training,
                   const RenderSettings& overrides = {});
 
-  uint32_t rayCapacity() const override { return capacity_; }
-  const gpu::Buffer& color() const override { return levels_[1].color; }
-  const gpu::Buffer& depth() const override { return levels_[1].depth; }
-  const gpu::Buffer& backgrounds() const override { return rays_.background(); }
+  RenderOutputs renderOutputs() const override { return {levels_[1].color, levels_[1].depth, rays_.background()}; }
   const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
-  std::vector<StateArray> state() override;
   FieldBatch& queryBatch() override { return levels_[1].field; }
   void recordQuery(gpu::Recorder& rec, uint32_t count) override;
 
@@ -76,7 +72,6 @@ class VanillaPipeline final : public FieldPipeline {
   TrainConfig config_;
   VanillaModel model_;
   Aabb box_;
-  uint32_t capacity_;
   bool training_;
   RayBatch rays_;
   nerf::StratifiedSampler stratified_;

@@ -35,8 +35,10 @@ FrequencyEncoding::FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t 
   if (outputDims_ == 0) throw Error("FrequencyEncoding: no output columns (0 levels and no raw input)");
 }
 
-void FrequencyEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& inputs,
-                                      const gpu::BufferRange& features, uint32_t stride, uint32_t columnOffset) {
+void FrequencyEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange&) {
+  const uint32_t count = rows.count, stride = rows.stride, columnOffset = rows.columnOffset;
+  const gpu::BufferRange &inputs = rows.inputs, &features = rows.features;
+  if (rows.rowLimit || rows.rowGather) throw Error("FrequencyEncoding: no row limit or gather (every row is encoded)");
   if (stride % 4 || columnOffset % 4)
     throw Error("FrequencyEncoding: stride " + std::to_string(stride) + " and column offset " +
                 std::to_string(columnOffset) + " must be multiples of 4");
@@ -51,10 +53,10 @@ void FrequencyEncoding::recordForward(gpu::Recorder& rec, uint32_t count, const 
   // rows, each bound at its own offset.
   const VkDeviceSize rowBytes = VkDeviceSize(stride) * 4;
   const uint32_t chunk = std::min(count, gpu::rowsPerBinding(ctx_, rowBytes));
-  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t rows, uint32_t) {
-    Push p{rows, stride / 4, columnOffset / 4};
-    rec.dispatch(kernel_, {gpu::rowsOf(inputs, 16, first, rows), gpu::rowsOf(features, rowBytes, first, rows)}, p,
-                 gpu::groupsFor(rows, kLocal), 1, 1, "encode_frequency");
+  gpu::forRowChunks(count, chunk, [&](uint32_t first, uint32_t n, uint32_t) {
+    Push p{n, stride / 4, columnOffset / 4};
+    rec.dispatch(kernel_, {gpu::rowsOf(inputs, 16, first, n), gpu::rowsOf(features, rowBytes, first, n)}, p,
+                 gpu::groupsFor(n, kLocal), 1, 1, "encode_frequency");
   });
 }
 

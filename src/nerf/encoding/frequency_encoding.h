@@ -12,23 +12,25 @@
 
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/recorder.h"
+#include "nerf/encoding/encoding.h"
 
 namespace vknerf::nerf {
 
-class FrequencyEncoding {
+class FrequencyEncoding final : public Encoding {
  public:
   // inputDims: components of each vec4 input used (1..4); levels: L (0..16).
   FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t levels, bool includeInput);
-  uint32_t outputDims() const { return outputDims_; }
-  uint32_t paddedDims() const { return (outputDims_ + 3) / 4 * 4; }
+  uint32_t outputDims() const override { return outputDims_; }
   uint32_t inputDims() const { return inputDims_; }
   uint32_t levels() const { return levels_; }
   bool includeInput() const { return includeInput_; }
 
-  // inputs: `count` vec4; features: `count` rows of `stride` floats. stride and columnOffset are
-  // multiples of 4 and columnOffset + paddedDims() <= stride.
-  void recordForward(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& inputs, const gpu::BufferRange& features,
-                     uint32_t stride, uint32_t columnOffset);
+  // rows.inputs: `count` vec4; rows.features: `count` rows of `stride` floats. stride and
+  // columnOffset are multiples of 4 and columnOffset + paddedDims() <= stride. Every row is
+  // encoded: no row limit or gather (the vanilla model's batches are full). No parameters:
+  // `params` is not read.
+  void recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params) override;
+  void recordForward(gpu::Recorder& rec, const EncodedRows& rows) { recordForward(rec, rows, {}); }
 
  private:
   Context& ctx_;

@@ -124,6 +124,18 @@ std::vector<float> HashEncoding::initialParameters(uint32_t seed) const {
   return ref::hashGridInitialParameters(config_, seed);
 }
 
+std::vector<ParameterRange> HashEncoding::trainedParts() const {
+  std::vector<ParameterRange> parts;
+  for (const ref::TableRun& r : ref::hashGridUsedRuns(config_)) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
+  return parts;
+}
+
+void HashEncoding::recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const EncodingGradients& gradients) {
+  std::optional<PositionGradientTarget> position;
+  if (gradients.dInputs) position = PositionGradientTarget{gradients.params, *gradients.dInputs};
+  recordBackward(rec, rows, gradients.grads, position);
+}
+
 // The table's own range, so parameters inside a larger buffer bind no more than one binding allows.
 gpu::BufferRange HashEncoding::exactly(const gpu::BufferRange& table) const {
   return gpu::BufferRange(*table.buffer, table.offset, VkDeviceSize(parameterCount()) * 4);

@@ -13,7 +13,7 @@
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/limited_dispatch.h"
 #include "gpu/dispatch/recorder.h"
-#include "nerf/encoding/encoded_rows.h"
+#include "nerf/encoding/encoding.h"
 #include "reference/encoding/hash_encoding.h"
 #include "encoding/encode_hash_shared.h"
 #include "encoding/hash_sort_shared.h"
@@ -57,7 +57,7 @@ struct PositionGradientTarget {
   gpu::BufferRange params, dPositions;
 };
 
-class HashEncoding {
+class HashEncoding final : public Encoding {
  public:
   // Limits: 1..24 levels, F in {1, 2, 4, 8}, T in 2..24, N_min >= 1, b >= 1, and the whole table
   // within one storage binding (maxStorageBufferRange: 128 MiB on lavapipe, e.g. L=16 F=2 T=20).
@@ -67,9 +67,8 @@ class HashEncoding {
   ~HashEncoding();
 
   const HashGridConfig& config() const { return config_; }
-  uint32_t outputDims() const { return config_.levels * config_.featuresPerLevel; }
-  uint32_t paddedDims() const { return (outputDims() + 3) / 4 * 4; }
-  size_t parameterCount() const { return ref::hashGridParameterCount(config_); }
+  uint32_t outputDims() const override { return config_.levels * config_.featuresPerLevel; }
+  size_t parameterCount() const override { return ref::hashGridParameterCount(config_); }
   uint32_t resolution(uint32_t level) const { return ref::hashGridResolution(config_, level); }
   bool dense(uint32_t level) const { return ref::hashGridDense(config_, level); }
   HashBackwardMode backwardMode() const { return mode_; }
@@ -78,12 +77,16 @@ class HashEncoding {
   uint32_t sortSlotBudget() const { return slotBudget_; }
   void setSortSlotBudget(uint32_t slots);
   // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
-  std::vector<float> initialParameters(uint32_t seed) const;
+  std::vector<float> initialParameters(uint32_t seed) const override;
+  // The parts of the table a lookup can reach (ref::hashGridUsedRuns): Adam's dense step would
+  // otherwise run over the unused end of each dense level's slot too (2^17 entries a level on the
+  // 800x800 object: 27% of the table).
+  std::vector<ParameterRange> trainedParts() const override;
 
   // rows.inputs: `count` vec4 positions; params: parameterCount() floats (both bound as texel
   // buffers: offsets multiples of minTexelBufferOffsetAlignment); rows.features: the block written
   // (nerf/encoding/encoded_rows.h); rows at and past rows.rowLimit are left untouched.
-  void recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params);
+  void recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params) override;
   // grads (parameterCount() floats, params' layout) += d(sum dFeatures . features) / d params, with
   // dFeatures read from rows.features (the forward's layout; its padding columns are ignored).
   // Atomic and SubgroupMerged need float atomics. SortReduce does not; it works in passes of at
@@ -94,6 +97,8 @@ class HashEncoding {
   // the same pass over the corners with float atomics (Atomic, SubgroupMerged), after it otherwise.
   void recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& grads,
                       const std::optional<PositionGradientTarget>& position = std::nullopt);
+  // The same through the encodings' contract: gradients.dInputs is the position gradient.
+  void recordBackward(gpu::Recorder& rec, const EncodedRows& rows, const EncodingGradients& gradients) override;
   // dPositions (vec4 per row, w = 0) = d(sum dFeatures . features) / d position, the position in
   // [-1, 1]^3 as rows.inputs hold it (0 along an axis where it lies outside); rows as recordBackward
   // reads them, params as recordForward. Rows past rows.rowLimit are left untouched. The kernel is

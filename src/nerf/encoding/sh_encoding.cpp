@@ -26,7 +26,7 @@ ShEncoding::ShEncoding(Context& ctx, uint32_t degree)
                     {{glsl::ShSpec::DEGREE, degree}}}),
       limited_(ctx) {}
 
-void ShEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows) {
+void ShEncoding::recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange&) {
   const uint32_t count = rows.count, stride = rows.stride, columnOffset = rows.columnOffset;
   const gpu::BufferRange &directions = rows.inputs, &features = rows.features;
   const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;

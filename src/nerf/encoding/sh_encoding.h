@@ -9,21 +9,21 @@
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/limited_dispatch.h"
 #include "gpu/dispatch/recorder.h"
-#include "nerf/encoding/encoded_rows.h"
+#include "nerf/encoding/encoding.h"
 
 namespace vknerf::nerf {
 
-class ShEncoding {
+class ShEncoding final : public Encoding {
  public:
   explicit ShEncoding(Context& ctx, uint32_t degree = 4);  // degree: 1..4 bands
   uint32_t degree() const { return degree_; }
-  uint32_t outputDims() const { return degree_ * degree_; }
-  uint32_t paddedDims() const { return (outputDims() + 3) / 4 * 4; }
+  uint32_t outputDims() const override { return degree_ * degree_; }
 
   // rows.inputs: `count` vec4 directions (xyz unit, w ignored; texel-buffer aligned offset);
   // rows.features: the block written (nerf/encoding/encoded_rows.h); rows at and past
-  // rows.rowLimit are left untouched.
-  void recordForward(gpu::Recorder& rec, const EncodedRows& rows);
+  // rows.rowLimit are left untouched. No parameters: `params` is not read.
+  void recordForward(gpu::Recorder& rec, const EncodedRows& rows, const gpu::BufferRange& params) override;
+  void recordForward(gpu::Recorder& rec, const EncodedRows& rows) { recordForward(rec, rows, {}); }
 
  private:
   Context& ctx_;

@@ -36,7 +36,7 @@ std::vector<float> encode(Context& ctx, nerf::FrequencyEncoding& enc, const std:
   std::vector<float> init(std::max<size_t>(1, size_t(count) * stride), kSentinel);
   auto out = gpu::Buffer::of(ctx, init);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    enc.recordForward(rec, count, in, out, stride, offset);
+    enc.recordForward(rec, {count, in, out, stride, offset});
   });
   return out.download<float>(init.size());
 }
@@ -168,8 +168,8 @@ TEST_F(Encoding, PositionAndDirectionShareOneMatrix) {
   auto xb = gpu::Buffer::of(ctx(), x), db = gpu::Buffer::of(ctx(), d);
   auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(count) * stride, kSentinel));
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    dir.recordForward(rec, count, db, out, stride, pos.paddedDims());  // order does not matter: blocks are disjoint
-    pos.recordForward(rec, count, xb, out, stride, 0);
+    dir.recordForward(rec, {count, db, out, stride, pos.paddedDims()});  // order does not matter: blocks are disjoint
+    pos.recordForward(rec, {count, xb, out, stride, 0});
   });
   auto m = out.download<float>();
   for (uint32_t r = 0; r < count; ++r) {
@@ -192,10 +192,10 @@ TEST_F(Encoding, EmptyBatchAndBadLayouts) {
   gpu::Buffer out(ctx(), 4 * 64 * 4);
   gpu::Recorder rec(ctx());
   rec.begin();
-  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 32, 2), Error);   // offset not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 30, 0), Error);   // stride not a multiple of 4
-  EXPECT_THROW(enc.recordForward(rec, 4, in, out, 28, 4), Error);   // block overruns the row
-  EXPECT_THROW(enc.recordForward(rec, 5, in, out, 28, 0), Error);   // more rows than the inputs hold
+  EXPECT_THROW(enc.recordForward(rec, {4, in, out, 32, 2}), Error);   // offset not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, {4, in, out, 30, 0}), Error);   // stride not a multiple of 4
+  EXPECT_THROW(enc.recordForward(rec, {4, in, out, 28, 4}), Error);   // block overruns the row
+  EXPECT_THROW(enc.recordForward(rec, {5, in, out, 28, 0}), Error);   // more rows than the inputs hold
   rec.end();
   EXPECT_THROW(nerf::FrequencyEncoding(ctx(), 5, 4, true), Error);
 }

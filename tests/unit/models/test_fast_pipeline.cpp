@@ -234,9 +234,8 @@ TEST_F(FastPipelineTest, ATrainingStepInSegmentsCompositesWhatOneForwardDoes) {
     double samplesPerRay;
   };
   auto step = [&](double segmentsBelowKept) {
-    models::FastPipeline pipe(ctx, cfg, train.bounds, cfg.raysPerBatch, true);
+    models::FastPipeline pipe(ctx, cfg, train.bounds, cfg.raysPerBatch, true, {}, models::TrainingPhotos{data.numCameras});
     pipe.segmentTrainingBelowKept(segmentsBelowKept);
-    pipe.setTrainingCameras(data.numCameras);
     setNetworkParameters(pipe, 0.3f);
     gpu::Recorder rec(ctx);
     Step s;

@@ -16,7 +16,7 @@
 #include "command.h"
 #include "gpu/memory/buffer.h"
 #include "gpu/dispatch/recorder.h"
-#include "models/fast/fast_pipeline.h"  // hashGridConfigFor
+#include "models/fast/fast_field.h"  // hashGridConfigFor
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/gradient_paths.h"
 #include "vknerf/config.h"

@@ -77,8 +77,8 @@ int run(const Options& o, Context& ctx) {
     compositor.recordForward(rec, {R, o.coarse, noOffsets, coarse, field, {1, 1, 1}, bgr}, {color, depth, weights});
     pdf.record(rec, {rays, R}, {coarse, weights, o.coarse}, {o.fine, {rep + 1, true}, 1e-5f}, fine);
     points.record(rec, {rays, R}, fine, nAll, Aabb{}, {pos, dir});
-    posEnc.recordForward(rec, n, pos, posFeat, 64, 0);
-    dirEnc.recordForward(rec, n, dir, dirFeat, 28, 0);
+    posEnc.recordForward(rec, {n, pos, posFeat, 64, 0});
+    dirEnc.recordForward(rec, {n, dir, dirFeat, 28, 0});
     compositor.recordForward(rec, {R, nAll, noOffsets, fine, field, {1, 1, 1}, bgr}, {color, depth, weights});
     loss.record(rec, {R, color, ids, bg}, images, camBuf, {dColor, partials});
     compositor.recordBackward(rec, {R, nAll, noOffsets, fine, field, {1, 1, 1}, bgr}, {dColor, dDepth, dField});

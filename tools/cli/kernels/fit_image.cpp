@@ -59,7 +59,7 @@ FitImageResult fitImage(Context& ctx, const std::vector<uint32_t>& rgba8, uint32
   gpu::Recorder rec(ctx);
   rec.begin();
   bg.recordConstant(rec, background, n, {0, 0, 0});
-  if (config.encoding) enc.recordForward(rec, n, uvBuf, encoded, mlp.inputStride(), 0);
+  if (config.encoding) enc.recordForward(rec, {n, uvBuf, encoded, mlp.inputStride(), 0});
   rec.end();
   rec.submitAndWait();
 

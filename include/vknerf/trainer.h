@@ -24,8 +24,11 @@ namespace vknerf {
 struct StepStats {
   uint32_t step = 0;
   bool hasLoss = false;  // loss is read back only when asked (every K steps)
-  double loss = 0;       // fine-pass MSE of this step's batch
+  double loss = 0;       // fine-pass MSE of this step's batch (the photometric term)
   double psnr = 0;
+  // With the loss: the other terms the step minimised, each named by the configuration field that
+  // weighs it ("distortion_loss", "camera_penalty") with its weight applied, in the model's order.
+  std::vector<std::pair<std::string, double>> lossTerms;
   uint32_t rays = 0;     // rays in this step's batch (the fast model adapts it)
   uint64_t samples = 0;  // field evaluations (points through the MLP) in this step
 };

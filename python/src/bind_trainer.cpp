@@ -26,6 +26,9 @@ py::dict statsDict(const StepStats& s) {
   if (s.hasLoss) {
     d["loss"] = s.loss;  // the fine pass's MSE over the batch
     d["psnr"] = s.psnr;
+    py::dict terms;  // the other loss terms, by the configuration field that weighs each
+    for (const auto& [name, value] : s.lossTerms) terms[py::str(name)] = value;
+    d["loss_terms"] = terms;
   }
   return d;
 }

@@ -8,7 +8,9 @@
 // over the camera's rays and their samples, plus penalty * (w, tau) from the L2 term that keeps
 // each pose near the one it was given. A workgroup sums a camera's run of rays (the batch comes in
 // runs of one camera each; gpu/per_camera_sum.glsl: the same sum at every run, no float atomics),
-// a lane a ray's samples at a time. Writes (does not add to) the gradient. ref: tests/unit/rays.
+// a lane a ray's samples at a time. Writes (does not add to) the gradient, and with
+// pc.writePenaltyValues each camera's penalty, penalty / 2 |(w, tau)|^2 (the loss's report).
+// ref: tests/unit/rays.
 #include "rays/so3.glsl"
 
 #include "gpu/per_camera_sum_shared.h"
@@ -24,6 +26,7 @@ layout(std430, binding = 5) readonly buffer PositionGradient { vec4 dP[]; };    
 layout(std430, binding = 6) readonly buffer Corrections { float corrections[]; };  // 6 per camera
 layout(std430, binding = 7) writeonly buffer Grads { float grads[]; };
 layout(std430, binding = 8) readonly buffer RayCount { uint rayCount; };
+layout(std430, binding = 9) writeonly buffer PenaltyValues { float penaltyValues[]; };  // per camera
 
 #include "rays/camera_gradient_shared.h"
 #include "gpu/per_camera_sum.glsl"
@@ -50,6 +53,7 @@ void main() {
       vec3 tau = vec3(corrections[6u * c + 3u], corrections[6u * c + 4u], corrections[6u * c + 5u]);
       vec3 gw = transpose(so3LeftJacobian(w)) * perCameraScratch[0].xyz + pc.penalty * w;
       vec3 gt = perCameraScratch[1].xyz + pc.penalty * tau;
+      if (pc.writePenaltyValues != 0u) penaltyValues[c] = 0.5 * pc.penalty * (dot(w, w) + dot(tau, tau));
       for (int k = 0; k < 3; ++k) {
         grads[6u * c + uint(k)] = gw[k];
         grads[6u * c + 3u + uint(k)] = gt[k];

@@ -9,6 +9,7 @@ PUSH_CONSTANTS_BEGIN(CameraGradientPush)
   uint numCameras;
   uint maxRays;        // the rays recorded; the device's ray count cuts them further
   float penalty;       // L2 weight: the gradient gains penalty * correction
+  uint writePenaltyValues;  // write each camera's penalty, penalty / 2 |correction|^2 (binding 9)
 PUSH_CONSTANTS_END
 
 #endif

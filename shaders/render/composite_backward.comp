@@ -21,6 +21,9 @@
 // taken in the ray's normalised distance s in [0, 1], even in march steps (render/distortion.glsl,
 // src/reference/render/distortion_loss.h): the loss is the same in any units and wherever the ray
 // starts, so one weight serves every scene.
+// With pc.writeTermValues, each ray's value of the loss terms it adds, weighted, goes to
+// termValues[ray] (x: the distortion loss, 2 sum_i w_i (m_i W_i - S_i) + 1/3 sum_i w_i^2 l_i, the
+// pairwise sum taken once per pair from the front pass's running sums) for the loss's report.
 #extension GL_GOOGLE_include_directive : require
 #include "render/composite.glsl"
 #include "render/distortion.glsl"
@@ -36,6 +39,7 @@ layout(std430, binding = 5) readonly buffer DDepth { float dDepth[]; };
 layout(std430, binding = 6) buffer DField { vec4 dField[]; };            // dL/d(r, g, b, sigma)
 // binding 7: the forward pass's kept counts, unbound here
 layout(std430, binding = 8) readonly buffer Rays { vec4 rays[]; };       // (o, t_near), (d, t_far): the distortion loss's
+layout(std430, binding = 9) writeonly buffer TermValues { vec4 termValues[]; };  // per ray: x distortion
 
 #include "render/composite_shared.h"
 
@@ -53,7 +57,7 @@ void main() {
   vec2 frame = distortion ? distortionFrame(rays[2u * ray].w, rays[2u * ray + 1u].w, spacing) : vec2(0.0);
   float prefix = 0.0;
   float opaque = 0.0;
-  float wFront = 0.0, sFront = 0.0;
+  float wFront = 0.0, sFront = 0.0, distortionValue = 0.0;
   uint cut = begin;
   for (; cut < end && opaque <= pc.maxOpticalDepth; ++cut) {
     float sigma = imageLoad(field, int(cut)).w;
@@ -61,9 +65,11 @@ void main() {
     float x = opticalDepth(sigma, s.y);
     if (distortion) {
       float w = exp(-prefix) * alphaAndSurvival(x).x;
+      vec2 ml = distortionInterval(s, frame, spacing);
       dField[cut].yz = vec2(wFront, sFront);
+      distortionValue += w * (2.0 * (ml.x * wFront - sFront) + (1.0 / 3.0) * w * ml.y);
       wFront += w;
-      sFront += w * distortionInterval(s, frame, spacing).x;
+      sFront += w * ml.x;
     }
     prefix += x;
     dField[cut].x = exp(-prefix);
@@ -71,6 +77,7 @@ void main() {
   }
   for (uint i = cut; i < end; ++i) dField[i] = vec4(0.0);
   end = cut;
+  if (pc.writeTermValues != 0u) termValues[ray] = vec4(pc.distortion * distortionValue, 0.0, 0.0, 0.0);
 
   vec4 g = dColor[ray];
   float gDepth = dDepth[ray];

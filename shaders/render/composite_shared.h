@@ -12,6 +12,7 @@ PUSH_CONSTANTS_BEGIN(CompositePush)
   uint writeKept;                 // forward: write the kept counts; unused by backward
   float distortion;               // backward: the distortion loss's weight per ray; 0: none
   float coneAngle, dtMin, dtMax;  // backward: the march's spacing (MarchSpacing), for the distortion loss
+  uint writeTermValues;           // backward: write each ray's weighted loss terms (binding 9)
 PUSH_CONSTANTS_END
 
 #endif

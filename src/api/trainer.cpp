@@ -79,12 +79,12 @@ struct Trainer::Impl {
     st.rays = size.rays;
     st.samples = size.samples;
     if (f.readLoss) {
-      const uint32_t R = size.rays;
-      auto stats = nerf::PhotometricLoss::summarize(
-          lossReadback[slot].download<float>(gpu::groupsFor(R, nerf::PhotometricLoss::kRaysPerPartial)), R);
+      const models::LossBreakdown loss =
+          pipe->lossReport().summarize(lossReadback[slot].download<float>(pipe->lossPartials().size() / sizeof(float)), size.rays);
       st.hasLoss = true;
-      st.loss = stats.mse;
-      st.psnr = stats.psnr;
+      st.loss = loss.photometric.mse;
+      st.psnr = loss.photometric.psnr;
+      st.lossTerms = loss.terms;
       if (!std::isfinite(st.loss))
         throw Error("training diverged: loss is " + std::to_string(st.loss) + " at step " + std::to_string(st.step));
     }

@@ -17,6 +17,7 @@
 #include "gpu/memory/buffer.h"
 #include "gpu/memory/memory_account.h"
 #include "gpu/dispatch/recorder.h"
+#include "models/common/loss_report.h"
 #include "models/common/parameter_groups.h"
 #include "models/common/step_extension.h"
 #include "nerf/occupancy/occupancy_grid.h"
@@ -90,8 +91,9 @@ class FieldPipeline {
     uint64_t samples = 0;
   };
   // One optimisation step (`at.step` counts from 0), recorded into `rec` (begun here) and
-  // submitted, not waited for. Within the step, the loss partials are copied into `lossReadback`
-  // (host-readable, lossPartials()'s size); returns the rays whose partials it recorded.
+  // submitted, not waited for. Within the step, the loss partials (every term's) are copied into
+  // `lossReadback` (host-readable, lossPartials()'s size); returns the rays whose partials it
+  // recorded (lossReport().summarize reads them).
   uint32_t submitTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at, gpu::Buffer& lossReadback) {
     gpu::MemoryAccount::Scope charge(memory_);
     rec.begin();
@@ -104,7 +106,9 @@ class FieldPipeline {
   // After the step's submission finished (its recorder waited for): the rays whose loss its
   // partials hold (the rays past the device's cut add zero) and the field evaluations it made.
   StepSize collectTrainStep(uint32_t step) { return doCollectTrainStep(slotOf(step)); }
-  virtual const gpu::Buffer& lossPartials() const = 0;
+  // A training pipeline's loss terms and their partials (models/common/loss_report.h).
+  const LossReport& lossReport() const { return lossReport_.value(); }
+  const gpu::Buffer& lossPartials() const { return lossReport().partials(); }
 
   // Parameters (and, when training, optimizer state and auxiliary structures) by name.
   std::vector<StateArray> state() { return parts_.state(); }
@@ -123,10 +127,14 @@ class FieldPipeline {
   const std::shared_ptr<gpu::MemoryAccount>& memory() const { return memory_; }
 
  protected:
-  // The account open on this thread when the pipeline is constructed, or a new one.
-  explicit FieldPipeline(uint32_t rayCapacity)
+  // The account open on this thread when the pipeline is constructed, or a new one. A training
+  // pipeline reports its loss through a LossReport for its ray capacity.
+  FieldPipeline(Context& ctx, uint32_t rayCapacity, bool training)
       : rayCapacity_(rayCapacity),
-        memory_(gpu::MemoryAccount::current() ? gpu::MemoryAccount::current() : std::make_shared<gpu::MemoryAccount>()) {}
+        memory_(gpu::MemoryAccount::current() ? gpu::MemoryAccount::current() : std::make_shared<gpu::MemoryAccount>()) {
+    if (training) lossReport_.emplace(ctx, rayCapacity);
+  }
+  LossReport& report() { return lossReport_.value(); }
 
   // The model's parts, registered once in checkpoint order by the model's constructor.
   ParameterGroups& parts() { return parts_; }
@@ -148,6 +156,7 @@ class FieldPipeline {
   std::shared_ptr<gpu::MemoryAccount> memory_;
   ParameterGroups parts_;
   std::vector<StepExtension*> extensions_;
+  std::optional<LossReport> lossReport_;
 };
 
 // Rays per render batch of a loaded model.

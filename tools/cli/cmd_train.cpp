@@ -228,9 +228,16 @@ int train(const Options& o, const Globals& g) {
     double s = elapsed(), done = double(st.step - first);
     double rate = done / s, frac = runFraction();
     double eta = frac > 0 ? s / frac - s : 0;
-    char line[256];
-    std::snprintf(line, sizeof line, "step %6u  loss %.5f  train PSNR %5.2f dB  %7.0f rays/s  %s elapsed  ETA %s",
-                  st.step, st.loss, st.psnr, rate * st.rays, clock(s).c_str(), clock(eta).c_str());
+    // The loss is the photometric term (its PSNR beside it); the other terms follow by name.
+    std::string terms;
+    for (const auto& [name, value] : st.lossTerms) {
+      char term[96];
+      std::snprintf(term, sizeof term, "  %s %.3g", name.c_str(), value);
+      terms += term;
+    }
+    char line[512];
+    std::snprintf(line, sizeof line, "step %6u  loss %.5f  train PSNR %5.2f dB%s  %7.0f rays/s  %s elapsed  ETA %s",
+                  st.step, st.loss, st.psnr, terms.c_str(), rate * st.rays, clock(s).c_str(), clock(eta).c_str());
     if (tty) {
       int bar = int(std::min(1.0, frac) * 20);
       std::printf("\r[%.*s%*s] %s", bar, "####################", 20 - bar, "", line);

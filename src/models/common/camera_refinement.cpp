@@ -8,14 +8,20 @@
 namespace vknerf::models {
 
 CameraRefinement::CameraRefinement(Context& ctx, uint32_t numCameras, uint32_t rows,
-                                   const CameraRefinementSettings& settings)
+                                   const CameraRefinementSettings& settings, LossReport& report)
     : numCameras_(numCameras),
       penalty_(settings.penalty),
       corrections_(ctx, "cameras", std::vector<float>(size_t(numCameras) * nerf::kCorrectionFloats, 0.0f), settings.adam),
       corrected_(gpu::Buffer::zeros(ctx, VkDeviceSize(std::max(numCameras, 1u)) * sizeof(nerf::CameraGpu),
                                     "the refined cameras")),
       dPosition_(gpu::Buffer::zeros(ctx, VkDeviceSize(rows) * 16, "the samples' position gradients")),
-      kernels_(ctx) {}
+      report_(report),
+      kernels_(ctx) {
+  if (penalty_ > 0 && numCameras_ > 0) {
+    penaltyTerm_ = report.addTerm(LossReport::row("camera_penalty"), false, numCameras_);
+    penaltyValues_ = gpu::Buffer::zeros(ctx, VkDeviceSize(numCameras_) * 4, "the cameras' penalties");
+  }
+}
 
 const gpu::Buffer& CameraRefinement::recordCameras(gpu::Recorder& rec, const TrainingData& data) {
   if (data.numCameras != numCameras_)
@@ -27,7 +33,9 @@ const gpu::Buffer& CameraRefinement::recordCameras(gpu::Recorder& rec, const Tra
 
 void CameraRefinement::recordGradient(gpu::Recorder& rec, const StepBatch& b) {
   kernels_.recordGradient(rec, {b.rays, b.pixelIds, b.marchedOffsets, b.rowOffsets, b.marchedSamples, dPosition_, b.rayCount, b.box},
-                          numCameras_, penalty_, corrections_.params(), corrections_.grads());
+                          numCameras_, penalty_, corrections_.params(), corrections_.grads(),
+                          penaltyTerm_ ? std::optional(gpu::BufferRange(penaltyValues_)) : std::nullopt);
+  if (penaltyTerm_) report_.recordTerm(rec, *penaltyTerm_, {penaltyValues_, numCameras_});
 }
 
 std::vector<std::array<float, nerf::kCorrectionFloats>> CameraRefinement::corrections() {

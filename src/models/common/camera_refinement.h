@@ -11,6 +11,7 @@
 
 #include "gpu/memory/buffer.h"
 #include "gpu/dispatch/recorder.h"
+#include "models/common/loss_report.h"
 #include "models/common/step_extension.h"
 #include "models/common/trainable_parameters.h"
 #include "nerf/rays/pose_correction.h"
@@ -24,8 +25,10 @@ struct CameraRefinementSettings {
 
 class CameraRefinement final : public StepExtension {
  public:
-  // rows: the most rows a training step's backward runs over (the position gradient's).
-  CameraRefinement(Context& ctx, uint32_t numCameras, uint32_t rows, const CameraRefinementSettings& settings);
+  // rows: the most rows a training step's backward runs over (the position gradient's). With a
+  // penalty, its value is a term of `report` (camera_penalty).
+  CameraRefinement(Context& ctx, uint32_t numCameras, uint32_t rows, const CameraRefinementSettings& settings,
+                   LossReport& report);
 
   uint32_t numCameras() const { return numCameras_; }
   // The training cameras (numCameras() CameraGpu) with the corrections applied, into a buffer of its own.
@@ -50,6 +53,9 @@ class CameraRefinement final : public StepExtension {
   TrainableParameters corrections_;
   gpu::Buffer corrected_;
   gpu::Buffer dPosition_;  // dL/dp per backward row (vec4)
+  LossReport& report_;
+  std::optional<uint32_t> penaltyTerm_;
+  gpu::Buffer penaltyValues_;  // with a penalty: each camera's, for the report
   nerf::PoseCorrection kernels_;
 };
 

@@ -54,7 +54,7 @@ uint32_t sampleCapacityFor(const FastModel& m, uint32_t rayCapacity, bool traini
 
 FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
                            bool training, const RenderSettings& overrides, const TrainingPhotos& photos)
-    : FieldPipeline(std::max(rayCapacity, kRayAlign)),
+    : FieldPipeline(ctx, std::max(rayCapacity, kRayAlign), training),
       ctx_(ctx),
       config_(config),
       model_(withOverrides(checked(config.fastModel(), training), overrides)),
@@ -99,7 +99,7 @@ void FastPipeline::addExtensions(Context& ctx, const TrainingPhotos& photos, con
     CameraRefinementSettings settings;
     settings.adam = adamConfigOf(config_, model_.cameraLearningRate / config_.learningRate);
     settings.penalty = model_.cameraPenalty;
-    addExtension(cameras_.emplace(ctx, photos.count, sampleCapacity_, settings));
+    addExtension(cameras_.emplace(ctx, photos.count, sampleCapacity_, settings, report()));
   }
   if (model_.appearanceDims && photos.count) {
     // W_a starts as the colour layer's weights would with the vector among its inputs.
@@ -116,7 +116,10 @@ void FastPipeline::allocateTraining(Context& ctx) {
   loss_.emplace(ctx);
   dColor_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity()) * 16);
   zeroDepthGrad_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity()) * 4);
-  partials_ = gpu::Buffer::zeros(ctx, gpu::groupsFor(rayCapacity(), nerf::PhotometricLoss::kRaysPerPartial) * 4);
+  if (model_.distortionLoss > 0) {
+    distortionTerm_ = report().addTerm(LossReport::row("distortion_loss"), true);
+    rayLossValues_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity()) * 4 * nerf::kRayLossColumns, "the rays' loss terms");
+  }
   for (auto& counts : stepCounts_) counts = gpu::Buffer::hostReadable(ctx, 16, "a training step's counts");
   if (model_.earlyTermination) {
     kept_.emplace(ctx, rayCapacity(), sampleCapacity_);
@@ -273,7 +276,7 @@ nerf::CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, co
   recordField(rec, batch.rays, &batch);
   compositor_.recordForward(rec, composite, composited);
   loss_->record(rec, {R, color_, rays_.pixelIds(), rays_.background(), wholeRayCount()},
-                {data.pixels, *data.cameras}, {dColor_, partials_});
+                {data.pixels, *data.cameras}, {dColor_, report().photometricPartials()});
   return composite;
 }
 
@@ -286,7 +289,12 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const StepBatch& b
   const float dt = estimator_.dt();
   const nerf::DistortionLoss distortion{model_.distortionLoss / float(R), estimator_.cone().coneAngle, dt,
                                         std::max(dt, estimator_.cone().dtMax), batch.rays.range};
-  compositor_.recordBackward(rec, composite, {dColor_, zeroDepthGrad_, f.dField, distortion});
+  nerf::CompositeGradients gradients{dColor_, zeroDepthGrad_, f.dField, {distortion}};
+  if (distortionTerm_) gradients.termValues = gpu::BufferRange(rayLossValues_);
+  compositor_.recordBackward(rec, composite, gradients);
+  if (distortionTerm_)
+    report().recordTerm(rec, *distortionTerm_,
+                            {rayLossValues_, R, nerf::kRayLossColumns, nerf::rayLossColumn(distortion)});
   if (farField_) farField_->recordBackward(rec, R, *composite.perRayBackground, color_, dColor_);
   // With the kept samples packed, the backward runs over them alone: the MLP's reads the forward's
   // rows through their index, the encoding's reads the kept positions beside the packed encoding

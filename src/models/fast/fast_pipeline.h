@@ -41,7 +41,6 @@ class FastPipeline final : public FieldPipeline {
                const RenderSettings& overrides = {}, const TrainingPhotos& photos = {});
 
   RenderOutputs renderOutputs() const override { return {color_, depth_, rays_.background()}; }
-  const gpu::Buffer& lossPartials() const override { return partials_; }
   FieldBatch& queryBatch() override { return field_.batch(); }
   void recordQuery(gpu::Recorder& rec, uint32_t count) override;
   std::optional<nerf::OccupancyBits> sampledCells() const override { return estimator_.occupiedCells(); }
@@ -104,7 +103,11 @@ class FastPipeline final : public FieldPipeline {
   std::optional<Appearance> appearance_;     // FastModel::appearanceDims, once the photos are known
 
   // per ray
-  gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_, partials_;
+  gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_;
+  // Training with the distortion loss: its term in the loss report, and each ray's value of the
+  // loss terms the compositor's backward adds (vec4, nerf::rayLossColumn).
+  std::optional<uint32_t> distortionTerm_;
+  gpu::Buffer rayLossValues_;
   // Early termination (training): the samples each ray kept. When the batch fits one chunk of the
   // MLP (always, short of a huge sample budget), the backward runs over them packed (gatherBackward_);
   // else over every marched sample, with a zero gradient behind each ray's cut.

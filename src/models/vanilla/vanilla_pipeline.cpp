@@ -34,12 +34,11 @@ Level::Level(Context& ctx, const nerf::NerfMlp& mlp, uint32_t rays, uint32_t spr
       field(ctx, mlp, rays * spr, training) {
   if (!training) return;
   dColor = gpu::Buffer(ctx, VkDeviceSize(rays) * 16);
-  partials = gpu::Buffer(ctx, gpu::groupsFor(rays, nerf::PhotometricLoss::kRaysPerPartial) * sizeof(float));
 }
 
 VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
                                  bool training, const RenderSettings& overrides)
-    : FieldPipeline(rayCapacity),
+    : FieldPipeline(ctx, rayCapacity, training),
       config_(config),
       model_(withOverrides(config.vanillaModel(), overrides)),
       box_(box),
@@ -58,7 +57,10 @@ VanillaPipeline::VanillaPipeline(Context& ctx, const TrainConfig& config, const 
       levels_{{ctx, coarse_.mlp, rayCapacity, model_.coarseSamples, training},
               {ctx, fine().mlp, rayCapacity, model_.coarseSamples + model_.fineSamples, training}},
       zeroDepthGrad_(gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity) * sizeof(float))) {
-  if (training) loss_.emplace(ctx);
+  if (training) {
+    loss_.emplace(ctx);
+    coarsePartials_ = gpu::Buffer(ctx, gpu::groupsFor(rayCapacity, nerf::PhotometricLoss::kRaysPerPartial) * sizeof(float));
+  }
   parts().add(coarse_.parameters, ParameterRole::Network);
   if (fine_) parts().add(fine_->parameters, ParameterRole::Network);
 }
@@ -108,8 +110,10 @@ void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const
     Level& l = levels_[li];
     Network& net = li == 0 ? coarse_ : fine();
     FieldBatch& f = l.field;
+    // The fine level's loss is the one reported.
+    const gpu::BufferRange partials = li == 1 ? report().photometricPartials() : gpu::BufferRange(coarsePartials_);
     loss_->record(rec, {numRays, l.color, rays_.pixelIds(), rays_.background()}, {data.pixels, *data.cameras},
-                  {l.dColor, l.partials});
+                  {l.dColor, partials});
     compositor_.recordBackward(rec, compositeInputs(l, numRays), {l.dColor, zeroDepthGrad_, f.dField});
     net.mlp.recordBackward(rec, f.mlpRows(numRays * l.samplesPerRay), net.parameters.params(),
                            {f.dField, net.parameters.grads()}, *f.workspace);

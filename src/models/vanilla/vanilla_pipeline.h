@@ -39,7 +39,7 @@ struct Level {
   uint32_t samplesPerRay;
   gpu::Buffer samples, weights, color, depth;
   FieldBatch field;
-  gpu::Buffer dColor, partials;  // training
+  gpu::Buffer dColor;  // training
 };
 
 class VanillaPipeline final : public FieldPipeline {
@@ -48,7 +48,6 @@ class VanillaPipeline final : public FieldPipeline {
                   const RenderSettings& overrides = {});
 
   RenderOutputs renderOutputs() const override { return {levels_[1].color, levels_[1].depth, rays_.background()}; }
-  const gpu::Buffer& lossPartials() const override { return levels_[1].partials; }
   FieldBatch& queryBatch() override { return levels_[1].field; }
   void recordQuery(gpu::Recorder& rec, uint32_t count) override;
 
@@ -85,6 +84,7 @@ class VanillaPipeline final : public FieldPipeline {
   std::unique_ptr<Network> fine_;  // separateFineNetwork; null: the coarse network is queried twice
   Level levels_[2];
   gpu::Buffer zeroDepthGrad_;
+  gpu::Buffer coarsePartials_;  // training: the coarse level's loss (minimised, not reported)
 };
 
 }  // namespace vknerf::models

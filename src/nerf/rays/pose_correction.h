@@ -5,6 +5,7 @@
 // (shaders/rays/camera_gradient.comp). A correction is 6 floats per camera, (w, tau): the pose
 // [R | c] becomes [exp(w) R | c + tau] (src/reference/rays/pose_correction.h).
 #include <cstdint>
+#include <optional>
 
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/recorder.h"
@@ -33,9 +34,11 @@ class PoseCorrection {
   // corrected = cameras (count CameraGpu) with corrections (6 floats each) applied.
   void recordApply(gpu::Recorder& rec, uint32_t count, const gpu::BufferRange& cameras,
                    const gpu::BufferRange& corrections, const gpu::BufferRange& corrected);
-  // grads (6 floats per camera, written) = dL/dcorrection + penalty * correction, for numCameras.
+  // grads (6 floats per camera, written) = dL/dcorrection + penalty * correction, for numCameras;
+  // with penaltyValues (a float per camera), each camera's penalty / 2 |correction|^2 too.
   void recordGradient(gpu::Recorder& rec, const PoseGradientInputs& in, uint32_t numCameras, float penalty,
-                      const gpu::BufferRange& corrections, const gpu::BufferRange& grads);
+                      const gpu::BufferRange& corrections, const gpu::BufferRange& grads,
+                      const std::optional<gpu::BufferRange>& penaltyValues = std::nullopt);
 
  private:
   gpu::Kernel apply_, gradient_;

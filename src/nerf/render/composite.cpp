@@ -15,7 +15,7 @@ gpu::KernelDesc desc(const gpu::ShaderCode& shader, uint32_t pushBytes) {
   using gpu::Binding;
   return {shader,
           {Binding::Storage, Binding::Storage, Binding::TexelRgba32f, Binding::Storage, Binding::Storage,
-           Binding::Storage, Binding::Storage, Binding::Storage, Binding::Storage},
+           Binding::Storage, Binding::Storage, Binding::Storage, Binding::Storage, Binding::Storage},
           pushBytes,
           {}};
 }
@@ -33,7 +33,8 @@ float Compositor::maxOpticalDepth(float minTransmittance) {
 }
 
 void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, const CompositeInputs& in,
-                          const Outputs& out, const std::optional<DistortionLoss>& distortion) {
+                          const Outputs& out, const std::optional<DistortionLoss>& distortion,
+                          const std::optional<gpu::BufferRange>& termValues) {
   const uint32_t numRays = in.numRays, samplesPerRay = in.samplesPerRay;
   const float maxOpticalDepth = in.maxOpticalDepth;
   const std::array<float, 3>& background = in.background;
@@ -53,25 +54,35 @@ void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* l
     if (distorted) gpu::requireBytes("Compositor", "rays", d.rays, uint64_t(numRays) * kRayBytes);
   }
   if (out3) gpu::requireBytes("Compositor", "keptCounts", *out3, uint64_t(numRays) * 4);
+  if (termValues) gpu::requireBytes("Compositor", "termValues", *termValues, uint64_t(numRays) * 4 * kRayLossColumns);
   Push p{{background[0], background[1], background[2], 0}, numRays, samplesPerRay, perRayBackground ? 1u : 0u,
          maxOpticalDepth, out3 ? 1u : 0u, distorted ? distortion->weight : 0.0f,
          distorted ? distortion->coneAngle : 0.0f, distorted ? distortion->dtMin : 1.0f,
-         distorted ? distortion->dtMax : 1.0f};
+         distorted ? distortion->dtMax : 1.0f, termValues ? 1u : 0u};
   gpu::BufferRange offsets = rayOffsets.buffer ? rayOffsets : gpu::BufferRange(dummy_);
   gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
   gpu::BufferRange kept = out3 ? *out3 : gpu::BufferRange(dummy_);
   gpu::BufferRange rays = distorted ? distortion->rays : gpu::BufferRange(dummy_);
-  rec.dispatch(kernel, {offsets, in.samples, in.field, bg, out.out0, out.out1, out.out2, kept, rays}, p,
+  gpu::BufferRange values = termValues ? *termValues : gpu::BufferRange(dummy_);
+  rec.dispatch(kernel, {offsets, in.samples, in.field, bg, out.out0, out.out1, out.out2, kept, rays, values}, p,
                gpu::groupsFor(numRays, kLocal), 1, 1, label);
 }
 
 void Compositor::recordForward(gpu::Recorder& rec, const CompositeInputs& in, const CompositeOutputs& out) {
-  dispatch(rec, forward_, "composite_forward", in, {out.color, out.depth, out.weights, out.keptCounts}, std::nullopt);
+  dispatch(rec, forward_, "composite_forward", in, {out.color, out.depth, out.weights, out.keptCounts}, std::nullopt,
+           std::nullopt);
 }
 
 void Compositor::recordBackward(gpu::Recorder& rec, const CompositeInputs& in, const CompositeGradients& grads) {
+  std::optional<DistortionLoss> distortion;
+  for (const RayLossTerm& term : grads.terms) {
+    if (const auto* d = std::get_if<DistortionLoss>(&term)) {
+      if (distortion) throw Error("Compositor: the distortion loss is listed twice");
+      distortion = *d;
+    }
+  }
   dispatch(rec, backward_, "composite_backward", in, {grads.dColor, grads.dDepth, grads.dField, std::nullopt},
-           grads.distortion);
+           distortion, grads.termValues);
 }
 
 }  // namespace vknerf::nerf

@@ -24,6 +24,8 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <variant>
+#include <vector>
 
 #include "nerf/sampling/packed_samples.h"
 #include "nerf/sampling/sample_layout.h"
@@ -75,11 +77,21 @@ struct CompositeOutputs {
   std::optional<gpu::BufferRange> keptCounts;
 };
 
-// What the backward reads (dColor, dDepth) and writes (dField, in full); `distortion`, with a
-// weight > 0, adds that weight times each ray's distortion loss (ref::distortionLoss) to the loss.
+// The loss terms the backward pass adds per ray to the loss whose colour gradient dColor carries:
+// one list, each kind at most once, each with its weight. A term's column is where each ray's
+// weighted value of it goes in CompositeGradients::termValues (the loss's report). A new per-ray
+// term is an alternative here, a column and a block of shaders/render/composite_backward.comp.
+using RayLossTerm = std::variant<DistortionLoss>;
+constexpr uint32_t kRayLossColumns = 4;  // termValues holds a vec4 per ray
+inline uint32_t rayLossColumn(const RayLossTerm& term) { return uint32_t(term.index()); }
+
+// What the backward reads (dColor, dDepth) and writes (dField, in full); `terms` adds each term's
+// weight times its value per ray (the distortion loss: ref::distortionLoss) to the loss, and,
+// with termValues (vec4 per ray), writes those weighted values in the terms' columns.
 struct CompositeGradients {
   gpu::BufferRange dColor, dDepth, dField;
-  std::optional<DistortionLoss> distortion;
+  std::vector<RayLossTerm> terms;
+  std::optional<gpu::BufferRange> termValues;
 };
 
 class Compositor {
@@ -98,13 +110,15 @@ class Compositor {
  private:
   using Push = glsl::CompositePush;
   // Both passes bind the same inputs and four outputs (forward: colour, depth, weights, kept
-  // counts; backward: dColor, dDepth, dField, nothing), then the rays (backward's distortion loss).
+  // counts; backward: dColor, dDepth, dField, nothing), then the rays (backward's distortion loss)
+  // and the terms' values (backward).
   struct Outputs {
     gpu::BufferRange out0, out1, out2;
     std::optional<gpu::BufferRange> out3;
   };
   void dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* label, const CompositeInputs& in,
-                const Outputs& out, const std::optional<DistortionLoss>& distortion);
+                const Outputs& out, const std::optional<DistortionLoss>& distortion,
+                const std::optional<gpu::BufferRange>& termValues);
 
   gpu::Buffer dummy_;  // bound where the layout or the background source leaves a binding unused
   gpu::Kernel forward_, backward_;

@@ -11,6 +11,7 @@
 #include "support/gpu_test.h"
 #include "support/submit_once.h"
 #include "support/temp_dir.h"
+#include "io/checkpoint/checkpoint.h"
 #include "models/fast/fast_pipeline.h"
 #include "support/held_out.h"
 #include "nerf/loss/pixel_bindings.h"
@@ -397,4 +398,51 @@ TEST_F(FastPipelineTest, SubmittedStepsTrainAsWaitedSteps) {
     rayCounts.insert(waited[i].rays);
   }
   EXPECT_GT(rayCounts.size(), 2u) << "the ray count never adapted: the rule is not exercised";
+}
+
+// Every term of the loss is reported by the configuration field that weighs it, its weight
+// applied: the distortion loss (summed over the step's rays on the device) and camera
+// refinement's penalty (over the cameras). The first step of two runs that differ only in the
+// distortion loss's weight composites the same batch through the same field, so its reported
+// distortion loss doubles with the weight; the penalty is 0 while the corrections are, and later
+// (penalty / 2) |corrections|^2 of the corrections the step started from, as the checkpoint holds them.
+TEST_F(FastPipelineTest, EachLossTermIsReportedByItsConfigurationField) {
+  auto config = [](float distortion) {
+    TrainConfig c = smallFast();
+    c.fastModel().distortionLoss = distortion;
+    c.fastModel().refineCameras = true;
+    c.fastModel().cameraPenalty = 10.0f;
+    c.fastModel().cameraLearningRate = 1e-3f;
+    return c;
+  };
+  Trainer a(sharedContext(), scene("train"), config(0.01f)), b(sharedContext(), scene("train"), config(0.02f));
+  const StepStats first = a.step(true), doubled = b.step(true);
+  ASSERT_EQ(first.lossTerms.size(), 2u);
+  EXPECT_EQ(first.lossTerms[0].first, "distortion_loss");
+  EXPECT_EQ(first.lossTerms[1].first, "camera_penalty");
+  const double distortion = first.lossTerms[0].second;
+  EXPECT_TRUE(std::isfinite(distortion) && distortion > 0) << distortion;
+  // Exactly twice in float (the weight per ray doubles exactly); the host adds the partials in double.
+  EXPECT_NEAR(doubled.lossTerms[0].second, 2 * distortion, 1e-12 * distortion);
+  EXPECT_EQ(first.lossTerms[1].second, 0.0);
+
+  for (int i = 0; i < 5; ++i) a.step(false);
+  const test::TempDir tmp("loss_terms");
+  a.save(tmp.file("a.vknerf"));
+  const auto corrections = io::Checkpoint::load(tmp.file("a.vknerf")).get<float>("cameras.params");
+  double want = 0, sizes = 0;
+  for (float c : corrections) want += 0.5 * 10.0 * double(c) * c;
+  for (float c : corrections) sizes += std::fabs(double(c));
+  ASSERT_GT(want, 0.0) << "the corrections did not move";
+  const StepStats later = a.step(true);
+  ASSERT_EQ(later.lossTerms.size(), 2u);
+  // A float per camera (six squares, a few roundings each) summed in float trees of 128: well
+  // within 1e-5 of the value.
+  EXPECT_NEAR(later.lossTerms[1].second, want, 1e-5 * want);
+
+  // Without the weights, no terms.
+  TrainConfig plain = smallFast();
+  plain.fastModel().distortionLoss = 0;
+  Trainer c(sharedContext(), scene("train"), plain);
+  EXPECT_TRUE(c.step(true).lossTerms.empty());
 }

@@ -145,11 +145,20 @@ TEST_F(PoseCorrection, GradientMatchesFiniteDifferences) {
        ob = gpu::Buffer::of(ctx(), rowOff), sb = gpu::Buffer::of(ctx(), samples), pb = gpu::Buffer::of(ctx(), dPf),
        cb = gpu::Buffer::of(ctx(), corr), nb = gpu::Buffer::of(ctx(), std::vector<uint32_t>{counted});
   auto gb = gpu::Buffer::of(ctx(), std::vector<float>(kCameras * 6, 12345.0f));
+  auto penaltyBuf = gpu::Buffer::of(ctx(), std::vector<float>(kCameras, 12345.0f));
   nerf::PoseCorrection k(ctx());
   test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    k.recordGradient(rec, {{rb, R}, ib, mb, ob, sb, pb, nb, box}, kCameras, penalty, cb, gb);
+    k.recordGradient(rec, {{rb, R}, ib, mb, ob, sb, pb, nb, box}, kCameras, penalty, cb, gb, gpu::BufferRange(penaltyBuf));
   });
   const auto got = gb.download<float>();
+  // Each camera's penalty as the loss report reads it: (penalty / 2) |correction|^2, six float
+  // squares summed (a few roundings of 2^-24 relative each: 1e-6 relative is generous).
+  const auto penalties = penaltyBuf.download<float>();
+  for (uint32_t cam = 0; cam < kCameras; ++cam) {
+    double want = 0;
+    for (int i = 0; i < 6; ++i) want += 0.5 * penalty * double(corr[6 * cam + i]) * corr[6 * cam + i];
+    EXPECT_TRUE(test::near(penalties[cam], want, 1e-6, 1e-12)) << "camera " << cam << ": " << penalties[cam] << " vs " << want;
+  }
 
   std::vector<double> c(corr.begin(), corr.end()), termSize(kCameras, 0.0);
   loss(c, &termSize);

@@ -67,6 +67,7 @@ struct Batch {
 
 struct GpuResult {
   std::vector<float> color, depth, weights, dField;
+  std::vector<float> termValues;  // vec4 per ray: the loss terms the backward added, weighted
 };
 
 // The distortion loss's weight per ray and the march spacing it measures distances in.
@@ -85,7 +86,8 @@ GpuResult runGpu(Context& ctx, const Batch& b, const Distortion& distortion = {}
   gpu::Buffer offsets(ctx, bytes(b.offsets.size())), sampleBuf(ctx, bytes(b.samples.size())),
       fieldBuf(ctx, bytes(b.field.size())), bgBuf(ctx, bytes(b.perRayBg.size())), dColor(ctx, bytes(b.dColor.size())),
       dDepth(ctx, bytes(b.dDepth.size())), color(ctx, bytes(4 * rays)), depth(ctx, bytes(rays)),
-      weights(ctx, bytes(samples)), dField(ctx, bytes(4 * samples)), rayBuf(ctx, bytes(b.rays.size()));
+      weights(ctx, bytes(samples)), dField(ctx, bytes(4 * samples)), rayBuf(ctx, bytes(b.rays.size())),
+      termValues(ctx, bytes(4 * rays));
   offsets.upload(b.offsets);
   rayBuf.upload(b.rays);
   sampleBuf.upload(b.samples);
@@ -99,6 +101,7 @@ GpuResult runGpu(Context& ctx, const Batch& b, const Distortion& distortion = {}
   dField.upload(nan.data(), samples * 16);
   color.upload(nan.data(), rays * 16);
   depth.upload(nan.data(), rays * 4);
+  termValues.upload(nan.data(), rays * 16);
 
   nerf::Compositor comp(ctx);
   nerf::CompositeInputs in{rays, b.samplesPerRay, b.samplesPerRay ? gpu::BufferRange() : gpu::BufferRange(offsets),
@@ -108,10 +111,10 @@ GpuResult runGpu(Context& ctx, const Batch& b, const Distortion& distortion = {}
                                   float(distortion.spacing.dtMin), float(distortion.spacing.dtMax), rayBuf};
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     comp.recordForward(rec, in, {color, depth, weights});
-    comp.recordBackward(rec, in, {dColor, dDepth, dField, loss});
+    comp.recordBackward(rec, in, {dColor, dDepth, dField, {loss}, gpu::BufferRange(termValues)});
   });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(samples),
-          dField.download<float>(4 * samples)};
+          dField.download<float>(4 * samples), termValues.download<float>(4 * rays)};
 }
 
 // Error model of the float kernels against the double reference, used for every tolerance below.
@@ -360,6 +363,37 @@ TEST_F(Composite, MatchesReferenceWithDistortion) {
   c.rays[3] = 0, c.rays[7] -= t0;
   expectAllRaysMatch(runGpu(ctx(), c, constant), c, constant);
   expectAllRaysMatch(runGpu(ctx(), c, {0.05, kConeSpacing}), c, {0.05, kConeSpacing});
+}
+
+// Each ray's distortion loss as the backward reports it (termValues' distortion column, for the
+// loss's breakdown): its weight times ref::distortionLoss over the reference's weights, in cone
+// steps and in one grid's constant step; 0 without the loss.
+TEST_F(Composite, ReportsEachRaysWeightedDistortionLoss) {
+  for (const Distortion& d : {Distortion{0.5, kConeSpacing}, Distortion{0.05, {0, 0.02, 0.02}}, Distortion{0, kConeSpacing}}) {
+    SCOPED_TRACE(d.weight);
+    auto b = randomBatch(150, 0, 96, true, 41);
+    const GpuResult g = runGpu(ctx(), b, d);
+    const uint32_t column = nerf::rayLossColumn(nerf::DistortionLoss{});
+    for (uint32_t r = 0; r < b.numRays(); ++r) {
+      const auto s = b.raySamples(r), f = b.rayField(r);
+      const auto fw = ref::compositeForward<double>(s, f, b.background(r));
+      const auto ray = b.distortionRay(r, d.spacing);
+      const double want = d.weight * ref::distortionLoss<double>(s, fw.weights, ray);
+      // The float sums run over the ray's n samples with weights off by at most eps_n relative
+      // (rayTolerance) and midpoints and lengths in [0, M] off by a few ulps of M: the pairwise
+      // sum (at most M, its weights summing to at most 1) is then off by M (8 n u + 4 eps_n)
+      // relative to its size; a factor 4 of headroom, as every bound here.
+      const auto tol = rayTolerance(s, f);
+      double M = 1;
+      for (size_t i = 0; i < s.size() / 2; ++i)
+        M = std::max(M, ref::marchCoordinate(s[2 * i] + s[2 * i + 1], d.spacing) /
+                            std::max(ref::marchCoordinate(ray.tFar, d.spacing) - ref::marchCoordinate(ray.tNear, d.spacing), 1e-30) + 1);
+      const double n = double(s.size() / 2);
+      const double bound = d.weight * M * (8 * n * kU + 4 * tol.eps.back()) * 4 + 1e-30;
+      ASSERT_TRUE(test::near(g.termValues[4 * r + column], want, 0, bound)) << "ray " << r << ": " << g.termValues[4 * r + column]
+                                                                          << " vs " << want;
+    }
+  }
 }
 
 // The march coordinate g(t) = integral_0^t du / step(u): continuous where step changes piece, and

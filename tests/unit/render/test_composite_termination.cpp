@@ -99,7 +99,7 @@ Outputs composite(Context& ctx, const PackedBatch& b, float maxOpticalDepth, flo
   if (terminate) out.keptCounts = gpu::BufferRange(kept);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     comp.recordForward(rec, in, out);
-    comp.recordBackward(rec, in, {dColor, dDepth, dField, distortion});
+    comp.recordBackward(rec, in, {dColor, dDepth, dField, {distortion}});
   });
   return {color.download<float>(4 * rays), depth.download<float>(rays), weights.download<float>(n),
           dField.download<float>(4 * n), terminate ? kept.download<uint32_t>(rays) : std::vector<uint32_t>{}};

@@ -61,11 +61,11 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       box_(box),
       sampleCapacity_(sampleCapacityFor(model_, this->rayCapacity(), training)),
       training_(training),
-      estimator_(ctx, model_, box, this->rayCapacity(), sampleCapacity_, overrides.marchSteps, training),
-      field_(ctx, config, training, sampleCapacity_, estimator_.maxUpdatePoints(), hashGridPosition(ctx, config, training)),
       // The per-photo gradients (camera refinement, appearance) are summed over each photo's run of rays.
       rays_(ctx, this->rayCapacity(), model_.nearDistance > 0 ? model_.nearDistance : kNearPlane,
             model_.refineCameras || model_.appearanceDims > 0),
+      estimator_(ctx, model_, box, this->rayCapacity(), sampleCapacity_, overrides.marchSteps, training),
+      field_(ctx, config, training, sampleCapacity_, estimator_.maxUpdatePoints(), hashGridPosition(ctx, config, training)),
       points_(ctx),
       compositor_(ctx),
       color_(gpu::Buffer::zeros(ctx, VkDeviceSize(this->rayCapacity()) * 16)),
@@ -74,7 +74,6 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       wholeRays_(gpu::Buffer::zeros(ctx, 16)),
       segments_(ctx, this->rayCapacity()),
       renderMinTransmittance_(overrides.minTransmittance),
-      raysFor_{std::min(this->rayCapacity(), 1024u), std::min(this->rayCapacity(), 1024u)},
       segmentsBelowKept_(kSegmentsBelowKept) {
   if (!(renderMinTransmittance_ >= 0 && renderMinTransmittance_ < 1))
     throw Error("render settings: minTransmittance must be in [0, 1), got " + std::to_string(renderMinTransmittance_));
@@ -120,7 +119,7 @@ void FastPipeline::allocateTraining(Context& ctx) {
     distortionTerm_ = report().addTerm(LossReport::row("distortion_loss"), true);
     rayLossValues_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity()) * 4 * nerf::kRayLossColumns, "the rays' loss terms");
   }
-  for (auto& counts : stepCounts_) counts = gpu::Buffer::hostReadable(ctx, 16, "a training step's counts");
+  batch_.emplace(ctx, rayCapacity(), kRayAlign, model_.samplesPerBatch);
   if (model_.earlyTermination) {
     kept_.emplace(ctx, rayCapacity(), sampleCapacity_);
     gatherBackward_ = sampleCapacity_ <= field_.mlp().chunkRows();
@@ -137,7 +136,7 @@ void FastPipeline::recordField(gpu::Recorder& rec, const nerf::RaySpan& rays, co
   // A training step runs in segments, the field over the rows the compositor will read, once the
   // last step kept few of its marched samples; while rays keep most of theirs (early in training),
   // segments would only add dispatches.
-  if (!keep || !segmentRows_ || lastKeptFraction_ > segmentsBelowKept_)
+  if (!keep || !segmentRows_ || batch_->lastKeptFraction() > segmentsBelowKept_)
     return field_.recordForward(rec, {sampleCapacity_, samples.total(), std::nullopt, colourBias}, keep);
   const float maxDepth = nerf::Compositor::maxOpticalDepth(kMinTransmittance);
   for (size_t s = 0; s + 1 < kTrainingSegments.size(); ++s) {
@@ -231,11 +230,11 @@ uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData&
   TrainingData cameras = data;
   for (StepExtension* e : extensions()) cameras.cameras = &e->recordCameras(rec, cameras);
   const uint32_t slot = slotOf(step);
-  const StepBatch batch = stepBatch(recordTrainingBatch(rec, cameras, seed, raysFor_[slot]));
+  const StepBatch batch = stepBatch(recordTrainingBatch(rec, cameras, seed, batch_->rays(slot)));
   const nerf::CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
   recordTrainingBackward(rec, batch, composite);
   parts().recordOptimizerSteps(rec, at);
-  recordStepCounts(rec, batch.rays.count, stepCounts_[slot]);
+  recordStepCounts(rec, batch.rays.count, slot);
   return batch.rays.count;
 }
 
@@ -310,50 +309,27 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const StepBatch& b
   for (StepExtension* e : extensions()) e->recordGradient(rec, batch);
 }
 
-void FastPipeline::recordStepCounts(gpu::Recorder& rec, uint32_t R, gpu::Buffer& counts) {
-  // What the host reads of a step, copied within the step's own recording into host-readable
-  // memory, one buffer per step in flight: after the step's fence the host reads three words with
-  // no transfer of its own (a download of a discrete GPU's buffer is a submission and a wait
-  // each), and the per-ray kept counts are summed on the device, not read back (up to 1 MB a step).
-  rec.copy(wholeRays_, counts, 4, 0, 0);
-  rec.copy(estimator_.totals(), counts, 4, 0, 4);
-  if (!model_.earlyTermination) return;
-  if (!gatherBackward_) kept_->recordTotal(rec, R);  // else the backward's packing made it
-  rec.copy(kept_->totals(), counts, 4, 0, 8);
+void FastPipeline::recordStepCounts(gpu::Recorder& rec, uint32_t R, uint32_t slot) {
+  // The per-ray kept counts are summed on the device, not read back (up to 1 MB a step).
+  const gpu::Buffer* kept = nullptr;
+  if (model_.earlyTermination) {
+    if (!gatherBackward_) kept_->recordTotal(rec, R);  // else the backward's packing made it
+    kept = &kept_->totals();
+  }
+  batch_->recordCopy(rec, slot, {wholeRays_, estimator_.totals(), kept});
 }
 
-FieldPipeline::StepSize FastPipeline::doCollectTrainStep(uint32_t slot) {
-  // The step's counts (recordStepCounts), read after its own wait.
-  const auto counts = stepCounts_[slot].download<uint32_t>(3);
-  const uint32_t rays = counts[0], marchedCount = counts[1];
-  marchedSamples_ += marchedCount;
-  marchedRays_ += rays;
-  // The samples the loss saw (all marched ones without early termination).
-  const uint32_t samples = model_.earlyTermination ? counts[2] : marchedCount;
-  keptSamples_ += samples;
-
-  lastRays_ = rays;
-  lastSamples_ = marchedCount;
-  // The step kStepsInFlight later (the next one to use this slot): as many rays as this step's
-  // marched samples per ray say fit the sample budget.
-  const double samplesPerRay = rays ? std::max(1.0, double(marchedCount) / rays) : 1.0;
-  lastSamplesPerRay_ = rays ? double(marchedCount) / rays : 0.0;
-  lastKeptFraction_ = marchedCount ? double(samples) / marchedCount : 1.0;
-  raysFor_[slot] =
-      uint32_t(std::clamp(double(model_.samplesPerBatch) / samplesPerRay, double(kRayAlign), double(rayCapacity())));
-  return {rays, samples};
-}
+FieldPipeline::StepSize FastPipeline::doCollectTrainStep(uint32_t slot) { return batch_->collect(slot); }
 
 ModelStatistics FastPipeline::modelStatistics() {
   ModelStatistics s;
   s.mlpParameters = parts().parameterCount(ParameterRole::Network);
   s.encodingParameters = parts().parameterCount(ParameterRole::Encoding);
-  s.samplesPerRay = lastSamplesPerRay_;
-  s.raysPerStep = lastRays_;
-  s.samplesPerStep = lastSamples_;
   estimator_.addStatistics(s);
-  if (marchedRays_) s.meanSamplesPerRay = double(marchedSamples_) / double(marchedRays_);
-  s.keptByEarlyTermination = marchedSamples_ ? double(keptSamples_) / double(marchedSamples_) : 1.0;
+  if (batch_)
+    batch_->addStatistics(s);
+  else
+    s.keptByEarlyTermination = 1.0;  // a render pipeline has trained on nothing
   return s;
 }
 

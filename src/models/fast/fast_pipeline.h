@@ -22,6 +22,7 @@
 #include "models/common/camera_refinement.h"
 #include "models/common/far_field.h"
 #include "models/common/ray_batch.h"
+#include "models/fast/adaptive_batch.h"
 #include "models/fast/fast_field.h"
 #include "models/fast/occupancy_estimator.h"
 #include "models/field_pipeline.h"
@@ -68,8 +69,8 @@ class FastPipeline final : public FieldPipeline {
   nerf::CompositeInputs recordTrainingForward(gpu::Recorder& rec, const TrainingData& data, const StepBatch& batch);
   // Compositor, far field and field backward, then the extensions' gradients.
   void recordTrainingBackward(gpu::Recorder& rec, const StepBatch& batch, const nerf::CompositeInputs& composite);
-  // Within the step: the rays and samples it trained on, copied for the host (stepCounts_).
-  void recordStepCounts(gpu::Recorder& rec, uint32_t R, gpu::Buffer& counts);
+  // Within the step: the rays and samples it trained on, copied for the host (AdaptiveBatch).
+  void recordStepCounts(gpu::Recorder& rec, uint32_t R, uint32_t slot);
   // The uint the device writes: how many of the batch's rays fit the sample capacity whole.
   gpu::BufferRange wholeRayCount() const { return gpu::BufferRange(wholeRays_, 0, sizeof(uint32_t)); }
   ModelStatistics modelStatistics() override;
@@ -92,9 +93,10 @@ class FastPipeline final : public FieldPipeline {
   Aabb box_;
   uint32_t sampleCapacity_;
   bool training_;
+  // Before the estimator: a batch of rays over one binding's limit names the rays, not the march.
+  RayBatch rays_;
   OccupancyEstimator estimator_;
   FastField field_;
-  RayBatch rays_;
   nerf::PackedSamplePoints points_;
   nerf::Compositor compositor_;
   std::optional<nerf::PhotometricLoss> loss_;
@@ -117,20 +119,12 @@ class FastPipeline final : public FieldPipeline {
   std::optional<nerf::SegmentRows> segmentRows_;
   // per sample
   gpu::Buffer weights_;
-  // host-readable, one per step in flight: rays, marched and kept samples of that step
-  std::array<gpu::Buffer, kStepsInFlight> stepCounts_;
+  std::optional<AdaptiveBatch> batch_;  // training: each step's rays, from the counts of the steps before
   gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
   nerf::SegmentAccumulator segments_;  // a render's rays, marched segment by segment
   float renderMinTransmittance_;  // where a render's ray stops (RenderSettings)
   uint64_t renderedSamples_ = 0;
-  uint64_t marchedSamples_ = 0, keptSamples_ = 0, marchedRays_ = 0;
-
-  // The adaptive ray count of the next step in each slot, set from the counts of the slot's last step.
-  std::array<uint32_t, kStepsInFlight> raysFor_;
-  double lastSamplesPerRay_ = 0;
-  double lastKeptFraction_ = 1;  // of the last step's marched samples, those in front of the cut
   double segmentsBelowKept_;
-  uint32_t lastRays_ = 0, lastSamples_ = 0;
 };
 
 }  // namespace vknerf::models

@@ -19,7 +19,7 @@
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/loss/pixel_bindings.h"
 #include "nerf/rays/rays.h"
-#include "reference/rays/pose_correction.h"
+#include "core/camera/pose_algebra.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -113,7 +113,7 @@ struct Trainer::Impl {
     for (size_t i = 0; i < corrections.size() && i < out.size(); ++i) {
       const std::array<double, 6> c{corrections[i][0], corrections[i][1], corrections[i][2],
                                     corrections[i][3], corrections[i][4], corrections[i][5]};
-      const auto pose = ref::correctedPose<double>(out[i].c2w, c.data());
+      const auto pose = core::correctedPose<double>(out[i].c2w, c.data());
       for (int k = 0; k < 16; ++k) out[i].c2w[k] = float(pose[k]);
     }
     return out;

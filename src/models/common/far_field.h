@@ -17,7 +17,7 @@
 #include "models/common/trainable_parameters.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
-#include "reference/render/far_field.h"
+#include "core/layouts/far_field_shape.h"
 
 namespace vknerf::models {
 
@@ -32,7 +32,7 @@ class LearnedFarField {
   // bias logit(initial), so that bg(d) = initial for every d and the first steps move the bias.
   static std::vector<float> initialMlpParameters(const nerf::DenseMlp& net, const std::array<float, 3>& initial);
 
-  static ref::FarFieldShape shape();
+  static core::FarFieldShape shape();
   size_t parameterCount() const { return table_.count() + mlp_.count(); }
   gpu::Buffer& tableParams() { return table_.params(); }
   gpu::Buffer& mlpParams() { return mlp_.params(); }

@@ -18,7 +18,7 @@ nerf::AdamConfig adamConfigOf(const TrainConfig& config, float rateScale) {
 
 std::vector<nerf::ParameterRange> usedPartsOf(const nerf::HashEncoding& hash) {
   std::vector<nerf::ParameterRange> parts;
-  for (const ref::TableRun& r : ref::hashGridUsedRuns(hash.config())) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
+  for (const core::TableRun& r : core::hashGridUsedRuns(hash.config())) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
   return parts;
 }
 

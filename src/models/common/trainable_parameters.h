@@ -18,7 +18,7 @@ namespace vknerf::models {
 // `rateScale`.
 nerf::AdamConfig adamConfigOf(const TrainConfig& config, float rateScale = 1.0f);
 
-// The parts of a hash table that a lookup can reach (ref::hashGridUsedRuns), as
+// The parts of a hash table that a lookup can reach (core::hashGridUsedRuns), as
 // TrainableParameters' `stepped`: Adam's dense step would otherwise run over the unused end of each
 // dense level's slot too (2^17 entries a level on the 800x800 object: 27% of the table).
 std::vector<nerf::ParameterRange> usedPartsOf(const nerf::HashEncoding& hash);

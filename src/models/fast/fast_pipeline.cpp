@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "nerf/sampling/points.h"
-#include "reference/rng.h"
+#include "core/math/rng.h"
 #include "vknerf/error.h"
 
 namespace vknerf::models {
@@ -306,7 +306,7 @@ std::optional<nerf::RowBias> FastPipeline::recordAppearance(gpu::Recorder& rec, 
 }
 
 void FastPipeline::recordOccupancyUpdate(gpu::Recorder& rec, uint32_t step) {
-  const uint32_t seed = ref::pcgHash(config_.seed * 31u + step + 0x5bd1e995u);
+  const uint32_t seed = core::pcgHash(config_.seed * 31u + step + 0x5bd1e995u);
   uint32_t count;
   if (step < model_.gridWarmupSteps && grid_.numCells() <= occPoints_) {
     count = grid_.numCells();
@@ -438,7 +438,7 @@ void FastPipeline::setTrainingCameras(uint32_t count) {
   gpu::MemoryAccount::Scope charge(memory());
   if (model_.appearanceDims) {
     // W_a starts as the colour layer's weights would with the vector among its inputs.
-    const ref::DenseShape& colour = mlp_.shape().colour();
+    const core::DenseShape& colour = mlp_.shape().colour();
     const AppearanceInit init{config_.seed, float(1.0 / std::sqrt(double(colour.ka + colour.kb + model_.appearanceDims)))};
     appearance_.emplace(ctx_, count, model_.appearanceDims, colour.n4(), init,
                         training_ ? std::optional(adamConfigOf(config_)) : std::nullopt, renderPhoto_);

@@ -14,7 +14,7 @@
 #include "gpu/dispatch/limited_dispatch.h"
 #include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/encoded_rows.h"
-#include "reference/encoding/hash_encoding.h"
+#include "core/layouts/hash_grid_layout.h"
 #include "encoding/encode_hash_shared.h"
 #include "encoding/hash_sort_shared.h"
 
@@ -24,7 +24,7 @@ class PrefixSum;
 
 namespace vknerf::nerf {
 
-using HashGridConfig = ref::HashGridConfig;
+using HashGridConfig = core::HashGridConfig;
 
 // How the backward pass scatters into the table. Atomic is the default where the device has float
 // atomics (nerf/network/gradient_paths.h), CompareSwap elsewhere: on lavapipe Atomic was the
@@ -69,15 +69,15 @@ class HashEncoding {
   const HashGridConfig& config() const { return config_; }
   uint32_t outputDims() const { return config_.levels * config_.featuresPerLevel; }
   uint32_t paddedDims() const { return (outputDims() + 3) / 4 * 4; }
-  size_t parameterCount() const { return ref::hashGridParameterCount(config_); }
-  uint32_t resolution(uint32_t level) const { return ref::hashGridResolution(config_, level); }
-  bool dense(uint32_t level) const { return ref::hashGridDense(config_, level); }
+  size_t parameterCount() const { return core::hashGridParameterCount(config_); }
+  uint32_t resolution(uint32_t level) const { return core::hashGridResolution(config_, level); }
+  bool dense(uint32_t level) const { return core::hashGridDense(config_, level); }
   HashBackwardMode backwardMode() const { return mode_; }
   // SortReduce: the most (sample, level, corner) contributions sorted in one pass (default: 128 MiB
   // of slots, 16 bytes each for F <= 2). Smaller budgets split a batch into more passes (tests; >= 8).
   uint32_t sortSlotBudget() const { return slotBudget_; }
   void setSortSlotBudget(uint32_t slots);
-  // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
+  // uniform(-1e-4, 1e-4), deterministic in the seed (core::hashGridInitialParameters).
   std::vector<float> initialParameters(uint32_t seed) const;
 
   // rows.inputs: `count` vec4 positions; params: parameterCount() floats (both bound as texel

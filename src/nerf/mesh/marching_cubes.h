@@ -13,7 +13,7 @@
 #include "gpu/memory/buffer.h"
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/prefix_sum.h"
-#include "reference/mesh/marching_cubes.h"
+#include "core/layouts/mesh_grid.h"
 #include "vknerf/context.h"
 
 namespace vknerf::nerf {
@@ -31,7 +31,7 @@ class MarchingCubes {
 
   // The surface where `density` (one float per sample of `layout`) crosses `threshold`, inside on
   // the side of higher density, triangles counter-clockwise seen from outside.
-  ref::TriangleMesh extract(const gpu::Buffer& density, const ref::GridLayout& layout, float threshold);
+  core::TriangleMesh extract(const gpu::Buffer& density, const core::GridLayout& layout, float threshold);
 
   // Samples per grid a device can take: the grid and its edge ranks within one binding, the edge
   // ids within 32 bits.

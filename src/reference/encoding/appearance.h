@@ -11,17 +11,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/layouts/appearance_layout.h"
 #include "reference/rng.h"
 
 namespace vknerf::ref {
 
-// W_a at the start: uniform in +-bound, entry i drawn from rng01(seed, i, 1) (the network's own
-// weights draw stream 0).
-inline std::vector<float> appearanceWeights(uint32_t dims, uint32_t width, float bound, uint32_t seed) {
-  std::vector<float> w(size_t(dims) * width);
-  for (size_t i = 0; i < w.size(); ++i) w[i] = (2.0f * rng01(seed, uint32_t(i), 1) - 1.0f) * bound;
-  return w;
-}
+// W_a at the start: production's (src/core/layouts/appearance_layout.h).
+using core::appearanceWeights;
 
 // Rows [0, count) (width each): vectors [first, first + count) times W_a, in double.
 inline std::vector<double> appearanceBias(const std::vector<float>& vectors, const std::vector<float>& weights,

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/layouts/frequency_layout.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::ref {
@@ -28,10 +29,9 @@ template <class T> T reducePeriod2(T x) { return x - T(2) * std::round(x / T(2))
 template <class T> T sinPi(T x) { return std::sin(std::numbers::pi_v<T> * reducePeriod2(x)); }
 template <class T> T cosPi(T x) { return std::cos(std::numbers::pi_v<T> * reducePeriod2(x)); }
 
-// Number of features gamma produces for `dims` input components.
-inline uint32_t frequencyEncodingDims(uint32_t dims, uint32_t levels, bool includeInput) {
-  return dims * (2 * levels + (includeInput ? 1 : 0));
-}
+// Number of features gamma produces for `dims` input components: production's
+// (src/core/layouts/frequency_layout.h).
+using core::frequencyEncodingDims;
 
 // gamma(p) in the column order of the released NeRF code and the seed's pos_enc (§6.3):
 //   [p_0 .. p_{D-1}]                                  if includeInput

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "core/math/psnr.h"
 #include "reference/rng.h"
 
 namespace vknerf::ref {
@@ -50,8 +51,7 @@ T photometricLoss(std::span<const std::array<T, 4>> pred, std::span<const std::a
   return sum * norm;
 }
 
-// PSNR of a mean squared error on [0, 1] colours. A perfect fit is reported as 100 dB (mse floored
-// at 1e-10) rather than infinity, so logs and averages stay finite.
-inline double psnrFromMse(double mse) { return -10.0 * std::log10(std::max(mse, 1e-10)); }
+// PSNR of a mean squared error: production's (src/core/math/psnr.h).
+using core::psnrFromMse;
 
 }  // namespace vknerf::ref

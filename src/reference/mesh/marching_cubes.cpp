@@ -2,12 +2,6 @@
 
 namespace vknerf::ref {
 
-uint64_t GridLayout::cells() const {
-  uint64_t c = 1;
-  for (uint32_t k : n) c *= k > 1 ? k - 1 : 0;
-  return c;
-}
-
 std::array<float, 3> edgeVertex(const DensityGrid& g, uint64_t edge, float threshold) {
   const uint64_t sample = edge / 3;
   const uint32_t axis = uint32_t(edge % 3);

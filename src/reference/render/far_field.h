@@ -2,20 +2,19 @@
 // CPU reference for the learned far field (src/models/common/far_field.h): the colour a ray sees at
 // infinity in its direction d is  bg(d) = MLP(hash(d / |d|)),  a hash grid read on the unit sphere
 // (inside the grid's [-1, 1]^3) and a dense MLP ending in a sigmoid. A ray's composited colour is
-// C = sum w_i c_i + T_final bg(d), so dL/dbg = dL/dC * T_final, and T_final = 1 - opacity.
+// C = sum w_i c_i + T_final bg(d), so dL/dbg = dL/dC * T_final, and T_final = 1 - opacity. Its shape
+// (FarFieldShape) is production's: src/core/layouts/far_field_shape.h.
 #include <array>
 #include <cmath>
 #include <vector>
 
+#include "core/layouts/far_field_shape.h"
 #include "reference/encoding/hash_encoding.h"
 #include "reference/network/mlp.h"
 
 namespace vknerf::ref {
 
-struct FarFieldShape {
-  HashGridConfig grid;
-  DenseMlpShape mlp;  // inputs = grid.levels * grid.featuresPerLevel, outputs = 3
-};
+using core::FarFieldShape;
 
 template <class T> std::array<T, 3> unitDirection(const T* d) {
   const T n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);

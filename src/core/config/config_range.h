@@ -1,7 +1,7 @@
 #pragma once
-// The range checks of TrainConfig::validate (src/api/config_validate.cpp), for the checks of the
-// table of fields (src/api/config_fields.cpp) that a ConfigRange cannot say. `field` is the name the
-// message starts with, the checkpoint key ("model.feature_width").
+// The range checks of TrainConfig::validate (src/core/config/config_validate.cpp), for the checks of
+// the table of fields (src/core/config/config_fields.cpp) that a ConfigRange cannot say. `field` is
+// the name the message starts with, the checkpoint key ("model.feature_width").
 #include <cstdint>
 #include <string>
 

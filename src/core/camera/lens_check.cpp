@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "reference/rays/lens.h"
+#include "core/camera/lens.h"
 #include "vknerf/camera.h"
 #include "vknerf/error.h"
 
@@ -48,7 +48,7 @@ double monotonicRadius(const Lens& l, double rd) {
     const double step = kHalfPi / kSweepSteps;
     for (int i = 0; i <= kSweepSteps; ++i) {
       double theta = step * i, thetaD, dThetaD;
-      ref::fisheyeAngle(l, theta, thetaD, dThetaD);
+      core::fisheyeAngle(l, theta, thetaD, dThetaD);
       if (!(dThetaD > 0)) return -1;
       if (thetaD >= rd) return std::tan(std::fmin(theta, kHalfPi * (1 - 1e-9)));
     }
@@ -60,8 +60,8 @@ double monotonicRadius(const Lens& l, double rd) {
   for (int i = 0; i <= 64 * kSweepSteps; ++i) {
     const double r = step * i, r2 = r * r;
     double radial, dRadial;
-    ref::opencvRadial(l, r2, radial, dRadial);
-    if (!(ref::opencvRadialDenominator(l, r2) > 0) || !(radial + 2 * r2 * dRadial > 0)) return -1;
+    core::opencvRadial(l, r2, radial, dRadial);
+    if (!(core::opencvRadialDenominator(l, r2) > 0) || !(radial + 2 * r2 * dRadial > 0)) return -1;
     if (r * radial >= rd) return r;
   }
   return -1;
@@ -104,15 +104,15 @@ void checkLens(const Camera& cam, const std::string& where) {
     for (int ix = 0; ix <= kGrid; ++ix) {
       const double u = w * ix / kGrid, v = h * iy / kGrid;
       const double xd = (u - cx) / fx, yd = (v - cy) / fy;
-      const auto p = ref::undistort(l, xd, yd);
+      const auto p = core::undistort(l, xd, yd);
       if (!std::isfinite(p.x) || !std::isfinite(p.y)) fail(u, v, "the Newton iteration diverges");
-      const auto back = ref::distort(l, p.x, p.y);
+      const auto back = core::distort(l, p.x, p.y);
       const double err = std::fmax(std::fabs(back.x - xd) * fx, std::fabs(back.y - yd) * fy);
       if (!(err <= kRoundTripPixels))
         fail(u, v, "distort(undistort(p)) is " + number(err) + " pixels from p after " +
-                       std::to_string(ref::kLensNewtonSteps) + " Newton steps");
+                       std::to_string(core::kLensNewtonSteps) + " Newton steps");
       if (l.model == LensModel::OpenCV) {
-        const auto J = ref::opencvJacobian(l, p.x, p.y);
+        const auto J = core::opencvJacobian(l, p.x, p.y);
         if (!(J[0] * J[3] - J[1] * J[2] > 0)) fail(u, v, "the distortion folds the image over there");
       }
       if (radialOnly && std::hypot(p.x, p.y) > rMax * (1 + 1e-6) + 1e-12)

@@ -2,12 +2,14 @@
 // configurations, the crossings on each face are joined into oriented segments, the segments into
 // loops around the cube, the loops fanned into triangles.
 #include <algorithm>
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 
-#include "reference/mesh/marching_cubes.h"
+#include "core/layouts/marching_cubes_table.h"
 
-namespace vknerf::ref {
+namespace vknerf::core {
 namespace {
 
 uint32_t cubeEdge(uint32_t a, uint32_t b) {
@@ -99,4 +101,4 @@ const std::vector<uint32_t>& marchingCubesTable() {
   return table;
 }
 
-}  // namespace vknerf::ref
+}  // namespace vknerf::core

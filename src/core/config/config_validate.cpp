@@ -1,11 +1,11 @@
 // TrainConfig::validate: one check of a configuration's fields, for flags and checkpoints alike,
-// made from the table of fields (src/api/config_fields.cpp). Field names are the checkpoint's keys
+// made from the table of fields (src/core/config/config_fields.cpp). Field names are the checkpoint's keys
 // (src/io/checkpoint/config_json.cpp), so a message points into the file.
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-#include "api/config_range.h"
+#include "core/config/config_range.h"
 #include "vknerf/config.h"
 #include "vknerf/config_fields.h"
 #include "vknerf/error.h"

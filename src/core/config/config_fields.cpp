@@ -8,7 +8,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "api/config_range.h"
+#include "core/config/config_range.h"
 #include "vknerf/error.h"
 
 namespace vknerf {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "reference/rays/lens.h"
+#include "core/camera/lens.h"
 
 namespace vknerf {
 namespace {
@@ -69,7 +69,7 @@ Camera pinholeFromFov(uint32_t width, uint32_t height, float fovXDegrees, const 
 }
 
 std::array<float, 3> pixelDirection(const Camera& c, float x, float y) {
-  const auto d = ref::lensDirection(c.lens, (double(x) - c.cx) / c.fx, (double(y) - c.cy) / c.fy);
+  const auto d = core::lensDirection(c.lens, (double(x) - c.cx) / c.fx, (double(y) - c.cy) / c.fy);
   const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   return {float(d[0] / n), float(-d[1] / n), float(-d[2] / n)};  // OpenCV (y down, z forward) -> OpenGL
 }

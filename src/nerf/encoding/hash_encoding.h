@@ -1,10 +1,11 @@
 #pragma once
 // Multiresolution hash encoding (instant-ngp's grid; shaders/encoding/encode_hash.comp and
-// shaders/encoding/encode_hash_backward.comp). Layouts (table, levels, hashing) are documented in
-// src/reference/encoding/hash_encoding.h. Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp);
-// the L * F features of a sample go into a row-major feature matrix (row stride a multiple of 4
-// floats) at a column offset that is a multiple of 4, as paddedDims() = L * F rounded up to 4
-// columns, padding written as 0 and columns outside the block untouched (as FrequencyEncoding).
+// shaders/encoding/encode_hash_backward.comp). Layouts (table, levels) are documented in
+// src/core/layouts/hash_grid_layout.h, the hashing in tests/reference/encoding/hash_encoding.h.
+// Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp); the L * F features of a
+// sample go into a row-major feature matrix (row stride a multiple of 4 floats) at a column offset
+// that is a multiple of 4, as paddedDims() = L * F rounded up to 4 columns, padding written as 0 and
+// columns outside the block untouched (as FrequencyEncoding).
 #include <cstdint>
 #include <memory>
 #include <optional>

@@ -1,5 +1,5 @@
 #pragma once
-// Marching cubes on the device (shaders/mesh/mc_*.comp; CPU twin src/reference/mesh/): a density
+// Marching cubes on the device (shaders/mesh/mc_*.comp; CPU twin tests/reference/mesh/): a density
 // grid in a device buffer becomes a welded, indexed triangle mesh, read back to the host.
 //   pass 1: a flag per grid edge that crosses the threshold, a triangle count per cell (the case
 //           table as a storage buffer), each scanned (gpu::PrefixSum) in chunks;

@@ -6,8 +6,8 @@
 //   dirFeatures gamma(d): dirStride() = pad4(dirDims)
 //   out:  vec4 (r, g, b, sigma) per row, rgb after sigmoid, sigma after the density activation
 //   dOut: vec4 dL/d(r, g, b, sigma) per row
-//   params: ONE flat float buffer, parameterCount() floats, layout in src/reference/network/mlp.h (each layer
-//           W row-major [ka4 + kb4][n4] then bias [n4]; padding entries zero and never updated)
+//   params: ONE flat float buffer, parameterCount() floats, layout in src/core/layouts/mlp_layout.h (each
+//           layer W row-major [ka4 + kb4][n4] then bias [n4]; padding entries zero and never updated)
 //   grads:  same size as params. recordBackward ACCUMULATES into it (atomics, in any order): zero it
 //           first (e.g. Recorder::fill) once per step.
 // Batches of any size (0 included) are split into chunks whose bindings stay within the device's

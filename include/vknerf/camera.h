@@ -58,7 +58,7 @@ struct Aabb {
   std::array<float, 3> max{1, 1, 1};
 };
 
-// ---- Building cameras (src/api/camera.cpp) ----
+// ---- Building cameras (src/core/camera/camera.cpp) ----
 
 // Camera-to-world (row-major, the convention above) of a camera at `eye` looking at `target`: its
 // -Z axis points from eye to target and its +Y is the part of `up` perpendicular to that. `up` is

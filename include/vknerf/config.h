@@ -3,8 +3,8 @@
 // paper's recipe: positional encoding, coarse + fine MLPs, hierarchical sampling) or FastModel
 // (instant-ngp style: hash grid, occupancy grid, a tiny MLP). `TrainConfig::vanilla()` and
 // `TrainConfig::fast()` size them for the device: on a CPU device, ones that converge in minutes on
-// 100x100 images. Each field is also a row of the table of fields (src/api/config_fields.cpp, see
-// vknerf/config_fields.h): its checkpoint key, its valid range and its `vknerf train` flag.
+// 100x100 images. Each field is also a row of the table of fields (src/core/config/config_fields.cpp,
+// see vknerf/config_fields.h): its checkpoint key, its valid range and its `vknerf train` flag.
 #include <array>
 #include <cstdint>
 #include <string>

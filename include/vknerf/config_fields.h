@@ -1,5 +1,5 @@
 #pragma once
-// The configuration's fields as one table (src/api/config_fields.cpp): a row per member of
+// The configuration's fields as one table (src/core/config/config_fields.cpp): a row per member of
 // TrainConfig or of a model, with its checkpoint key, the models it belongs to, the range the models
 // accept and the `vknerf train` flag that sets it. The checkpoint's reader and writer, validate()
 // and the train command's flags and resume checks are all made from it, so a new field is a member

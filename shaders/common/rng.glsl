@@ -1,5 +1,5 @@
-// Counter-based RNG: a PCG hash of (seed, a, b). Integer-only, so the CPU reference
-// (src/reference/rng.h) reproduces every sample bit for bit.
+// Counter-based RNG: a PCG hash of (seed, a, b). Integer-only, so the CPU twin
+// (src/core/math/rng.h) reproduces every sample bit for bit.
 #ifndef VKNERF_RNG_GLSL
 #define VKNERF_RNG_GLSL
 

@@ -6,7 +6,7 @@
 // a step for every training photo, or once a render for its one vector (the mean or a chosen
 // photo's); the layer then adds a row's photo's bias (shaders/network/row_bias.glsl) instead of
 // reading the vector from every row. One invocation per vec4 of a bias row.
-// ref: src/reference/encoding/appearance.h.
+// ref: tests/reference/encoding/appearance.h.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Vectors { float vectors[]; };

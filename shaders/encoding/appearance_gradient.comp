@@ -5,7 +5,7 @@
 // (appearance_weights_gradient.comp), and the gradient of its vector, W_a g. The batch comes in runs
 // of one photo each, and a ray's rows follow its own (rowOffsets), so a photo's rows are consecutive:
 // a workgroup sums a photo's rows, every lane busy (gpu/per_camera_sum.glsl: the same sum at every
-// run, no float atomics). Writes (does not add to) both. ref: src/reference/encoding/appearance.h.
+// run, no float atomics). Writes (does not add to) both. ref: tests/reference/encoding/appearance.h.
 #include "gpu/per_camera_sum_shared.h"
 
 layout(local_size_x = PER_CAMERA_LANES) in;

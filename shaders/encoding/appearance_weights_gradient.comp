@@ -3,7 +3,7 @@
 // Appearance embedding, backward: the gradient of the vectors' weights W_a, dW_a[k] = sum over the
 // photos c of vectors[c][k] g_c (g_c: photo c's sum of dL/d(colour pre-activation), from
 // appearance_gradient.comp). One invocation per vec4 of W_a, summing the photos in order
-// (deterministic). Writes (does not add to) the gradient. ref: src/reference/encoding/appearance.h.
+// (deterministic). Writes (does not add to) the gradient. ref: tests/reference/encoding/appearance.h.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Vectors { float vectors[]; };   // dims a photo

@@ -3,7 +3,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Multiresolution hash encoding, forward: one invocation per sample, L * F trilinearly interpolated
 // table features written as whole vec4s into a row-major feature matrix at a 4-aligned column
-// offset (the block's last vec4 zero-padded). Layouts: src/reference/encoding/hash_encoding.h.
+// offset (the block's last vec4 zero-padded). Layouts: src/core/layouts/hash_grid_layout.h.
 // Corners are unrolled. Positions and the table are read through rgba32f texel buffers: on lavapipe
 // an imageLoad at per-lane coordinates is a vectorised gather, where an SSBO load is a scalar loop
 // over the lanes (shared/LAVAPIPE.md). An entry of F = 2 is half a texel, F = 1 a quarter.

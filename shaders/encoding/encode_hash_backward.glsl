@@ -10,7 +10,7 @@
 #endif
 // Multiresolution hash encoding, backward to the table: one invocation per sample scatters
 // weight * dL/dfeature into the 8 corner entries of each level with float atomics; grads are
-// accumulated (the caller zeroes them once per step). Layouts: src/reference/encoding/hash_encoding.h.
+// accumulated (the caller zeroes them once per step). Layouts: src/core/layouts/hash_grid_layout.h.
 // With HASH_SUBGROUP_MERGE defined (HashBackwardMode::SubgroupMerged: encode_hash_backward_merged.comp,
 // encode_hash_backward_position_merged.comp): when all active lanes of a subgroup hit the same
 // entry (consecutive samples of a ray in a coarse level), they add with subgroupAdd and one lane

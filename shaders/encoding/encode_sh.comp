@@ -2,7 +2,7 @@
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 // Real spherical harmonics of unit directions up to DEGREE bands (DEGREE^2 <= 16 coefficients),
-// instant-ngp's basis; constants and order in src/reference/encoding/sh_encoding.h. One invocation per row,
+// instant-ngp's basis; constants and order in tests/reference/encoding/sh_encoding.h. One invocation per row,
 // written as whole vec4s into a row-major feature matrix at a 4-aligned column offset, the
 // block's last vec4 zero-padded.
 layout(local_size_x = 64) in;

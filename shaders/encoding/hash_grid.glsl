@@ -1,5 +1,5 @@
 // Cell lookup of the multiresolution hash grid, shared by encode_hash.comp and
-// encode_hash_backward.comp. The arithmetic matches ref::hashGridCorners (src/reference/encoding/hash_encoding.h)
+// encode_hash_backward.comp. The arithmetic matches ref::hashGridCorners (tests/reference/encoding/hash_encoding.h)
 // step for step, which documents the layout.
 #ifndef VKNERF_HASH_GRID_GLSL
 #define VKNERF_HASH_GRID_GLSL

@@ -1,4 +1,4 @@
-// Shared by the mc_*.comp kernels; src/reference/mesh/marching_cubes.cpp is their CPU twin. Grid
+// Shared by the mc_*.comp kernels; tests/reference/mesh/marching_cubes.cpp is their CPU twin. Grid
 // edge e = 3 * sample + axis runs from `sample` along `axis`; cells are numbered like samples over
 // (n - 1) per axis. Edge flags and cell triangle counts are scanned in chunks of `chunk` elements,
 // each chunk from 0, so an element's rank is its chunk's scan plus that chunk's base.
@@ -9,8 +9,8 @@ layout(local_size_x = 256) in;
 
 #include "mesh/marching_cubes_shared.h"
 
-const uint kTableStride = 16u;  // ref::kMcTableStride
-// ref::kCubeEdgeCorner: cube edge e runs along axis e / 4 from this corner.
+const uint kTableStride = 16u;  // core::kMcTableStride
+// core::kCubeEdgeCorner: cube edge e runs along axis e / 4 from this corner.
 const uint kCubeEdgeCorner[12] = uint[12](0u, 2u, 4u, 6u, 0u, 1u, 4u, 5u, 0u, 1u, 2u, 3u);
 
 // NaN compares false: outside (ref::insideSurface).

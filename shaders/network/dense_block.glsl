@@ -7,7 +7,7 @@
 // columns instead of once per column.
 //
 // The including shader declares `P` (rgba32f imageBuffer of the flat parameters, layout in
-// src/reference/network/mlp.h) and the constant `R`. W is row-major [KA4 + KB4][N4] at vec4 offset
+// src/core/layouts/mlp_layout.h) and the constant `R`. W is row-major [KA4 + KB4][N4] at vec4 offset
 // WOFF4, the bias [N4] right after it.
 #ifndef VKNERF_DENSE_BLOCK_GLSL
 #define VKNERF_DENSE_BLOCK_GLSL

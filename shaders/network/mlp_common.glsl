@@ -1,4 +1,4 @@
-// Activations shared by the MLP kernels; src/reference/network/mlp.h is their CPU twin (same clamps).
+// Activations shared by the MLP kernels; tests/reference/network/mlp.h is their CPU twin (same clamps).
 #ifndef VKNERF_MLP_COMMON_GLSL
 #define VKNERF_MLP_COMMON_GLSL
 

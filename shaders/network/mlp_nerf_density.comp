@@ -6,7 +6,7 @@
 // are mlp_dense.comp's (dense_block.glsl, the 4-column block that holds sigma), so sigma comes
 // out as the full forward computes it.
 //
-// Layouts: src/reference/network/mlp.h (NerfShape). Rows past `count` read the last row and store
+// Layouts: src/core/layouts/mlp_layout.h (NerfShape). Rows past `count` read the last row and store
 // nothing.
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require

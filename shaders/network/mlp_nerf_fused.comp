@@ -9,7 +9,7 @@
 // KEEP = 1 also stores the activations the backward pass reads (NerfMlp::Workspace: the trunk
 // outputs, the feature + sigma pre-activation, the colour hidden layer), as the layered path does.
 //
-// Layouts: src/reference/network/mlp.h (NerfShape). Rows past `count` (row_limit.glsl cuts it on the
+// Layouts: src/core/layouts/mlp_layout.h (NerfShape). Rows past `count` (row_limit.glsl cuts it on the
 // device) read the last row: they store no output, and what they keep is the last row's again.
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require

@@ -1,5 +1,5 @@
 // Occupancy grid and lattice march shared by the occupancy_* and march_* kernels;
-// src/reference/occupancy/occupancy_grid.h is the CPU twin of every formula here. Formulas are `precise` so that
+// tests/reference/occupancy/occupancy_grid.h is the CPU twin of every formula here. Formulas are `precise` so that
 // no driver contracts them into FMAs and the float reference reproduces them bit for bit.
 //
 // Grid: R^3 cells over the scene box; cell (x, y, z) has linear index x + R (y + R z) and is

@@ -1,7 +1,7 @@
 #version 450
 // Before training: density -1 (empty for good, emaDensity keeps it) in every cell none of whose 8
 // corners any training camera sees, through a pinhole bound that holds its lens (instant-ngp's
-// mark_untrained_density_grid). CPU twin: ref::markUnseenEmpty (src/reference/occupancy/view_bounds.h),
+// mark_untrained_density_grid). CPU twin: ref::markUnseenEmpty (tests/reference/occupancy/view_bounds.h),
 // the same float operations in the same order.
 #extension GL_GOOGLE_include_directive : require
 #include "occupancy/occupancy.glsl"

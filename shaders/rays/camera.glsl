@@ -1,6 +1,6 @@
 // Camera in the nerf_synthetic / OpenGL convention: the camera looks down -Z, +Y is up, +X right;
 // image rows grow downwards. Lens distortion in OpenCV's conventions (vknerf/camera.h), undistorted
-// here exactly as src/reference/rays/lens.h does. Layout mirrors vknerf::nerf::CameraGpu
+// here exactly as src/core/camera/lens.h does. Layout mirrors vknerf::nerf::CameraGpu
 // (src/nerf/rays/rays.h).
 #ifndef VKNERF_CAMERA_GLSL
 #define VKNERF_CAMERA_GLSL

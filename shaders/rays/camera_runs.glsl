@@ -4,7 +4,7 @@
 // rays, and which lose theirs when the sample capacity cuts the batch's tail, changes every step).
 // Each ray's camera is still uniform over the cameras, as in the random mode; what the runs buy is
 // that a camera's rays are consecutive, so a per-camera sum reads that camera's rays alone
-// (gpu/per_camera_sum.glsl). CPU twin: src/reference/rays/camera_runs.h.
+// (gpu/per_camera_sum.glsl). CPU twin: tests/reference/rays/camera_runs.h.
 #ifndef VKNERF_CAMERA_RUNS_GLSL
 #define VKNERF_CAMERA_RUNS_GLSL
 

@@ -1,6 +1,6 @@
 // Rotations from a rotation vector w (axis * angle): the exponential map and its left Jacobian,
 // which camera refinement uses (shaders/rays/camera_correct.comp, camera_gradient.comp). Both as
-// src/reference/rays/pose_correction.h; near w = 0 the coefficients come from their series, so a
+// src/core/camera/pose_algebra.h; near w = 0 the coefficients come from their series, so a
 // correction of zero is the identity exactly and no 0/0 appears.
 #ifndef VKNERF_SO3_GLSL
 #define VKNERF_SO3_GLSL

@@ -1,5 +1,5 @@
 // Shared by composite_forward.comp and composite_backward.comp: which samples a ray owns, and the
-// per-sample opacity. The CPU twin is src/reference/render/composite.h.
+// per-sample opacity. The CPU twin is tests/reference/render/composite.h.
 //
 // Layouts: samples are vec2(t, delta); the field is vec4(r, g, b, sigma) with sigma activated.
 // A ray owns samples [r*N, (r+1)*N) when samplesPerRay = N > 0, else [off[r], off[r+1]).
@@ -37,7 +37,7 @@ vec2 alphaAndSurvival(float x) {
 // falls below a threshold, tested as optical depth > maxOpticalDepth = -ln(threshold) so that no
 // exp() rounding decides; the sample that crosses it is still composited. The depth is its own
 // sum (sanitized density times delta, as the occupancy grid reads densities), so the decision is
-// independent of the compositing arithmetic and matches src/reference's keptSamples bit for bit.
+// independent of the compositing arithmetic and matches tests/reference's keptSamples bit for bit.
 // maxOpticalDepth = +inf never stops.
 float terminationDepth(float sigma, float delta) {
   precise float tau = sanitizeDensity(sigma) * delta;

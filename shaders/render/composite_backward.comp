@@ -19,7 +19,7 @@
 // S_i in dField[i].yz, the back-to-front pass carries W' and S'. It reaches sigma_k as
 // delta_k (g_k T_{k+1} - D_k), D_k = sum_{i>k} g_i w_i, also carried back to front. m and l are
 // taken in the ray's normalised distance s in [0, 1], even in march steps (render/distortion.glsl,
-// src/reference/render/distortion_loss.h): the loss is the same in any units and wherever the ray
+// tests/reference/render/distortion_loss.h): the loss is the same in any units and wherever the ray
 // starts, so one weight serves every scene.
 // With pc.writeTermValues, each ray's value of the loss terms it adds, weighted, goes to
 // termValues[ray] (x: the distortion loss, 2 sum_i w_i (m_i W_i - S_i) + 1/3 sum_i w_i^2 l_i, the

@@ -1,6 +1,6 @@
 #ifndef VKNERF_DISTORTION_GLSL
 #define VKNERF_DISTORTION_GLSL
-// The distortion loss's normalised distance along a ray (src/reference/render/distortion_loss.h says
+// The distortion loss's normalised distance along a ray (tests/reference/render/distortion_loss.h says
 // why): s(t) = (g(t) - g(near)) / (g(far) - g(near)), g(t) = integral_0^t du / step(u) with the
 // march's step(t) = clamp(t coneAngle, dtMin, dtMax), coneAngle 0 for the constant step dtMin.
 

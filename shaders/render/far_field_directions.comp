@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The learned far field's input: each ray's unit direction, a point on the unit sphere inside the
-// hash grid's [-1, 1]^3 (src/reference/render/far_field.h). One invocation per ray.
+// hash grid's [-1, 1]^3 (tests/reference/render/far_field.h). One invocation per ray.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Rays { vec4 rays[]; };  // (o, t_near), (d, t_far) per ray

@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The far field's gradient per ray: C = sum w_i c_i + T_final bg, so dL/dbg = dL/dC T_final, with
-// T_final = 1 - opacity from the composite (src/reference/render/far_field.h). A ray with no
+// T_final = 1 - opacity from the composite (tests/reference/render/far_field.h). A ray with no
 // gradient (past the batch's cut) or no light left (opaque) gives the far field nothing.
 layout(local_size_x = 64) in;
 

@@ -1,6 +1,6 @@
 #version 450
 // Hierarchical (fine) sampling: inverse-CDF draws from the coarse pass's weights, merged in order
-// with the coarse samples (src/reference/sampling/samplers.h: rayCdf, invertCdf, importanceSamples).
+// with the coarse samples (tests/reference/sampling/samplers.h: rayCdf, invertCdf, importanceSamples).
 // One invocation per ray walks the bins [t_near, t_0], [t_0, t_1], ..., [t_last, t_far] once,
 // front to back. The draws come out sorted, so every step emits exactly one output sample: either
 // the next fine draw, inside the current bin, or a step into the next bin, whose start is the next

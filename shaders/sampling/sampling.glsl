@@ -1,4 +1,4 @@
-// Shared by the sampling kernels; src/reference/sampling/samplers.h is the CPU twin of every formula here.
+// Shared by the sampling kernels; tests/reference/sampling/samplers.h is the CPU twin of every formula here.
 // Formulas are `precise` so that no driver contracts them into FMAs and the float reference
 // reproduces them.
 #ifndef VKNERF_SAMPLING_GLSL

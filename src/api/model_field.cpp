@@ -22,7 +22,7 @@ namespace {
 uint32_t batchFor(const models::FieldBatch& f) { return std::min(f.capacity, 65535u * 256u); }
 
 // The grid of `resolution` samples along the box's longest side, cubic cells.
-ref::GridLayout gridOver(const Aabb& box, uint32_t resolution) {
+core::GridLayout gridOver(const Aabb& box, uint32_t resolution) {
   float longest = 0;
   for (int k = 0; k < 3; ++k) {
     if (!(box.max[k] > box.min[k]) || !std::isfinite(box.max[k] - box.min[k]))
@@ -31,7 +31,7 @@ ref::GridLayout gridOver(const Aabb& box, uint32_t resolution) {
   }
   if (resolution < 2) throw Error("mesh: the resolution must be at least 2 samples");
   const float h = longest / float(resolution - 1);
-  ref::GridLayout g;
+  core::GridLayout g;
   for (int k = 0; k < 3; ++k) {
     const float side = box.max[k] - box.min[k];
     g.n[k] = std::max(2u, uint32_t(std::lround(side / h)) + 1);
@@ -42,7 +42,7 @@ ref::GridLayout gridOver(const Aabb& box, uint32_t resolution) {
 }
 
 // Per vertex, the area-weighted sum of its triangles' normals, normalised (+z where they cancel).
-std::vector<float> vertexNormals(const ref::TriangleMesh& m) {
+std::vector<float> vertexNormals(const core::TriangleMesh& m) {
   std::vector<float> n(m.positions.size(), 0.0f);
   for (size_t t = 0; t < m.triangles.size(); t += 3) {
     const float* a = &m.positions[3 * m.triangles[t]];
@@ -106,7 +106,7 @@ Mesh Model::extractMesh(const MeshSettings& s, const std::function<void(uint64_t
   Impl& m = *impl_;
   m.settled();
   Context& ctx = *m.ctx;
-  const ref::GridLayout g = gridOver(s.box.value_or(m.box), s.resolution);
+  const core::GridLayout g = gridOver(s.box.value_or(m.box), s.resolution);
   if (g.points() > nerf::MarchingCubes::maxPoints(ctx))
     throw Error("mesh: " + std::to_string(g.n[0]) + " x " + std::to_string(g.n[1]) + " x " + std::to_string(g.n[2]) +
                 " samples exceed what the device's buffers hold; lower the resolution");
@@ -145,7 +145,7 @@ Mesh Model::extractMesh(const MeshSettings& s, const std::function<void(uint64_t
   }
 
   nerf::MarchingCubes mc(ctx);
-  ref::TriangleMesh surface = mc.extract(grid, g, s.threshold);
+  core::TriangleMesh surface = mc.extract(grid, g, s.threshold);
   Mesh mesh;
   mesh.densityQueries = slots;
   mesh.gridSamples = points;

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "api/unit_byte.h"
-#include "reference/rays/rays.h"
+#include "core/camera/camera_ray.h"
 #include "vknerf/error.h"
 
 namespace vknerf {
@@ -26,7 +26,7 @@ void appendVisiblePoints(PointCloud& cloud, const Camera& camera, const Rendered
       const size_t i = size_t(y) * image.width + x;
       if (!(image.opacity[i] > minOpacity)) continue;
       // depth is the expected distance along the unit direction from the camera's centre.
-      const ref::Ray<float> ray = ref::cameraRay<float>(camera, x, y);
+      const core::Ray<float> ray = core::cameraRay<float>(camera, x, y);
       const float a = image.opacity[i];  // > minOpacity >= 0
       const float* behind = perPixel ? &image.background[3 * i] : background.data();
       for (int k = 0; k < 3; ++k) {

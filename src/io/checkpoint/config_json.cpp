@@ -29,7 +29,7 @@ ConfigValue valueOf(const json& j, ConfigValueType type) {
 
 // The layout is the first checkpoint format's, so older checkpoints still load and older builds
 // read newer ones: the model's own fields under "model" (with its name), TrainConfig's and the fast
-// model's training fields at the top level (src/api/config_fields.cpp says which).
+// model's training fields at the top level (src/core/config/config_fields.cpp says which).
 json toJson(const TrainConfig& c) {
   json j = json::object();
   j["model"] = {{"name", modelName(c.model)}};

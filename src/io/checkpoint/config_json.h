@@ -1,6 +1,6 @@
 #pragma once
 // TrainConfig <-> JSON, as stored in checkpoints, made from the table of fields
-// (src/api/config_fields.cpp).
+// (src/core/config/config_fields.cpp).
 #include <nlohmann/json.hpp>
 
 #include <string>

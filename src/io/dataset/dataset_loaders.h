@@ -1,7 +1,8 @@
 #pragma once
-// Shared by the dataset loaders (dataset*.cpp): a format reader turns its files into FrameSpecs
-// (pose + whatever intrinsics the file states); dataset.cpp loads the images, fills in the rest of
-// the intrinsics, downscales and finds the scene box.
+// Shared by the dataset loaders: a format reader turns its files into FrameSpecs (pose + whatever
+// intrinsics the file states); Dataset::load (src/api/dataset.cpp) reads the scene through
+// readScene(), loads the images, fills in the rest of the intrinsics, downscales and finds the scene
+// box with the functions below.
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -56,6 +57,16 @@ struct SceneSpec {
   std::optional<uint32_t> downscale;
 };
 
+// The scene at `path` (what Dataset::load was given), read by the reader its files call for:
+// transforms files, then poses_bounds.npy, then a COLMAP model in sparse/0/, sparse/ or the folder
+// itself, its images/ in the model's folder, one of the two above it, or `path`. Throws when there is
+// none.
+SceneSpec readScene(const fs::path& path, const DatasetOptions& options);
+// An image listed twice with two poses (a copied frame whose file_path was not changed) would train
+// on both, each pulling the field its own way: an error naming both entries. The same pose twice is
+// only repetition, and is let through. Every split counts: the scene is one set of photos.
+void checkOnePosePerImage(const SceneSpec& scene);
+
 // Readers. `target` is what Dataset::load was given, already classified.
 SceneSpec readTransformsJson(const fs::path& target, const DatasetOptions& options);
 // A COLMAP model folder is text when it holds cameras.txt or images.txt (the form vknerf read
@@ -82,6 +93,13 @@ void checkRigid(const std::array<double, 16>& m, const std::string& where, const
 // when the file's size disagrees with the image's, the focal length is missing or not positive, or
 // the lens does not invert over the image (checkLens, vknerf/camera.h).
 Camera completeCamera(const FrameSpec& f, uint32_t width, uint32_t height);
+// The camera of `fullRes`'s image downscaled by `downscale` to width x height.
+Camera downscaledCamera(const Camera& fullRes, uint32_t downscale, uint32_t width, uint32_t height);
+
+// Loads (and box-filters by `downscale`) every frame's image, options.threads (default: every core)
+// at a time; rethrows the first failure in frame order so the message does not depend on thread
+// timing.
+std::vector<ImageRGBA8> loadImages(const std::vector<FrameSpec>& frames, uint32_t downscale, const DatasetOptions& options);
 
 // The device computes in 32-bit floats, and ray arithmetic squares positions and multiplies pixel
 // offsets by 1/f: a value that is finite as a double can be infinite there. kDeviceLimit leaves

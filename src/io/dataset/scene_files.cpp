@@ -1,7 +1,7 @@
 // What each scene format declares as its files (vknerf/scene_files.h). The names follow the loaders:
-// readScene (src/api/dataset.cpp) picks transforms files, then poses_bounds.npy, then a COLMAP model
-// in the folder, sparse/0/ or sparse/; COLMAP and LLFF read their photos from images/ (LLFF's
-// downscaled copies from images_<n>/).
+// readScene (src/io/dataset/read_scene.cpp) picks transforms files, then poses_bounds.npy, then a
+// COLMAP model in the folder, sparse/0/ or sparse/; COLMAP and LLFF read their photos from images/
+// (LLFF's downscaled copies from images_<n>/).
 #include "vknerf/scene_files.h"
 
 #include <algorithm>

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "reference/encoding/appearance.h"
+#include "core/layouts/appearance_layout.h"
 #include "vknerf/error.h"
 
 namespace vknerf::models {
@@ -12,7 +12,7 @@ Appearance::Appearance(Context& ctx, uint32_t numPhotos, uint32_t dims, uint32_t
     : numPhotos_(numPhotos),
       renderPhoto_(renderPhoto),
       vectors_(ctx, "appearance", std::vector<float>(size_t(numPhotos) * dims, 0.0f), adam),
-      weights_(ctx, "appearance_weights", ref::appearanceWeights(dims, width, init.bound, init.seed), adam),
+      weights_(ctx, "appearance_weights", core::appearanceWeights(dims, width, init.bound, init.seed), adam),
       mean_(gpu::Buffer::zeros(ctx, VkDeviceSize(dims) * 4, "the mean appearance vector")),
       bias_(gpu::Buffer::zeros(ctx, VkDeviceSize(std::max(numPhotos, 1u)) * width * 4, "the appearance biases")),
       photoSums_(gpu::Buffer::zeros(ctx, adam ? VkDeviceSize(std::max(numPhotos, 1u)) * width * 4 : 16)),

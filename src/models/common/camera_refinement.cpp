@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "reference/rays/pose_correction.h"
+#include "core/camera/pose_algebra.h"
 #include "vknerf/error.h"
 
 namespace vknerf::models {
@@ -50,7 +50,7 @@ void CameraRefinement::adjustTrainedCameras(std::vector<Camera>& cameras) {
   for (size_t i = 0; i < all.size() && i < cameras.size(); ++i) {
     std::array<double, nerf::kCorrectionFloats> c{};
     for (size_t k = 0; k < c.size(); ++k) c[k] = all[i][k];
-    const auto pose = ref::correctedPose<double>(cameras[i].c2w, c.data());
+    const auto pose = core::correctedPose<double>(cameras[i].c2w, c.data());
     for (int k = 0; k < 16; ++k) cameras[i].c2w[k] = float(pose[k]);
   }
 }

@@ -23,8 +23,8 @@ const gpu::BufferRange& holding(const gpu::BufferRange& r, uint32_t count, VkDev
 }
 }  // namespace
 
-ref::FarFieldShape LearnedFarField::shape() {
-  ref::HashGridConfig g;
+core::FarFieldShape LearnedFarField::shape() {
+  core::HashGridConfig g;
   // 4 to 512 cells per axis of [-1, 1]^3, doubling per level: 512 puts about 1.6 cells on a pixel
   // of a 480-pixel-wide phone photo with a 70-degree view. 2^14 entries a level keep the table's Adam
   // at a quarter of the field's (the coarse levels are dense; the fine ones hash the sphere's cells).
@@ -33,12 +33,12 @@ ref::FarFieldShape LearnedFarField::shape() {
   g.log2TableSize = 14;
   g.baseResolution = 4;
   g.growthFactor = 2.0f;
-  return {g, ref::DenseMlpShape::make(g.levels * g.featuresPerLevel, kMlpWidth, 1, 3)};
+  return {g, core::DenseMlpShape::make(g.levels * g.featuresPerLevel, kMlpWidth, 1, 3)};
 }
 
 std::vector<float> LearnedFarField::initialMlpParameters(const nerf::DenseMlp& net, const std::array<float, 3>& initial) {
   std::vector<float> p = net.initialParameters();
-  const ref::DenseShape& out = net.shape().layers.back();
+  const core::DenseShape& out = net.shape().layers.back();
   const uint64_t bias = out.biasOffset();
   std::fill(p.begin() + long(out.offset), p.begin() + long(bias), 0.0f);
   for (uint32_t k = 0; k < 3; ++k) {

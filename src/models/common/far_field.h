@@ -5,7 +5,7 @@
 // ground or sky becomes a view-dependent mix of field and background. Learned, bg(d) is the sky and
 // whatever lies beyond the box, seen from anywhere in the same direction.
 //   direction -> unit sphere -> hash grid (8 levels, 4..512 per axis) -> MLP 16 -> 64 -> rgb (sigmoid)
-// CPU reference: src/reference/render/far_field.h. Built from the field's own parts (HashEncoding,
+// CPU reference: tests/reference/render/far_field.h. Built from the field's own parts (HashEncoding,
 // DenseMlp, TrainableParameters); its kernels are two small per-ray passes (shaders/render/far_field_*).
 #include <array>
 #include <optional>
@@ -17,7 +17,7 @@
 #include "models/common/trainable_parameters.h"
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
-#include "reference/render/far_field.h"
+#include "core/layouts/far_field_shape.h"
 
 namespace vknerf::models {
 
@@ -32,7 +32,7 @@ class LearnedFarField final : public ParameterGroup {
   // bias logit(initial), so that bg(d) = initial for every d and the first steps move the bias.
   static std::vector<float> initialMlpParameters(const nerf::DenseMlp& net, const std::array<float, 3>& initial);
 
-  static ref::FarFieldShape shape();
+  static core::FarFieldShape shape();
   size_t parameterCount() const override { return table_.count() + mlp_.count(); }
   gpu::Buffer& tableParams() { return table_.params(); }
   gpu::Buffer& mlpParams() { return mlp_.params(); }

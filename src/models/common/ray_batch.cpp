@@ -3,12 +3,12 @@
 #include <string>
 
 #include "gpu/device/device.h"
-#include "reference/rng.h"
+#include "core/math/rng.h"
 #include "vknerf/error.h"
 
 namespace vknerf::models {
 
-uint32_t stepSeed(const TrainConfig& config, uint32_t step) { return ref::pcgHash(config.seed * 7919u + step); }
+uint32_t stepSeed(const TrainConfig& config, uint32_t step) { return core::pcgHash(config.seed * 7919u + step); }
 
 namespace {
 // The ray generator binds a batch's rays as one range: a batch larger than the device's binding

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "nerf/sampling/ray_marcher.h"
-#include "reference/occupancy/view_bounds.h"
+#include "core/camera/view_bounds.h"
 
 namespace vknerf::models {
 namespace {
@@ -64,9 +64,9 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Share of the box whose cell centres some camera sees (ref::viewBoundOf: in front, inside the image).
+// Share of the box whose cell centres some camera sees (core::viewBoundOf: in front, inside the image).
 double seenShare(const Dataset& train) {
-  const auto views = ref::viewBoundsOf(train.cameras);
+  const auto views = core::viewBoundsOf(train.cameras);
   uint32_t seen = 0;
   for (uint32_t z = 0; z < kSeenGrid; ++z)
     for (uint32_t y = 0; y < kSeenGrid; ++y)
@@ -76,7 +76,7 @@ double seenShare(const Dataset& train) {
         for (int k = 0; k < 3; ++k)
           p[k] = train.bounds.min[k] + (float(i[k]) + 0.5f) / kSeenGrid * (train.bounds.max[k] - train.bounds.min[k]);
         for (const auto& v : views)
-          if (ref::pointSeen(v, p)) {
+          if (core::pointSeen(v, p)) {
             ++seen;
             break;
           }

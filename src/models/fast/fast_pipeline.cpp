@@ -102,7 +102,7 @@ void FastPipeline::addExtensions(Context& ctx, const TrainingPhotos& photos, con
   }
   if (model_.appearanceDims && photos.count) {
     // W_a starts as the colour layer's weights would with the vector among its inputs.
-    const ref::DenseShape& colour = field_.mlp().shape().colour();
+    const core::DenseShape& colour = field_.mlp().shape().colour();
     const AppearanceInit init{config_.seed, float(1.0 / std::sqrt(double(colour.ka + colour.kb + model_.appearanceDims)))};
     addExtension(appearance_.emplace(ctx, photos.count, model_.appearanceDims, colour.n4(), init,
                                      training_ ? std::optional(adamConfigOf(config_)) : std::nullopt,

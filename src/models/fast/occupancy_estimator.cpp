@@ -5,7 +5,7 @@
 
 #include "nerf/sampling/points.h"
 #include "nerf/sampling/sample_layout.h"
-#include "reference/rng.h"
+#include "core/math/rng.h"
 #include "vknerf/error.h"
 
 namespace vknerf::models {
@@ -70,7 +70,7 @@ void OccupancyEstimator::recordCutToWholeRays(gpu::Recorder& rec, uint32_t rays,
 
 void OccupancyEstimator::recordUpdateIfDue(gpu::Recorder& rec, uint32_t step, uint32_t runSeed, const DensityQuery& density) {
   if (!updateInterval_ || step % updateInterval_ != 0 || step == 0) return;
-  const uint32_t seed = ref::pcgHash(runSeed * 31u + step + 0x5bd1e995u);
+  const uint32_t seed = core::pcgHash(runSeed * 31u + step + 0x5bd1e995u);
   uint32_t count;
   if (step < warmupSteps_ && grid_.numCells() <= updatePoints_) {
     count = grid_.numCells();

@@ -6,7 +6,7 @@
 // direction encoding in the layer's input, without widening the layer or writing the vector into
 // every sample's row (a sample adds its photo's bias, nerf::RowBias). Their gradients come from the
 // per-photo sums of dL/d(colour pre-activation). The parameters themselves are a model's
-// (models/common/appearance.h). CPU twin: src/reference/encoding/appearance.h.
+// (models/common/appearance.h). CPU twin: tests/reference/encoding/appearance.h.
 #include <cstdint>
 
 #include "gpu/kernels/kernel.h"

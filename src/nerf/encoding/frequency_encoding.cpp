@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "reference/encoding/frequency_encoding.h"
+#include "core/layouts/frequency_layout.h"
 #include "vknerf/error.h"
 #include "encoding/encode_frequency_shared.h"
 
@@ -26,7 +26,7 @@ FrequencyEncoding::FrequencyEncoding(Context& ctx, uint32_t inputDims, uint32_t 
     : ctx_(ctx),
       inputDims_(checkedDims(inputDims, levels)),
       levels_(levels),
-      outputDims_(ref::frequencyEncodingDims(inputDims, levels, includeInput)),
+      outputDims_(core::frequencyEncodingDims(inputDims, levels, includeInput)),
       includeInput_(includeInput),
       kernel_(ctx, {gpu::shaders::encode_frequency, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(Push),
                     {{glsl::FrequencySpec::DIMS, inputDims},

@@ -33,9 +33,9 @@ const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
   if (c.baseResolution < 1) fail("base resolution must be at least 1");
   if (!(c.growthFactor >= 1.0)) fail("growth factor must be >= 1, got " + std::to_string(c.growthFactor));
   // Vertex coordinates reach res; the hash and the dense index are uint32 arithmetic.
-  if (ref::hashGridResolution(c, c.levels - 1) > (1u << 24))
-    fail("finest resolution " + std::to_string(ref::hashGridResolution(c, c.levels - 1)) + " exceeds 2^24");
-  const VkDeviceSize bytes = VkDeviceSize(ref::hashGridParameterCount(c)) * 4;
+  if (core::hashGridResolution(c, c.levels - 1) > (1u << 24))
+    fail("finest resolution " + std::to_string(core::hashGridResolution(c, c.levels - 1)) + " exceeds 2^24");
+  const VkDeviceSize bytes = VkDeviceSize(core::hashGridParameterCount(c)) * 4;
   if (bytes > ctx.properties().limits.maxStorageBufferRange)
     fail("table of " + std::to_string(bytes) + " bytes exceeds one storage binding (" +
          std::to_string(ctx.properties().limits.maxStorageBufferRange) + "); lower levels, F or T");
@@ -121,12 +121,12 @@ void HashEncoding::setSortSlotBudget(uint32_t slots) {
 }
 
 std::vector<float> HashEncoding::initialParameters(uint32_t seed) const {
-  return ref::hashGridInitialParameters(config_, seed);
+  return core::hashGridInitialParameters(config_, seed);
 }
 
 std::vector<ParameterRange> HashEncoding::trainedParts() const {
   std::vector<ParameterRange> parts;
-  for (const ref::TableRun& r : ref::hashGridUsedRuns(config_)) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
+  for (const core::TableRun& r : core::hashGridUsedRuns(config_)) parts.push_back({uint32_t(r.first), uint32_t(r.count)});
   return parts;
 }
 

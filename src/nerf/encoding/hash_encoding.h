@@ -1,10 +1,11 @@
 #pragma once
 // Multiresolution hash encoding (instant-ngp's grid; shaders/encoding/encode_hash.comp and
-// shaders/encoding/encode_hash_backward.comp). Layouts (table, levels, hashing) are documented in
-// src/reference/encoding/hash_encoding.h. Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp);
-// the L * F features of a sample go into a row-major feature matrix (row stride a multiple of 4
-// floats) at a column offset that is a multiple of 4, as paddedDims() = L * F rounded up to 4
-// columns, padding written as 0 and columns outside the block untouched (as FrequencyEncoding).
+// shaders/encoding/encode_hash_backward.comp). Layouts (table, levels) are documented in
+// src/core/layouts/hash_grid_layout.h, the hashing in tests/reference/encoding/hash_encoding.h.
+// Inputs are vec4 positions already in [-1, 1]^3 (sample_points.comp); the L * F features of a
+// sample go into a row-major feature matrix (row stride a multiple of 4 floats) at a column offset
+// that is a multiple of 4, as paddedDims() = L * F rounded up to 4 columns, padding written as 0 and
+// columns outside the block untouched (as FrequencyEncoding).
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -14,7 +15,7 @@
 #include "gpu/dispatch/limited_dispatch.h"
 #include "gpu/dispatch/recorder.h"
 #include "nerf/encoding/encoding.h"
-#include "reference/encoding/hash_encoding.h"
+#include "core/layouts/hash_grid_layout.h"
 #include "encoding/encode_hash_shared.h"
 #include "encoding/hash_sort_shared.h"
 
@@ -24,7 +25,7 @@ class PrefixSum;
 
 namespace vknerf::nerf {
 
-using HashGridConfig = ref::HashGridConfig;
+using HashGridConfig = core::HashGridConfig;
 
 // How the backward pass scatters into the table. Atomic is the default where the device has float
 // atomics (nerf/network/gradient_paths.h), CompareSwap elsewhere: on lavapipe Atomic was the
@@ -68,17 +69,17 @@ class HashEncoding final : public Encoding {
 
   const HashGridConfig& config() const { return config_; }
   uint32_t outputDims() const override { return config_.levels * config_.featuresPerLevel; }
-  size_t parameterCount() const override { return ref::hashGridParameterCount(config_); }
-  uint32_t resolution(uint32_t level) const { return ref::hashGridResolution(config_, level); }
-  bool dense(uint32_t level) const { return ref::hashGridDense(config_, level); }
+  size_t parameterCount() const override { return core::hashGridParameterCount(config_); }
+  uint32_t resolution(uint32_t level) const { return core::hashGridResolution(config_, level); }
+  bool dense(uint32_t level) const { return core::hashGridDense(config_, level); }
   HashBackwardMode backwardMode() const { return mode_; }
   // SortReduce: the most (sample, level, corner) contributions sorted in one pass (default: 128 MiB
   // of slots, 16 bytes each for F <= 2). Smaller budgets split a batch into more passes (tests; >= 8).
   uint32_t sortSlotBudget() const { return slotBudget_; }
   void setSortSlotBudget(uint32_t slots);
-  // uniform(-1e-4, 1e-4), deterministic in the seed (ref::hashGridInitialParameters).
+  // uniform(-1e-4, 1e-4), deterministic in the seed (core::hashGridInitialParameters).
   std::vector<float> initialParameters(uint32_t seed) const override;
-  // The parts of the table a lookup can reach (ref::hashGridUsedRuns): Adam's dense step would
+  // The parts of the table a lookup can reach (core::hashGridUsedRuns): Adam's dense step would
   // otherwise run over the unused end of each dense level's slot too (2^17 entries a level on the
   // 800x800 object: 27% of the table).
   std::vector<ParameterRange> trainedParts() const override;

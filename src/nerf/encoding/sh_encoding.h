@@ -1,7 +1,7 @@
 #pragma once
 // Spherical-harmonics direction encoding (shaders/encoding/encode_sh.comp): degree^2 real SH coefficients
 // (16 for instant-ngp's degree 4) of each unit direction, basis and constants documented in
-// src/reference/encoding/sh_encoding.h. Written into a row-major feature matrix (row stride a multiple of 4
+// tests/reference/encoding/sh_encoding.h. Written into a row-major feature matrix (row stride a multiple of 4
 // floats) at a column offset that is a multiple of 4, as paddedDims() columns, padding 0 and
 // columns outside the block untouched. No backward: directions are not optimised.
 #include <cstdint>

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "gpu/dispatch/limited_dispatch.h"
-#include "reference/loss/photometric_loss.h"
+#include "core/math/psnr.h"
 #include "vknerf/error.h"
 #include "loss/loss_photometric_shared.h"
 
@@ -56,11 +56,11 @@ void PhotometricLoss::record(gpu::Recorder& rec, const LossRays& rays, const Los
 }
 
 LossStats PhotometricLoss::summarize(std::span<const float> partials, uint32_t numRays) {
-  if (numRays == 0) return {0, ref::psnrFromMse(0)};
+  if (numRays == 0) return {0, core::psnrFromMse(0)};
   double sum = 0;
   for (float v : partials) sum += v;
   double mse = sum / (3.0 * numRays);
-  return {mse, ref::psnrFromMse(mse)};
+  return {mse, core::psnrFromMse(mse)};
 }
 
 LossStats PhotometricLoss::read(const gpu::Buffer& partials, uint32_t numRays) const {

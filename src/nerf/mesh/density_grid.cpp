@@ -11,7 +11,7 @@ constexpr uint32_t kLocal = 256;
 
 }  // namespace
 
-DensityGridSampler::DensityGridSampler(Context& ctx, const ref::GridLayout& layout, const SampleBlocks& blocks,
+DensityGridSampler::DensityGridSampler(Context& ctx, const core::GridLayout& layout, const SampleBlocks& blocks,
                                        const gpu::BufferRange& blockIds)
     : layout_(layout),
       blockCount_(blocks.count),
@@ -23,7 +23,7 @@ DensityGridSampler::DensityGridSampler(Context& ctx, const ref::GridLayout& layo
 
 void DensityGridSampler::recordPositions(gpu::Recorder& rec, const Aabb& b, uint32_t first, uint32_t count,
                                          const gpu::BufferRange& positions) {
-  const ref::GridLayout& g = layout_;
+  const core::GridLayout& g = layout_;
   PointsPush p{{g.n[0], g.n[1], g.n[2], 0},
                {blockCount_[0], blockCount_[1], blockCount_[2], 0},
                {g.origin[0], g.origin[1], g.origin[2], 0},
@@ -37,7 +37,7 @@ void DensityGridSampler::recordPositions(gpu::Recorder& rec, const Aabb& b, uint
 
 void DensityGridSampler::recordDensities(gpu::Recorder& rec, const gpu::BufferRange& field, uint32_t first,
                                          uint32_t count, const gpu::BufferRange& grid) {
-  const ref::GridLayout& g = layout_;
+  const core::GridLayout& g = layout_;
   DensityPush p{{g.n[0], g.n[1], g.n[2], 0}, {blockCount_[0], blockCount_[1], blockCount_[2], 0}, first, count};
   rec.dispatch(densities_, {field, grid, blockIds_}, p, gpu::groupsFor(count, kLocal), 1, 1, "grid_density");
 }

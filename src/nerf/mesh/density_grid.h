@@ -9,7 +9,7 @@
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/recorder.h"
 #include "nerf/mesh/sample_blocks.h"
-#include "reference/mesh/marching_cubes.h"
+#include "core/layouts/mesh_grid.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
@@ -17,7 +17,7 @@ namespace vknerf::nerf {
 class DensityGridSampler {
  public:
   // blockIds: the listed blocks' ids (uint each, SampleBlocks::ids) on the device.
-  DensityGridSampler(Context& ctx, const ref::GridLayout& layout, const SampleBlocks& blocks,
+  DensityGridSampler(Context& ctx, const core::GridLayout& layout, const SampleBlocks& blocks,
                      const gpu::BufferRange& blockIds);
   // Slots in all: kBlockSamples per listed block.
   uint64_t slots() const { return slots_; }
@@ -30,7 +30,7 @@ class DensityGridSampler {
                        const gpu::BufferRange& grid);
 
  private:
-  ref::GridLayout layout_;
+  core::GridLayout layout_;
   std::array<uint32_t, 3> blockCount_;
   gpu::BufferRange blockIds_;
   uint64_t slots_;

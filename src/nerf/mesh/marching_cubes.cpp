@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/layouts/marching_cubes_table.h"
 #include "gpu/dispatch/recorder.h"
 #include "vknerf/error.h"
 #include "mesh/marching_cubes_shared.h"
@@ -42,15 +43,15 @@ MarchingCubes::MarchingCubes(Context& ctx, uint32_t chunkLimit)
     : ctx_(ctx),
       chunk_(chunkFor(ctx.properties().limits, chunkLimit)),
       scan_(ctx, chunk_ + 1),
-      table_(gpu::Buffer::of(ctx, ref::marchingCubesTable())),
+      table_(gpu::Buffer::of(ctx, core::marchingCubesTable())),
       flags_(ctx, VkDeviceSize(chunk_) * 4, "the marching-cubes flags"),
       countEdges_(ctx, {gpu::shaders::mc_count_edges, storage(2), sizeof(Push), {}}),
       countCells_(ctx, {gpu::shaders::mc_count_cells, storage(3), sizeof(Push), {}}),
       writeVertices_(ctx, {gpu::shaders::mc_write_vertices, storage(4), sizeof(Push), {}}),
       writeTriangles_(ctx, {gpu::shaders::mc_write_triangles, storage(7), sizeof(Push), {}}) {}
 
-ref::TriangleMesh MarchingCubes::extract(const gpu::Buffer& density, const ref::GridLayout& g, float threshold) {
-  ref::TriangleMesh mesh;
+core::TriangleMesh MarchingCubes::extract(const gpu::Buffer& density, const core::GridLayout& g, float threshold) {
+  core::TriangleMesh mesh;
   const uint64_t points = g.points(), cells = g.cells();
   if (cells == 0) return mesh;
   if (points > maxPoints(ctx_))

@@ -1,5 +1,5 @@
 #pragma once
-// Marching cubes on the device (shaders/mesh/mc_*.comp; CPU twin src/reference/mesh/): a density
+// Marching cubes on the device (shaders/mesh/mc_*.comp; CPU twin tests/reference/mesh/): a density
 // grid in a device buffer becomes a welded, indexed triangle mesh, read back to the host.
 //   pass 1: a flag per grid edge that crosses the threshold, a triangle count per cell (the case
 //           table as a storage buffer), each scanned (gpu::PrefixSum) in chunks;
@@ -13,7 +13,7 @@
 #include "gpu/memory/buffer.h"
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/prefix_sum.h"
-#include "reference/mesh/marching_cubes.h"
+#include "core/layouts/mesh_grid.h"
 #include "vknerf/context.h"
 
 namespace vknerf::nerf {
@@ -31,7 +31,7 @@ class MarchingCubes {
 
   // The surface where `density` (one float per sample of `layout`) crosses `threshold`, inside on
   // the side of higher density, triangles counter-clockwise seen from outside.
-  ref::TriangleMesh extract(const gpu::Buffer& density, const ref::GridLayout& layout, float threshold);
+  core::TriangleMesh extract(const gpu::Buffer& density, const core::GridLayout& layout, float threshold);
 
   // Samples per grid a device can take: the grid and its edge ranks within one binding, the edge
   // ids within 32 bits.

@@ -6,7 +6,7 @@
 namespace vknerf::nerf {
 namespace {
 
-std::array<uint32_t, 3> blockCounts(const ref::GridLayout& g) {
+std::array<uint32_t, 3> blockCounts(const core::GridLayout& g) {
   std::array<uint32_t, 3> c;
   for (int k = 0; k < 3; ++k) c[k] = (g.n[k] + kBlockSide - 1) / kBlockSide;
   return c;
@@ -14,7 +14,7 @@ std::array<uint32_t, 3> blockCounts(const ref::GridLayout& g) {
 
 }  // namespace
 
-SampleBlocks allSampleBlocks(const ref::GridLayout& layout) {
+SampleBlocks allSampleBlocks(const core::GridLayout& layout) {
   SampleBlocks b;
   b.count = blockCounts(layout);
   b.ids.resize(size_t(b.count[0]) * b.count[1] * b.count[2]);
@@ -22,7 +22,7 @@ SampleBlocks allSampleBlocks(const ref::GridLayout& layout) {
   return b;
 }
 
-SampleBlocks occupiedSampleBlocks(const ref::GridLayout& g, const Aabb& box, const OccupancyBits& occ) {
+SampleBlocks occupiedSampleBlocks(const core::GridLayout& g, const Aabb& box, const OccupancyBits& occ) {
   SampleBlocks b;
   b.count = blockCounts(g);
   std::vector<uint8_t> listed(size_t(b.count[0]) * b.count[1] * b.count[2], 0);

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "nerf/occupancy/occupancy_grid.h"
-#include "reference/mesh/marching_cubes.h"
+#include "core/layouts/mesh_grid.h"
 #include "vknerf/camera.h"
 
 namespace vknerf::nerf {
@@ -20,11 +20,11 @@ struct SampleBlocks {
   std::vector<uint32_t> ids;               // listed blocks, x + count.x (y + count.y z), ascending
 };
 
-SampleBlocks allSampleBlocks(const ref::GridLayout& layout);
+SampleBlocks allSampleBlocks(const core::GridLayout& layout);
 
 // The blocks holding a corner of any grid cell that overlaps an occupied cell of `occupancy` (whose
 // outermost cascade covers `sceneBox`): every such grid cell's corners are sampled, so the surface
 // there is the whole grid's; elsewhere the grid keeps 0.
-SampleBlocks occupiedSampleBlocks(const ref::GridLayout& layout, const Aabb& sceneBox, const OccupancyBits& occupancy);
+SampleBlocks occupiedSampleBlocks(const core::GridLayout& layout, const Aabb& sceneBox, const OccupancyBits& occupancy);
 
 }  // namespace vknerf::nerf

@@ -104,7 +104,7 @@ std::array<gpu::BufferRange, 3> rowBiasBindings(const RowBias* bias, const gpu::
   return {bias->table, bias->rowRay ? *bias->rowRay : bias->table, bias->rayTable ? *bias->rayTable : bias->table};
 }
 
-DenseLayer::DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning)
+DenseLayer::DenseLayer(Context& ctx, const core::DenseShape& shape, const MlpTuning& tuning)
     : ctx_(ctx), shape_(shape), t_(tuning) {
   if (shape.offset % 4) throw Error("MLP: layer weights must start on a multiple of 4 floats");
   const GradientPaths paths = gradientPathsFor(ctx);

@@ -14,7 +14,7 @@
 #include "gpu/dispatch/limited_dispatch.h"
 #include "gpu/dispatch/recorder.h"
 #include "gpu/kernels/shader_code.h"
-#include "reference/network/mlp.h"
+#include "core/layouts/mlp_layout.h"
 
 namespace vknerf::nerf {
 
@@ -106,8 +106,8 @@ struct InputGradients {
 class DenseLayer {
  public:
   // Throws where the tuning's weight-gradient path needs what the device lacks.
-  DenseLayer(Context& ctx, const ref::DenseShape& shape, const MlpTuning& tuning);
-  const ref::DenseShape& shape() const { return shape_; }
+  DenseLayer(Context& ctx, const core::DenseShape& shape, const MlpTuning& tuning);
+  const core::DenseShape& shape() const { return shape_; }
 
   // y[rows][n4] = act(concat(a, b) W + bias (+ rowBias)); columns >= n are stored as 0. `b` is ignored
   // when kb == 0. rows.limited: arguments recorded for rowsPerGroup() rows per workgroup; rows.gather:
@@ -135,7 +135,7 @@ class DenseLayer {
   void addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_t k4, uint64_t goff, bool ones);
 
   Context& ctx_;
-  ref::DenseShape shape_;
+  core::DenseShape shape_;
   MlpTuning t_;
   std::map<uint32_t, gpu::Kernel> forward_;  // by ROW_BIAS_* mode
   std::map<std::tuple<GradMode, GradMode, uint32_t>, gpu::Kernel> dx_;  // by (modeA, modeB, firstB)

@@ -40,17 +40,17 @@ gpu::Buffer rowsBuffer(Context& ctx, uint32_t rows, uint32_t stride) {
   return gpu::Buffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(rows) * stride * 4, 16), "the MLP's activations");
 }
 
-ref::NerfShape nerfShape(const MlpConfig& c) {
+core::NerfShape nerfShape(const MlpConfig& c) {
   try {
-    return ref::NerfShape::make(c.depth, c.width, c.skipLayer, c.posDims, c.dirDims, c.density, c.featureWidth);
+    return core::NerfShape::make(c.depth, c.width, c.skipLayer, c.posDims, c.dirDims, c.density, c.featureWidth);
   } catch (const std::invalid_argument& e) {
     throw Error(e.what());
   }
 }
 
-ref::DenseMlpShape denseShape(const DenseMlpConfig& c) {
+core::DenseMlpShape denseShape(const DenseMlpConfig& c) {
   try {
-    return ref::DenseMlpShape::make(c.inputs, c.width, c.hiddenLayers, c.outputs);
+    return core::DenseMlpShape::make(c.inputs, c.width, c.hiddenLayers, c.outputs);
   } catch (const std::invalid_argument& e) {
     throw Error(e.what());
   }
@@ -87,7 +87,7 @@ NerfMlp::NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning)
 }
 
 std::vector<float> NerfMlp::initialParameters() const {
-  return ref::initialParameters(shape_.layers, shape_.total, config_.seed);
+  return core::initialParameters(shape_.layers, shape_.total, config_.seed);
 }
 
 void NerfMlp::setChunkRows(uint32_t rows) {
@@ -160,7 +160,7 @@ void NerfMlp::recordDensity(gpu::Recorder& rec, uint32_t count, const gpu::Buffe
     throw Error("NeRF MLP: the density buffer holds fewer than " + std::to_string(count) + " floats");
   Workspace& ws = inferenceScratch();
   const uint32_t W = config_.width, V = shape_.featureWidth;
-  const ref::DenseShape& feature = shape_.feature();
+  const core::DenseShape& feature = shape_.feature();
   if (!density_) {
     if (feature.kb != 0) throw Error("NeRF MLP: the density alone needs a feature layer with one input");
     density_ = std::make_unique<gpu::Kernel>(
@@ -211,7 +211,7 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
   const uint32_t mode = rowBiasMode(rows.colourBias ? &*rows.colourBias : nullptr);
   auto& kernel = fused_[keep ? 1 : 0][mode];
   if (!kernel) {
-    auto off4 = [&](const ref::DenseShape& l) { return uint32_t(l.offset / 4); };
+    auto off4 = [&](const core::DenseShape& l) { return uint32_t(l.offset / 4); };
     std::vector<gpu::Binding> b(3, gpu::Binding::TexelRgba32f);
     b.insert(b.end(), 5, gpu::Binding::Storage);
     b.insert(b.end(), {gpu::Binding::TexelRgba32f, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage});
@@ -360,7 +360,7 @@ DenseMlp::DenseMlp(Context& ctx, const DenseMlpConfig& config, const MlpTuning& 
 }
 
 std::vector<float> DenseMlp::initialParameters() const {
-  return ref::initialParameters(shape_.layers, shape_.total, config_.seed);
+  return core::initialParameters(shape_.layers, shape_.total, config_.seed);
 }
 
 void DenseMlp::setChunkRows(uint32_t rows) {

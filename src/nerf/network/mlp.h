@@ -6,8 +6,8 @@
 //   dirFeatures gamma(d): dirStride() = pad4(dirDims)
 //   out:  vec4 (r, g, b, sigma) per row, rgb after sigmoid, sigma after the density activation
 //   dOut: vec4 dL/d(r, g, b, sigma) per row
-//   params: ONE flat float buffer, parameterCount() floats, layout in src/reference/network/mlp.h (each layer
-//           W row-major [ka4 + kb4][n4] then bias [n4]; padding entries zero and never updated)
+//   params: ONE flat float buffer, parameterCount() floats, layout in src/core/layouts/mlp_layout.h (each
+//           layer W row-major [ka4 + kb4][n4] then bias [n4]; padding entries zero and never updated)
 //   grads:  same size as params. recordBackward ACCUMULATES into it (atomics, in any order): zero it
 //           first (e.g. Recorder::fill) once per step.
 // Batches of any size (0 included) are split into chunks whose bindings stay within the device's
@@ -19,7 +19,7 @@
 #include "gpu/memory/buffer.h"
 #include "gpu/dispatch/recorder.h"
 #include "nerf/network/dense_layer.h"
-#include "reference/network/mlp.h"
+#include "core/layouts/mlp_layout.h"
 
 namespace vknerf::nerf {
 
@@ -31,7 +31,7 @@ struct MlpConfig {
   uint32_t dirDims = 27;
   DensityActivation density = DensityActivation::Relu;
   uint32_t seed = 0;
-  uint32_t featureWidth = 0;  // what the colour layer sees of the feature layer (0: width); ref::NerfShape
+  uint32_t featureWidth = 0;  // what the colour layer sees of the feature layer (0: width); core::NerfShape
 };
 
 // The rows a NeRF MLP runs over, as one value: `count` rows of pos (posStride() floats each), dir
@@ -88,11 +88,11 @@ class NerfMlp {
   NerfMlp(Context& ctx, const MlpConfig& config, const MlpTuning& tuning);
 
   const MlpConfig& config() const { return config_; }
-  const ref::NerfShape& shape() const { return shape_; }
+  const core::NerfShape& shape() const { return shape_; }
   size_t parameterCount() const { return shape_.total; }
   std::vector<float> initialParameters() const;
-  uint32_t posStride() const { return ref::pad4(config_.posDims); }
-  uint32_t dirStride() const { return ref::pad4(config_.dirDims); }
+  uint32_t posStride() const { return core::pad4(config_.posDims); }
+  uint32_t dirStride() const { return core::pad4(config_.dirDims); }
 
   // out = f(pos, dir) over `rows`. With a workspace (capacity >= rows.count) the activations are kept
   // for recordBackward; without one an internal scratch is used and nothing is kept. Rows at and
@@ -138,7 +138,7 @@ class NerfMlp {
 
   Context& ctx_;
   MlpConfig config_;
-  ref::NerfShape shape_;
+  core::NerfShape shape_;
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_, density_;
@@ -189,11 +189,11 @@ class DenseMlp {
   DenseMlp(Context& ctx, const DenseMlpConfig& config);
   DenseMlp(Context& ctx, const DenseMlpConfig& config, const MlpTuning& tuning);
 
-  const ref::DenseMlpShape& shape() const { return shape_; }
+  const core::DenseMlpShape& shape() const { return shape_; }
   size_t parameterCount() const { return shape_.total; }
   std::vector<float> initialParameters() const;
-  uint32_t inputStride() const { return ref::pad4(config_.inputs); }
-  uint32_t outputStride() const { return ref::pad4(config_.outputs); }
+  uint32_t inputStride() const { return core::pad4(config_.inputs); }
+  uint32_t outputStride() const { return core::pad4(config_.outputs); }
 
   void recordForward(gpu::Recorder& rec, const DenseRows& rows, const gpu::BufferRange& params,
                      Workspace* keepForBackward);
@@ -207,7 +207,7 @@ class DenseMlp {
  private:
   Context& ctx_;
   DenseMlpConfig config_;
-  ref::DenseMlpShape shape_;
+  core::DenseMlpShape shape_;
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;
   gpu::LimitedDispatch uncut_;  // the layers' placeholder row limit: this network is never cut

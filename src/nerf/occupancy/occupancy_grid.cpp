@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "reference/occupancy/view_bounds.h"
+#include "core/camera/view_bounds.h"
 #include "vknerf/error.h"
 #include "occupancy/occupancy_points_shared.h"
 #include "occupancy/occupancy_splat_shared.h"
@@ -71,7 +71,7 @@ void OccupancyGrid::recordMarkAllOccupied(gpu::Recorder& rec) { rec.fill(bits_, 
 
 void OccupancyGrid::markUnseenEmpty(std::span<const Camera> cameras, const Aabb& box) {
   if (cameras.empty()) return;  // no camera to judge by: every cell stays as it is
-  const auto views = gpu::Buffer::of(ctx_, ref::viewBoundsOf(cameras));
+  const auto views = gpu::Buffer::of(ctx_, core::viewBoundsOf(cameras));
   UnseenPush p{resolution_, cascades_, numCells_, uint32_t(cameras.size()), {}, {}};
   for (int k = 0; k < 3; ++k) {
     p.centre[k] = 0.5f * (box.min[k] + box.max[k]);

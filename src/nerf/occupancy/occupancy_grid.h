@@ -64,7 +64,7 @@ class OccupancyGrid {
 
   // Before training (instant-ngp's mark_untrained_density_grid): every cell none of whose corners
   // any of `cameras` sees (in front of it, inside its image through a pinhole bound that holds the
-  // lens: ref::viewBoundOf) gets density -1, which no update changes, so it starts and stays empty;
+  // lens: core::viewBoundOf) gets density -1, which no update changes, so it starts and stays empty;
   // then bits = occupied wherever a camera sees. `box` is the scene box the grid covers. Records,
   // submits and waits.
   void markUnseenEmpty(std::span<const Camera> cameras, const Aabb& box);

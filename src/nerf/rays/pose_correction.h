@@ -3,7 +3,7 @@
 // corrections applied before rays are made (shaders/rays/camera_correct.comp), and the gradient of
 // the loss with respect to those corrections from the samples' position gradients
 // (shaders/rays/camera_gradient.comp). A correction is 6 floats per camera, (w, tau): the pose
-// [R | c] becomes [exp(w) R | c + tau] (src/reference/rays/pose_correction.h).
+// [R | c] becomes [exp(w) R | c + tau] (src/core/camera/pose_algebra.h).
 #include <cstdint>
 #include <optional>
 

@@ -61,7 +61,7 @@ class RayGeneration {
     uint32_t camera = 0, firstPixel = 0, count = 0;
   };
   // `count` random pixels of random cameras among the first numCameras (uniform over cameras, then
-  // pixels). inCameraRuns: the rays come in runs of one camera each (src/reference/rays/camera_runs.h;
+  // pixels). inCameraRuns: the rays come in runs of one camera each (tests/reference/rays/camera_runs.h;
   // each ray's camera still uniform), which the per-camera sums of camera refinement and the
   // appearance embedding need (shaders/gpu/per_camera_sum.glsl); otherwise each ray's camera is drawn alone.
   struct RandomPixels {

@@ -15,7 +15,7 @@
 //   keptCounts  uint per ray: the samples it composited (early termination)
 // Early termination (instant-ngp's): with a finite maxOpticalDepth a ray stops once the optical
 // depth in front of its next sample exceeds it (transmittance below exp(-maxOpticalDepth)); the
-// sample that crosses it is kept (src/reference keptSamples). Both passes make the same decision;
+// sample that crosses it is kept (tests/reference keptSamples). Both passes make the same decision;
 // the samples behind the cut get weight 0 and gradient 0, and the kept ones exactly what a batch
 // holding only them would get. The light they could add is below that transmittance times their
 // brightest colour. The backward, the expensive part, skips them: the fast model's runs over the
@@ -40,7 +40,7 @@ constexpr VkDeviceSize kFieldBytes = 16;
 constexpr VkDeviceSize kColorBytes = 16;  // a ray's colour (and its gradient, its background): vec4
 constexpr VkDeviceSize kDepthBytes = 4;   // a ray's depth: float
 
-// The distortion loss the backward pass adds (mip-NeRF 360's; reference/render/distortion_loss.h):
+// The distortion loss the backward pass adds (mip-NeRF 360's; tests/reference/render/distortion_loss.h):
 // its weight per ray, and what it measures distances in: the march's spacing and each ray's near
 // and far, read from the rays (nerf::kRayBytes each: (o, t_near), (d, t_far)).
 struct DistortionLoss {

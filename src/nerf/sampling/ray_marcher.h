@@ -5,7 +5,7 @@
 // whose occupancy cell is occupied, in order, at most maxSamplesPerRay; u = rng01(seed, r, 0)
 // (jitter, training) or 0 (rendering). Each sample is vec2(t_k, min(dt, t_far - t_k)): it stands
 // for [t_k, t_k + dt], cut at t_far. Empty cells are skipped in one jump, giving exactly the
-// samples of the one-step-at-a-time march (src/reference/occupancy/occupancy_grid.h, ref::marchRay).
+// samples of the one-step-at-a-time march (tests/reference/occupancy/occupancy_grid.h, ref::marchRay).
 // A grid of several cascades (unbounded scenes) is marched with instant-ngp's cone steps instead:
 // dt(t) = clamp(t coneAngle, dt, dtMax), empty cells of every cascade jumped over in whole steps
 // (ref::marchRayCascaded); each sample is then (t, min(dt(t), t_far - t)).

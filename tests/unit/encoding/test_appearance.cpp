@@ -1,6 +1,6 @@
 // The appearance embedding's kernels (nerf/encoding/appearance_embedding.h: appearance_bias.comp,
 // appearance_gradient.comp, appearance_weights_gradient.comp, appearance_mean.comp) against the CPU
-// reference (src/reference/encoding/appearance.h), and that reference against finite differences of
+// reference (tests/reference/encoding/appearance.h), and that reference against finite differences of
 // the network it stands for: the vector as input columns of the colour layer.
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// sample_points.comp and encode_frequency.comp against the CPU reference (src/reference/encoding/frequency_encoding.h).
+// sample_points.comp and encode_frequency.comp against the CPU reference (tests/reference/encoding/frequency_encoding.h).
 #include <cmath>
 #include <limits>
 #include <numbers>

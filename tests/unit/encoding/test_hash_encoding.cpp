@@ -1,4 +1,4 @@
-// encode_hash.comp / encode_hash_backward.comp against the CPU reference (src/reference/encoding/hash_encoding.h),
+// encode_hash.comp / encode_hash_backward.comp against the CPU reference (tests/reference/encoding/hash_encoding.h),
 // and the reference against first principles (vertex lookup, affine reproduction, finite differences).
 #include <algorithm>
 #include <array>

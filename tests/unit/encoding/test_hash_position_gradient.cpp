@@ -1,5 +1,5 @@
 // encode_hash_position_gradient.comp (HashEncoding::recordPositionGradient: dL/dp for camera
-// refinement) against central differences of the CPU reference in double (src/reference/encoding/hash_encoding.h),
+// refinement) against central differences of the CPU reference in double (tests/reference/encoding/hash_encoding.h),
 // and the same gradient from the table's backward pass (encode_hash_backward_position.comp).
 #include <cmath>
 #include <ostream>

@@ -1,4 +1,4 @@
-// encode_sh.comp against the CPU reference (src/reference/encoding/sh_encoding.h), and the reference basis
+// encode_sh.comp against the CPU reference (tests/reference/encoding/sh_encoding.h), and the reference basis
 // against its defining property: orthonormality on the unit sphere.
 #include <cmath>
 #include <numbers>

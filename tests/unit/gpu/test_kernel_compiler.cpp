@@ -131,7 +131,7 @@ TEST_F(KernelCompilerTest, EachVariantCompilesOnceBeforeItsSubmission) {
   EXPECT_TRUE(calls.empty());
   EXPECT_TRUE(sameStats(ctx().compileStats(), after));
 
-  // Results as the shader defines them: SH bands 0-2 of each direction (src/reference/encoding/sh_encoding.h).
+  // Results as the shader defines them: SH bands 0-2 of each direction (tests/reference/encoding/sh_encoding.h).
   for (const gpu::Buffer* out : {&outPow2, &outOther}) {
     auto f = out->download<float>();
     for (int row = 0; row < 2; ++row) {

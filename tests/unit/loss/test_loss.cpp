@@ -1,4 +1,4 @@
-// random_background.comp and loss_photometric.comp against the CPU reference (src/reference/loss/photometric_loss.h).
+// random_background.comp and loss_photometric.comp against the CPU reference (tests/reference/loss/photometric_loss.h).
 #include <cmath>
 #include <random>
 #include <vector>

@@ -1,4 +1,4 @@
-// Marching cubes: the CPU reference (src/reference/mesh/) on analytic fields, and the device stage
+// Marching cubes: the CPU reference (tests/reference/mesh/) on analytic fields, and the device stage
 // (src/nerf/mesh/, shaders/mesh/mc_*.comp) against it.
 #include <gtest/gtest.h>
 

@@ -12,6 +12,7 @@
 #include "nerf/mesh/density_grid.h"
 #include "nerf/mesh/marching_cubes.h"
 #include "nerf/mesh/sample_blocks.h"
+#include "reference/mesh/marching_cubes.h"
 #include "support/gpu_test.h"
 
 using namespace vknerf;

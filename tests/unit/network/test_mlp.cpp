@@ -1,4 +1,4 @@
-// The MLP kernels (mlp_*.comp through nerf/network/mlp.h) against the CPU reference (src/reference/network/mlp.h).
+// The MLP kernels (mlp_*.comp through nerf/network/mlp.h) against the CPU reference (tests/reference/network/mlp.h).
 #include <algorithm>
 #include <cmath>
 #include <string>

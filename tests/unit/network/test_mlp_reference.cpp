@@ -1,4 +1,4 @@
-// The MLP CPU reference (src/reference/network/mlp.h) on its own: gradients against central finite
+// The MLP CPU reference (tests/reference/network/mlp.h) on its own: gradients against central finite
 // differences in double, the NeRF structure (sigma never sees the direction), initialisation.
 #include <gtest/gtest.h>
 

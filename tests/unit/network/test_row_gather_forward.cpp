@@ -16,6 +16,7 @@
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/encoding/sh_encoding.h"
 #include "nerf/network/mlp.h"
+#include "reference/encoding/hash_encoding.h"
 #include "support/gpu_test.h"
 #include "support/random_values.h"
 #include "support/row_batches.h"

@@ -21,6 +21,7 @@
 #include "nerf/encoding/hash_encoding.h"
 #include "nerf/network/mlp.h"
 #include "nerf/encoding/sh_encoding.h"
+#include "reference/encoding/hash_encoding.h"
 #include "vknerf/error.h"
 
 using namespace vknerf;

@@ -1,5 +1,5 @@
 // Occupancy grid kernels (shaders/occupancy/occupancy_*.comp) against the CPU reference
-// (src/reference/occupancy/occupancy_grid.h). Nothing here is differentiated, so there is no gradient check.
+// (tests/reference/occupancy/occupancy_grid.h). Nothing here is differentiated, so there is no gradient check.
 #include <cfloat>
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-// adam.comp against the CPU reference (src/reference/optim/adam.h).
+// adam.comp against the CPU reference (tests/reference/optim/adam.h).
 #include <algorithm>
 #include <cmath>
 #include <random>

@@ -1,4 +1,4 @@
-// Lens distortion: the CPU reference (src/reference/rays/lens.h) inverts every model over the whole
+// Lens distortion: the lens math (src/core/camera/lens.h) inverts every model over the whole
 // image, rays through distorted pixels hit the points that project there, checkLens refuses lenses
 // that do not invert, and rays.comp matches the reference with a lens.
 #include <cmath>

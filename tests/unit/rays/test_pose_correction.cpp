@@ -1,5 +1,5 @@
 // Camera refinement's kernels (nerf/rays/pose_correction.h: camera_correct.comp, camera_gradient.comp)
-// against the CPU reference (src/reference/rays/pose_correction.h) and, for the gradient, central
+// against the CPU reference (tests/reference/rays/pose_correction.h) and, for the gradient, central
 // differences of the loss it differentiates, in double.
 #include <cmath>
 #include <random>

@@ -1,4 +1,4 @@
-// rays.comp against the CPU reference (src/reference/rays/rays.h).
+// rays.comp against the CPU reference (tests/reference/rays/rays.h).
 #include <algorithm>
 #include <cmath>
 #include <vector>

@@ -1,5 +1,5 @@
 // composite_forward.comp and composite_backward.comp against the CPU reference
-// (src/reference/render/composite.h), the reference's gradients against finite differences, and the
+// (tests/reference/render/composite.h), the reference's gradients against finite differences, and the
 // numerically hard rays (opaque, faint, duplicate, open-ended, empty, very long).
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // The learned far field (src/models/common/far_field.h): its kernels and parts against the CPU
-// reference (src/reference/render/far_field.h), the reference against finite differences in double,
+// reference (tests/reference/render/far_field.h), the reference against finite differences in double,
 // and its start as a constant colour.
 #include <cmath>
 #include <vector>

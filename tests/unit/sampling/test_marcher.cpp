@@ -1,5 +1,5 @@
 // Packed ray marching with empty-space skipping (shaders/sampling/march_*.comp) and the prefix sum
-// (shaders/gpu/scan_*.comp) against the CPU reference (src/reference/occupancy/occupancy_grid.h), whose march visits
+// (shaders/gpu/scan_*.comp) against the CPU reference (tests/reference/occupancy/occupancy_grid.h), whose march visits
 // every lattice point one at a time: identical sample sets show that skipping loses nothing.
 // No gradients flow through sample positions, so there is no finite-difference check here.
 #include <algorithm>

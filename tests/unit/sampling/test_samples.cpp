@@ -1,4 +1,4 @@
-// sample_stratified.comp and sample_pdf.comp against the CPU reference (src/reference/sampling/samplers.h).
+// sample_stratified.comp and sample_pdf.comp against the CPU reference (tests/reference/sampling/samplers.h).
 // No gradients flow through sample positions, so there is no finite-difference check here.
 #include <algorithm>
 #include <cfloat>

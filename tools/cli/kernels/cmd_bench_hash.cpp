@@ -103,7 +103,7 @@ int run(const Options& o, Context& ctx) {
     std::uniform_real_distribution<float> u(-1, 1);
     for (auto& x : dF) x = u(gen);
     auto db = gpu::Buffer::of(ctx, dF);
-    gpu::Buffer grads(ctx, ref::hashGridParameterCount(grid.config) * 4);
+    gpu::Buffer grads(ctx, core::hashGridParameterCount(grid.config) * 4);
     grads.zero();
     for (const char* points : {"uniform", "rays"}) {
       auto pb = gpu::Buffer::of(ctx, std::string(points) == "uniform" ? uniformPoints(n, 1) : rayPoints(n, o.samplesPerRay, 1));

@@ -17,7 +17,7 @@
 #include "gpu/memory/buffer.h"
 #include "gpu/dispatch/recorder.h"
 #include "nerf/network/mlp.h"
-#include "reference/rng.h"
+#include "core/math/rng.h"
 #include "vknerf/error.h"
 
 #ifdef VKNERF_HAVE_BLAS
@@ -52,8 +52,8 @@ Result benchWidth(Context& ctx, uint32_t W, uint32_t batch, int reps) {
   nerf::DenseMlp mlp(ctx, {W, W, kLayers - 1, W, 1});
   std::vector<float> in(size_t(batch) * W), dOut(size_t(batch) * W);
   for (size_t i = 0; i < in.size(); ++i) {
-    in[i] = 2.0f * ref::rng01(1, uint32_t(i), 0) - 1.0f;
-    dOut[i] = 2.0f * ref::rng01(2, uint32_t(i), 0) - 1.0f;
+    in[i] = 2.0f * core::rng01(1, uint32_t(i), 0) - 1.0f;
+    dOut[i] = 2.0f * core::rng01(2, uint32_t(i), 0) - 1.0f;
   }
   auto params = gpu::Buffer::of(ctx, mlp.initialParameters());
   auto inBuf = gpu::Buffer::of(ctx, in), dOutBuf = gpu::Buffer::of(ctx, dOut);
@@ -150,7 +150,7 @@ nlohmann::json benchNerf(Context& ctx, uint32_t batch, int reps) {
   auto feat = [&](uint32_t stride, uint32_t dims, uint32_t seed) {
     std::vector<float> v(size_t(batch) * stride, 0.0f);
     for (uint32_t r = 0; r < batch; ++r)
-      for (uint32_t k = 0; k < dims; ++k) v[size_t(r) * stride + k] = 2.0f * ref::rng01(seed, r, k) - 1.0f;
+      for (uint32_t k = 0; k < dims; ++k) v[size_t(r) * stride + k] = 2.0f * core::rng01(seed, r, k) - 1.0f;
     return v;
   };
   auto params = gpu::Buffer::of(ctx, mlp.initialParameters());
@@ -200,7 +200,7 @@ nlohmann::json benchFastNerf(Context& ctx, uint32_t batch, int reps) {
   auto feat = [&](uint32_t stride, uint32_t dims, uint32_t seed) {
     std::vector<float> v(size_t(batch) * stride, 0.0f);
     for (uint32_t r = 0; r < batch; ++r)
-      for (uint32_t k = 0; k < dims; ++k) v[size_t(r) * stride + k] = 2.0f * ref::rng01(seed, r, k) - 1.0f;
+      for (uint32_t k = 0; k < dims; ++k) v[size_t(r) * stride + k] = 2.0f * core::rng01(seed, r, k) - 1.0f;
     return v;
   };
   auto tuning = nerf::MlpTuning::forDevice(ctx);

@@ -32,7 +32,7 @@ const gpu::Buffer& CameraRefinement::recordCameras(gpu::Recorder& rec, const Tra
 }
 
 void CameraRefinement::recordGradient(gpu::Recorder& rec, const StepBatch& b) {
-  kernels_.recordGradient(rec, {b.rays, b.pixelIds, b.marchedOffsets, b.rowOffsets, b.marchedSamples, dPosition_, b.rayCount, b.box},
+  kernels_.recordGradient(rec, {b.rays, b.pixelIds, b.marchedOffsets, b.rowOffsets, b.marchedSamples, positionGradient_, b.rayCount, b.box},
                           numCameras_, penalty_, corrections_.params(), corrections_.grads(),
                           penaltyTerm_ ? std::optional(gpu::BufferRange(penaltyValues_)) : std::nullopt);
   if (penaltyTerm_) report_.recordTerm(rec, *penaltyTerm_, {penaltyValues_, numCameras_});

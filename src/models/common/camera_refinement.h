@@ -33,7 +33,7 @@ class CameraRefinement final : public StepExtension {
   uint32_t numCameras() const { return numCameras_; }
   // The training cameras (numCameras() CameraGpu) with the corrections applied, into a buffer of its own.
   const gpu::Buffer& recordCameras(gpu::Recorder& rec, const TrainingData& data) override;
-  void requestGradients(FieldGradientTargets& targets) override { targets.dPosition = gpu::BufferRange(dPosition_); }
+  void requestGradients(FieldGradientTargets& targets) override { positionGradient_ = sharedTarget(targets.dPosition, dPosition_); }
   // The corrections' gradient from a trained batch (before the field's optimizer step). The
   // learned far field's colour also depends on the direction; that part is left out (its gradient
   // is small and blurred: a colour per direction at infinity).
@@ -53,6 +53,7 @@ class CameraRefinement final : public StepExtension {
   TrainableParameters corrections_;
   gpu::Buffer corrected_;
   gpu::Buffer dPosition_;  // dL/dp per backward row (vec4)
+  gpu::BufferRange positionGradient_;  // what the backward writes dL/dp into: dPosition_, or another asker's
   LossReport& report_;
   std::optional<uint32_t> penaltyTerm_;
   gpu::Buffer penaltyValues_;  // with a penalty: each camera's, for the report

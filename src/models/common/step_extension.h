@@ -59,6 +59,15 @@ struct FieldGradientTargets {
   std::optional<gpu::BufferRange> dColour, dPosition;
 };
 
+// A target several extensions read (camera and focal refinement both read dPosition): the backward
+// writes it once, so the first asker's buffer (`own`) is the target and every asker reads the one
+// returned, whoever's it is. An extension's requestGradients keeps what this returns for its
+// recordGradient.
+inline gpu::BufferRange sharedTarget(std::optional<gpu::BufferRange>& target, const gpu::Buffer& own) {
+  if (!target) target = gpu::BufferRange(own);
+  return *target;
+}
+
 class StepExtension : public ParameterGroup {
  public:
   // The cameras the step's rays are made from: `data.cameras`, or a buffer of the extension's.

@@ -47,7 +47,7 @@ std::optional<nerf::RowBias> Appearance::recordColourBias(gpu::Recorder& rec, co
 }
 
 void Appearance::recordGradient(gpu::Recorder& rec, const StepBatch& b) {
-  kernels_.recordGradient(rec, {b.rays.count, b.pixelIds, b.rowOffsets, dColour_, b.rayCount}, numPhotos_, parameters(),
+  kernels_.recordGradient(rec, {b.rays.count, b.pixelIds, b.rowOffsets, colourGradient_, b.rayCount}, numPhotos_, parameters(),
                           {vectors_.grads(), weights_.grads(), photoSums_});
 }
 

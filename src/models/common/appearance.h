@@ -49,7 +49,7 @@ class Appearance final : public StepExtension {
   // photo's. A render (none): every sample adds the bias of the mean vector (recomputed now) or of
   // the chosen photo's.
   std::optional<nerf::RowBias> recordColourBias(gpu::Recorder& rec, const StepBatch* batch) override;
-  void requestGradients(FieldGradientTargets& targets) override { targets.dColour = gpu::BufferRange(dColour_); }
+  void requestGradients(FieldGradientTargets& targets) override { colourGradient_ = sharedTarget(targets.dColour, dColour_); }
   // The gradients of the vectors and of W_a from a trained batch (before the optimizer step).
   void recordGradient(gpu::Recorder& rec, const StepBatch& batch) override;
   void recordOptimizerStep(gpu::Recorder& rec, nerf::OptimizerStep at) override;
@@ -68,6 +68,7 @@ class Appearance final : public StepExtension {
   TrainableParameters vectors_, weights_;
   gpu::Buffer mean_, bias_, photoSums_;
   gpu::Buffer dColour_;  // training: dL/d(colour pre-activation) per backward row
+  gpu::BufferRange colourGradient_;  // what the backward writes it into: dColour_, or another asker's
   nerf::AppearanceEmbedding kernels_;
 };
 

@@ -37,7 +37,7 @@ constexpr uint32_t kDefaultSize = 100;  // start camera without a scene
 constexpr uint32_t kMinWindowSide = 400;  // small cameras are shown enlarged by an integer factor
 
 struct Options {
-  std::string model, scene, split = "test", trainScene, config = "vanilla", screenshot, device;
+  std::string model, scene, split = "test", trainScene, config = "fast", screenshot, device;
   uint32_t camera = 0, downscale = 1, frames = 0, stepsPerFrame = 4;
   double trainSeconds = 0;
 };
@@ -288,7 +288,7 @@ int main(int argc, char** argv) {
   app.add_option("--downscale", o.downscale, "Downscale the scene's images (and the view) by this factor")->check(CLI::Range(1u, 64u));
   auto* train = app.add_option("--train", o.trainScene, "Train a model on this scene in the viewer and show it live");
   app.add_option("--time", o.trainSeconds, "Training budget in seconds (default: until the window closes)")->check(CLI::PositiveNumber)->needs(train);
-  app.add_option("--config", o.config, "Training configuration: vanilla or fast")->check(CLI::IsMember({"vanilla", "fast"}))->needs(train);
+  app.add_option("--config", o.config, "Training configuration: fast (the default, as vknerf train's) or vanilla")->check(CLI::IsMember({"vanilla", "fast"}))->needs(train);
   app.add_option("--steps-per-frame", o.stepsPerFrame, "Training steps between two frames")->check(CLI::Range(1u, 100000u))->needs(train);
   auto* frames = app.add_option("--frames", o.frames, "Render this many full-resolution frames, then exit")->check(CLI::Range(1u, 1000000u));
   app.add_option("--screenshot", o.screenshot, "After --frames, write the last image as PNG")->needs(frames);

@@ -178,27 +178,28 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
   if (count == 0) return;
   rays_.recordView(rec, view, box_);
   if (farField_) farField_->recordForward(rec, count, rays_.rays(), rays_.background(), false);
-  // A tile marched in segments, each ray stopped where it has turned opaque (SegmentAccumulator).
-  // The first segment gives every ray kFirstSegment samples. Recorded into a caller's command buffer
-  // (no host read-back), every ray of the tile gets the same number of segments, up to
-  // capacity / count samples in all (the ended rays march none; the field's kernels are recorded
-  // for the capacity and skip the rows past the device's sample total, shaders/gpu/row_limit.glsl).
-  // Otherwise, after each segment's submission, the host reads how many rays are still live (not
-  // yet opaque, their march not done), and the next segment gives those as many samples as the
-  // capacity holds for them, up to the model's samples per ray in all; a block then holds as many
-  // rays as the sample capacity gives kFirstSegment samples each (the whole tile when the pipeline
-  // was built for rendering).
-  const uint32_t most = mayWait ? model_.maxSamplesPerRay
-                                : std::max(1u, std::min(model_.maxSamplesPerRay, sampleCapacity_ / count));
-  const uint32_t block =
-      mayWait ? std::min(count, std::max(kRayAlign, sampleCapacity_ / kFirstSegment / kRayAlign * kRayAlign)) : count;
+  // A tile marched in segments, each ray stopped where it has turned opaque (SegmentAccumulator):
+  // a first segment of kFirstSegment samples, then the rest of the model's samples per ray as the
+  // capacity holds them for the rays still live (not yet opaque, their march not done). With the
+  // host's waits (mayWait), the host reads after each segment how many rays are live, and a block
+  // holds as many rays as the capacity gives kFirstSegment samples each (the whole tile when the
+  // pipeline was built for rendering). Recorded into a caller's command buffer (no read-back), a
+  // block holds as many rays as the capacity gives the model's samples per ray each, so that the
+  // second segment marches all the rest: every ray gets the samples a waited render gives it, and
+  // the two draw the same image (the ended rays march none; the field's kernels are recorded for the
+  // capacity and skip the rows past the device's sample total, shaders/gpu/row_limit.glsl). A block
+  // of count / capacity samples each would cut long rays short: a trainer's small capacity drew
+  // another image than the saved model's render.
+  const uint32_t most = model_.maxSamplesPerRay;
+  const uint32_t perRay = mayWait ? kFirstSegment : most;
+  const uint32_t block = std::min(count, std::max(kRayAlign, sampleCapacity_ / perRay / kRayAlign * kRayAlign));
   for (uint32_t done = 0; done < count; done += block) {
     const uint32_t n = std::min(block, count - done);
     const nerf::RaySpan rays = rays_.rays(done, n);
     const nerf::SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, nerf::kColorBytes, done, n),
                                                 gpu::rowsOf(depth_, nerf::kDepthBytes, done, n)};
     for (uint32_t marched = 0, live = n; live > 0 && marched < most;) {
-      const uint32_t cap = std::min({std::max(1u, sampleCapacity_ / live), marched == 0 || !mayWait ? kFirstSegment : most,
+      const uint32_t cap = std::min({std::max(1u, sampleCapacity_ / live), marched == 0 ? kFirstSegment : most,
                                      most - marched});
       const bool first = marched == 0, last = marched + cap >= most;
       if (mayWait) segments_.recordResetCounts(rec);

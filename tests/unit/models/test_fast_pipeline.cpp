@@ -149,6 +149,28 @@ TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {
   EXPECT_GT(opacity, 0.05);
 }
 
+// Recorded into a caller's command buffer, a pipeline whose sample capacity is small for its
+// tile (a trainer's: ~8k samples for 2048 rays of up to 128 samples each) marches the tile in blocks
+// that give every ray all its samples, and draws what a render with the host's waits draws: a
+// trainer's model drawn by an embedding application is the model its checkpoint renders.
+TEST_F(FastPipelineTest, ARecordedRenderGivesEveryRayItsSamplesWhateverTheCapacity) {
+  TrainConfig cfg = smallFast();
+  cfg.fastModel().marchSteps = 128;
+  cfg.fastModel().maxSamplesPerRay = 128;
+  cfg.fastModel().samplesPerBatch = 1u << 12;
+  const Aabb box = scene("train").bounds;
+  const Camera& cam = scene("test").cameras[1];
+  const uint32_t count = 2048;
+  models::FastPipeline small(test::context(), cfg, box, count, true);
+  const auto waited = renderBlock(small, cam, count, true), recorded = renderBlock(small, cam, count, false);
+  // The same segments of the same rays through the same kernels: only the chunking of the last
+  // kernels may differ, a few roundings of values <= 1.
+  expectSameImage(recorded, waited, 1e-6);
+  double opacity = 0;
+  for (uint32_t r = 0; r < count; ++r) opacity += waited[r * 4 + 3] / count;
+  EXPECT_GT(opacity, 0.05) << "the untrained fog should make the rays partly opaque";
+}
+
 // Every MLP parameter set to `value` (padding included): with 0.3 the density is ~e^6 wherever the
 // hash features are near 0 (all of an untrained table), so a ray through the box is opaque after a
 // few of its 64 samples.

@@ -47,8 +47,10 @@ std::string TrainConfig::describe() const {
     if (m->gridResolution) os << m->gridResolution << "^3"; else os << "auto";  // auto: from the march steps
     os << " x " << (m->cascades ? std::to_string(m->cascades) : std::string("auto")) << " cascades (cone angle " << m->coneAngle
        << "), near " << (m->nearDistance > 0 ? std::to_string(m->nearDistance) : std::string("auto")) << ", "
-       << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, "
-       << (m->samplesPerBatch ? "~" + std::to_string(m->samplesPerBatch) : std::string("auto")) << " samples/step";
+       << (m->marchSteps ? std::to_string(m->marchSteps) : std::string("auto")) << " steps per diagonal, ";
+    // Streamed, not "~" + to_string(...): GCC 12 warns of a memcpy overlap in that operator+ (-Wrestrict, a false positive).
+    if (m->samplesPerBatch) os << "~" << m->samplesPerBatch; else os << "auto";
+    os << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss;
     os << ", far field " << farFieldName(m->farField);
   } else {

@@ -166,7 +166,7 @@ Registration benchScenes(
     "Held-out quality over several scenes: train and evaluate each with the same flags (and builds, --vknerf), one table and a contact sheet per scene",
     [](CLI::App& app, const Globals& g) {
       auto o = std::make_shared<Options>();
-      app.add_option("scenes", o->scenes, "Scene folders (or transforms JSON files, COLMAP models); the table names each by its folder")->required();
+      app.add_option("scenes", o->scenes, "Scene folders (or transforms JSON files, COLMAP models, LLFF poses_bounds.npy files); the table names each by its folder")->required();
       app.add_option("-o,--out", o->out, "Output folder: scenes.md, scenes.csv, <scene>[-<build>].png, runs/ (models, logs)")->required();
       app.add_option("--time", o->seconds, "Training budget per scene, seconds")->check(PositiveFinite);
       app.add_option("--steps", o->steps, "Training budget per scene, steps (with --time: whichever ends first)")->check(CLI::Range(1u, 100000000u));
@@ -176,7 +176,7 @@ Registration benchScenes(
       app.add_option("--sheet-views", o->sheetViews, "Views on each contact sheet (eval's default: 8; 0: all)");
       app.add_option("--sheet-size", o->sheetSize, "Largest side of a sheet's tiles, pixels (eval's default: 100)")->check(CLI::Range(16u, 4096u));
       // One value per occurrence, so that a scene after --vknerf BINARY is not taken for a second binary.
-      app.add_option("--train-arg", o->trainArgs, "One more argument for every train, as --train-arg=--distortion-loss=0 (repeatable)")
+      app.add_option("--train-arg", o->trainArgs, "One more argument for every train, as --train-arg=--distortion-loss=0.001 (repeatable)")
           ->allow_extra_args(false);
       app.add_option("--vknerf", o->binaries,
                      "A build's vknerf binary, or NAME=BINARY (repeatable: builds are compared in one sitting, "

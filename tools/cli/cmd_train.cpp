@@ -280,10 +280,10 @@ int train(const Options& o, const Globals& g) {
   return stopSignal ? 128 + stopSignal : 0;
 }
 
-Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON or COLMAP model, text or binary)",
+Registration trainCommand("train", "Train a NeRF on a scene (nerf_synthetic/instant-ngp transforms JSON, COLMAP model (text or binary) or LLFF poses_bounds.npy)",
                    [](CLI::App& app, const Globals& g) {
                      auto o = std::make_shared<Options>();
-                     app.add_option("scene", o->scene, "Scene folder, transforms JSON file, or COLMAP model (text or binary)")->required();
+                     app.add_option("scene", o->scene, "Scene folder, transforms JSON file, COLMAP model (text or binary), or LLFF poses_bounds.npy")->required();
                      app.add_option("-o,--output", o->output, "Model checkpoint to write (default: <scene name>.vknerf)");
                      app.add_option("--config", o->config, "Model configuration: fast (default; hash grid + occupancy grid) or vanilla (NeRF paper)")->check(CLI::IsMember({"fast", "vanilla"}));
                      app.add_option("--steps", o->steps, "Number of training steps");

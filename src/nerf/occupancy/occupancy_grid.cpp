@@ -54,11 +54,12 @@ OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution, uint32_t cascade
       fresh_(ctx, VkDeviceSize(numCells_) * 4),
       counter_(ctx, 4),
       mean_(ctx, 4),
+      meanPartials_(ctx, VkDeviceSize(kOccupancyMeanGroups) * 4),
       points_(ctx, {gpu::shaders::occupancy_points, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(PointsPush), {}}),
       splat_(ctx, {gpu::shaders::occupancy_splat, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                    sizeof(SplatPush), {}}),
       ema_(ctx, {gpu::shaders::occupancy_ema, std::vector<gpu::Binding>(4, gpu::Binding::Storage), sizeof(EmaPush), {}}),
-      meanKernel_(ctx, {gpu::shaders::occupancy_mean, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(MeanPush), {}}),
+      meanKernel_(ctx, {gpu::shaders::occupancy_mean, std::vector<gpu::Binding>(3, gpu::Binding::Storage), sizeof(MeanPush), {}}),
       count_(ctx, {gpu::shaders::occupancy_count, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(CountPush), {}}),
       unseen_(ctx, {gpu::shaders::occupancy_mark_unseen, {gpu::Binding::Storage, gpu::Binding::Storage},
                     sizeof(UnseenPush), {}}) {
@@ -133,8 +134,10 @@ void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const Measured& measured, c
 }
 
 void OccupancyGrid::recordMeanDensity(gpu::Recorder& rec) {
-  MeanPush p{numCells_};
-  rec.dispatch(meanKernel_, {density_, mean_}, p, 1, 1, 1, "occupancy_mean");
+  const uint32_t chunk = (numCells_ + kOccupancyMeanGroups - 1) / kOccupancyMeanGroups;
+  rec.dispatch(meanKernel_, {density_, meanPartials_, mean_}, MeanPush{numCells_, chunk, 0}, kOccupancyMeanGroups, 1, 1,
+               "occupancy_mean_partials");
+  rec.dispatch(meanKernel_, {density_, meanPartials_, mean_}, MeanPush{numCells_, chunk, 1}, 1, 1, 1, "occupancy_mean");
 }
 
 void OccupancyGrid::recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter) {

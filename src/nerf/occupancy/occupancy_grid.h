@@ -107,7 +107,7 @@ class OccupancyGrid {
  private:
   Context& ctx_;
   uint32_t resolution_, cascades_, numCells_;
-  gpu::Buffer density_, bits_, fresh_, counter_, mean_;
+  gpu::Buffer density_, bits_, fresh_, counter_, mean_, meanPartials_;
   gpu::Kernel points_, splat_, ema_, meanKernel_, count_, unseen_;
 };
 

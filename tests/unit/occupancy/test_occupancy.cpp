@@ -246,40 +246,45 @@ TEST_F(Occupancy, StridedDensityReadsTheChosenComponent) {
 // The threshold cap of a young field: the grid's mean density, computed on the device, against the
 // CPU's mean in double; the update then turns on exactly the cells above min(threshold, mean).
 TEST_F(Occupancy, DeviceMeanDensityCapsTheThreshold) {
-  const uint32_t r = 20;  // 8000 cells: several strided passes per lane, a partial last bit word
-  nerf::OccupancyGrid grid(ctx(), r);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
-  std::vector<float> density(grid.numCells());
-  for (float& d : density) d = 0.05f * uni(rng) * uni(rng);
-  density[7] = std::numeric_limits<float>::quiet_NaN();  // a non-finite density counts as 0
-  density[9] = -1.0f;                                    // so does a cell no camera sees
-  grid.density().upload(density);
-  double sum = 0;
-  for (float d : density) sum += std::isfinite(d) ? std::max(d, 0.0f) : 0.0f;
-  const double mean = sum / density.size();
+  // 8000 cells: workgroups of a few cells each, a partial last bit word; 3 x 64^3: many strided
+  // passes per lane in every workgroup, and cells past the first workgroup's share.
+  for (auto [r, cascades] : {std::pair{20u, 1u}, std::pair{64u, 3u}}) {
+    SCOPED_TRACE(r);
+    nerf::OccupancyGrid grid(ctx(), r, cascades);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+    std::vector<float> density(grid.numCells());
+    for (float& d : density) d = 0.05f * uni(rng) * uni(rng);
+    density[7] = std::numeric_limits<float>::quiet_NaN();  // a non-finite density counts as 0
+    density[9] = -1.0f;                                    // so does a cell no camera sees
+    density[grid.numCells() - 2] = std::numeric_limits<float>::infinity();  // and an infinite one
+    grid.density().upload(density);
+    double sum = 0;
+    for (float d : density) sum += std::isfinite(d) ? std::max(d, 0.0f) : 0.0f;
+    const double mean = sum / density.size();
 
-  const float threshold = 1.0f;  // far above every density: the mean decides
-  std::vector<uint32_t> cells{3, 4, 5};
-  std::vector<float> measured{0.5f, 0.0f, 0.02f};
-  auto cellBuf = gpu::Buffer::of(ctx(), cells);
-  auto denBuf = gpu::Buffer::of(ctx(), measured);
-  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-    grid.recordUpdate(rec, {cellBuf, denBuf, uint32_t(cells.size()), 1, 0}, {1.0f, threshold, true});
-  });
-  const float deviceMean = grid.meanDensity().download<float>(1)[0];
-  EXPECT_NEAR(deviceMean, mean, 1e-5 * mean);
+    const float threshold = 1.0f;  // far above every density: the mean decides
+    std::vector<uint32_t> cells{3, 4, 5};
+    std::vector<float> measured{0.5f, 0.0f, 0.02f};
+    auto cellBuf = gpu::Buffer::of(ctx(), cells);
+    auto denBuf = gpu::Buffer::of(ctx(), measured);
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      grid.recordUpdate(rec, {cellBuf, denBuf, uint32_t(cells.size()), 1, 0}, {1.0f, threshold, true});
+    });
+    const float deviceMean = grid.meanDensity().download<float>(1)[0];
+    EXPECT_NEAR(deviceMean, mean, 1e-5 * mean);
 
-  std::vector<float> refDensity = density;
-  refDensity[7] = 0.0f;  // the EMA stores a NaN as 0 (its max with a fresh 0)
-  std::vector<uint32_t> bits;
-  ref::updateGrid(refDensity, bits, cells, measured, 1.0f, std::min(threshold, deviceMean));
-  auto gb = grid.bits().download<uint32_t>(grid.numWords());
-  uint32_t on = 0;
-  for (uint32_t i = 0; i < grid.numCells(); ++i) {
-    ASSERT_EQ(ref::bitSet(gb, i), ref::bitSet(bits, i)) << "cell " << i;
-    on += ref::bitSet(bits, i);
+    std::vector<float> refDensity = density;
+    refDensity[7] = 0.0f;  // the EMA stores a NaN as 0 (its max with a fresh 0)
+    std::vector<uint32_t> bits;
+    ref::updateGrid(refDensity, bits, cells, measured, 1.0f, std::min(threshold, deviceMean));
+    auto gb = grid.bits().download<uint32_t>(grid.numWords());
+    uint32_t on = 0;
+    for (uint32_t i = 0; i < grid.numCells(); ++i) {
+      ASSERT_EQ(ref::bitSet(gb, i), ref::bitSet(bits, i)) << "cell " << i;
+      on += ref::bitSet(bits, i);
+    }
+    EXPECT_GT(on, 100u);  // the cap was not vacuous: about half the cells lie above the mean
+    EXPECT_LT(on, grid.numCells() - 100u);
   }
-  EXPECT_GT(on, 100u);  // the cap was not vacuous: about half the cells lie above the mean
-  EXPECT_LT(on, grid.numCells() - 100u);
 }

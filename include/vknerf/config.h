@@ -52,6 +52,10 @@ struct FastModel {
   // that grow with distance. 0: from the dataset (1 + ceil(log2(aabb_scale)), 1 without one).
   uint32_t cascades = 0;
   float coneAngle = 1.0f / 256.0f;    // with cascades: step = clamp(t coneAngle, smallest, outermost cell)
+  // With cascades: the hash grid spans the box contracted about the inner cube (mip-NeRF 360's
+  // contraction with the max norm, as nerfacto's grid), so its levels resolve the inner cube and
+  // thin out with distance beyond it; else it spans the box at the inner cube's finest cell size.
+  bool contraction = false;
   // Rays start this far in front of the camera (or where they enter the box), in the scene's units,
   // so that no density grows on the lens. 0: from the dataset, as the Trainer sets it (a share of
   // the inner cascade's side, TrainConfig::fast).
@@ -63,6 +67,9 @@ struct FastModel {
   uint32_t samplesPerBatch = 1u << 16;   // rays per step adapt to march about this many samples; 0: from the march steps (a Trainer sets it)
   uint32_t gridUpdateInterval = 16;      // steps between occupancy updates
   uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
+  // A cell is empty where one march step (the trained, smallest) through it is less opaque than
+  // this: instant-ngp's 1%; higher skips more of a young field's fog (fewer samples per ray).
+  float occupancyThreshold = 0.01f;
   float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's
   bool earlyTermination = true;          // train only on samples in front of transmittance 1e-4
   // Weight of mip-NeRF 360's distortion loss per ray against the photometric loss (0: none): it

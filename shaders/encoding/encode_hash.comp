@@ -33,7 +33,7 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= limitedRows(pc.count, pc.limitBase)) return;
   uint row = gatheredRow(i, pc.gather);
-  vec3 p = imageLoad(positions, int(row)).xyz;
+  vec3 p = hashGridContract(imageLoad(positions, int(row)).xyz, CONTRACT);
   uint dst = row * pc.strideVec4 + pc.offsetVec4;
   for (uint g = 0u; g < GROUPS; ++g) {
     vec4 acc = vec4(0.0), acc2 = vec4(0.0);

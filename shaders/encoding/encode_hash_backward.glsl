@@ -71,7 +71,7 @@ void scatter(uint index, float value) {
 void main() {
   uint row = gl_GlobalInvocationID.x;
   if (row >= limitedRows(pc.count, pc.limitBase)) return;
-  vec3 p = imageLoad(positions, int(row)).xyz;
+  vec3 box = imageLoad(positions, int(row)).xyz, p = hashGridContract(box, CONTRACT);
   uint src = row * pc.strideVec4 + pc.offsetVec4;
 #ifdef HASH_POSITION_GRADIENT
   vec3 grad = vec3(0.0);
@@ -110,6 +110,6 @@ void main() {
     }
   }
 #ifdef HASH_POSITION_GRADIENT
-  dPositions[row] = vec4(hashClampedGradient(p, grad), 0.0);
+  dPositions[row] = vec4(hashGridContractGradient(box, CONTRACT, hashClampedGradient(p, grad)), 0.0);
 #endif
 }

@@ -19,7 +19,7 @@ layout(std430, binding = 1) buffer Counts { uint counts[]; };
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (!sortSampleLive(i)) return;
-  vec3 p = imageLoad(positions, int(pc.rowBase + i)).xyz;
+  vec3 p = hashGridContract(imageLoad(positions, int(pc.rowBase + i)).xyz, CONTRACT);
   for (uint l = pc.levelBegin; l < pc.levelEnd; ++l) {
     uint res = pc.res[l / 4u][l % 4u];
     bool dense = ((pc.denseMask >> l) & 1u) != 0u;

@@ -28,7 +28,7 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (!sortSampleLive(i)) return;
   uint row = pc.rowBase + i;
-  vec3 p = imageLoad(positions, int(row)).xyz;
+  vec3 p = hashGridContract(imageLoad(positions, int(row)).xyz, CONTRACT);
   uint src = row * pc.strideVec4 + pc.offsetVec4;
   for (uint l = pc.levelBegin; l < pc.levelEnd; ++l) {
     // Level l's F features start at column l * F of the block: within one vec4 for F <= 4, two for F = 8.

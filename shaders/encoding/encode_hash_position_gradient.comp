@@ -30,7 +30,7 @@ layout(std430, binding = 3) writeonly buffer PositionGradient { vec4 dPositions[
 void main() {
   uint row = gl_GlobalInvocationID.x;
   if (row >= limitedRows(pc.count, pc.limitBase)) return;
-  vec3 p = imageLoad(positions, int(row)).xyz;
+  vec3 box = imageLoad(positions, int(row)).xyz, p = hashGridContract(box, CONTRACT);
   uint src = row * pc.strideVec4 + pc.offsetVec4;
   vec3 grad = vec3(0.0);
   for (uint g = 0u; g < GROUPS; ++g) {
@@ -55,5 +55,5 @@ void main() {
       }
     }
   }
-  dPositions[row] = vec4(hashClampedGradient(p, grad), 0.0);
+  dPositions[row] = vec4(hashGridContractGradient(box, CONTRACT, hashClampedGradient(p, grad)), 0.0);
 }

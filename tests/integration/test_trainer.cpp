@@ -8,6 +8,8 @@
 #include "support/temp_dir.h"
 #include "support/tiny_config.h"
 #include "io/checkpoint/checkpoint.h"
+#include "models/fast/fast_field.h"
+#include "vknerf/model.h"
 #include "vknerf/error.h"
 #include "vknerf/trainer.h"
 
@@ -167,6 +169,54 @@ TEST_F(TrainerTest, FastModelNestsCascadesForAabbScale) {
   EXPECT_EQ(Trainer::configOf(tmp.file("cascades.vknerf")).fastModel().cascades, 4u);
   Trainer one(sharedContext(), scene(), c);
   EXPECT_EQ(one.statistics().occupiedFractionPerCascade.size(), 1u);
+}
+
+// A contracted grid (FastModel::contraction) trains, and the checkpoint keeps it: the loaded model
+// renders what the trainer's does (a grid spanning the box uncontracted would draw another image).
+TEST_F(TrainerTest, AContractedGridTrainsAndItsCheckpointRendersTheSame) {
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.fastModel().contraction = true;
+  c.raysPerBatch = 1024;
+  Dataset unbounded = scene();
+  unbounded.aabbScale = 4;
+  Trainer t(sharedContext(), unbounded, c);
+  double first = 0, last = 0;
+  for (int i = 0; i < 30; ++i) (i == 0 ? first : last) = t.step(true).loss;
+  EXPECT_LT(last, first);
+  const test::TempDir tmp("trainer");
+  t.save(tmp.file("contracted.vknerf"));
+  const TrainConfig saved = Trainer::configOf(tmp.file("contracted.vknerf"));
+  EXPECT_TRUE(saved.fastModel().contraction);
+  const Model m = Model::load(sharedContext(), tmp.file("contracted.vknerf"));
+  const RenderedImage a = t.model().render(unbounded.cameras[0]), b = m.render(unbounded.cameras[0]);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  // The same kernels on the same parameters: equal up to float-atomic orders, which a render has none of.
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "value " << i;
+  TrainConfig flat = saved;
+  flat.fastModel().contraction = false;
+  EXPECT_NE(models::hashGridConfigFor(flat.fastModel()).contraction, models::hashGridConfigFor(saved.fastModel()).contraction);
+}
+
+// FastModel::occupancyThreshold decides which cells the march skips: the same training with a
+// higher threshold leaves fewer cells occupied and marches fewer samples per ray.
+TEST_F(TrainerTest, AHigherOccupancyThresholdSkipsMoreOfTheBox) {
+  auto run = [](float threshold) {
+    TrainConfig c = TrainConfig::fast(*sharedContext());
+    c.fastModel().gridResolution = 16;
+    c.fastModel().samplesPerBatch = 4096;
+    c.fastModel().occupancyThreshold = threshold;
+    c.raysPerBatch = 1024;
+    Trainer t(sharedContext(), scene(), c);
+    for (int i = 0; i < 48; ++i) t.step();
+    return t.statistics();
+  };
+  const ModelStatistics usual = run(0.01f), sharp = run(0.3f);
+  ASSERT_TRUE(usual.occupiedFraction && sharp.occupiedFraction);
+  EXPECT_LT(*sharp.occupiedFraction, *usual.occupiedFraction);
+  EXPECT_GT(*sharp.occupiedFraction, 0.0);
+  EXPECT_LT(*sharp.meanSamplesPerRay, *usual.meanSamplesPerRay);
 }
 
 TEST_F(TrainerTest, StepProfileAttributesTheWholeStep) {

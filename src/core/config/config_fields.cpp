@@ -204,6 +204,9 @@ std::vector<ConfigField> table() {
           .flag("--cascades", "fast: nested occupancy cascades (default: from the scene's aabb_scale)").flagRange(1, 8),
       model("cone_angle", &FastModel::coneAngle).addedLater().range(0.0, 1.0)
           .flag("--cone-angle", "fast, with cascades: step = t * angle beyond the inner cube").flagRange(1e-6, 1.0),
+      // Models saved before it spanned the whole box.
+      model("contraction", &FastModel::contraction).addedLater(false)
+          .flag("--contraction", "fast, with cascades: the hash grid spans the box contracted about its inner cube (mip-NeRF 360's contraction)"),
       // Models saved before it started rays at the vanilla model's near plane (0).
       model("near_distance", &FastModel::nearDistance).addedLater(0.0f).range(0.0, 1e30)
           .flag("--near", "fast: rays start this far in front of the camera, in the scene's units (default: 5% of the inner cascade's side)")
@@ -219,6 +222,10 @@ std::vector<ConfigField> table() {
           .flag("--samples-per-step", "fast: samples a training step aims for (default on a CPU: from the march steps)").flagRange(256, 1u << 26),
       fastTop("grid_update_interval", &FastModel::gridUpdateInterval).addedLater().range(1, UINT32_MAX),
       fastTop("grid_warmup_steps", &FastModel::gridWarmupSteps).addedLater(),
+      // Models saved before it trained with instant-ngp's 1%.
+      fastTop("occupancy_threshold", &FastModel::occupancyThreshold).addedLater(0.01f).range(0.0, 1.0).openLow()
+          .flag("--occupancy-threshold", "fast: a cell is skipped where one march step through it is less opaque than this (instant-ngp: 0.01)")
+          .flagRange(1e-6, 0.5),
       fastTop("hash_lr_scale", &FastModel::hashLearningRateScale).addedLater().range(0.0, 1e6).openLow(),
       fastTop("early_termination", &FastModel::earlyTermination).addedLater()
           .flag("--no-early-termination", "fast: train on every marched sample, also behind opaque surfaces")

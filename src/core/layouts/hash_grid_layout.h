@@ -24,6 +24,10 @@ struct HashGridConfig {
   uint32_t log2TableSize = 19;    // T: 2^T entries per level
   uint32_t baseResolution = 16;   // N_min
   double growthFactor = 1.5;      // b
+  // 0: the grid spans the box, [-1, 1]^3. S > 0: it spans the box contracted about its inner cube
+  // [-1/S, 1/S]^3 (mip-NeRF 360's contraction with the max norm, tests/reference/encoding/hash_encoding.h),
+  // the inner cube over the middle half of every level: for nested cascades, S = 2^(cascades - 1).
+  uint32_t contraction = 0;
 };
 
 // floor(N_min * b^l). The relative 1e-12 nudge keeps products that are integers in exact arithmetic

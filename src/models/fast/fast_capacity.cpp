@@ -181,14 +181,17 @@ std::string resolveHashGrid(FastModel& m, const Dataset& train, bool cpuDevice) 
     // levels' growth factor near a single cube's (the coarse levels serve the outer cascades).
     const double wanted = footprint > 0 ? kCellsPerFootprint * inner / footprint : kMaxFinest;
     const uint32_t finestInner = std::clamp(ceilPow2(wanted), kMinFinest, cpuDevice ? kMaxFinestCpu : kMaxFinest);
-    const double finest = std::ldexp(double(finestInner), int(doublings));
-    m.hashLevels += doublings;
+    // Contracted (FastModel::contraction), the grid spans twice the inner cube: one level more.
+    const uint32_t spanDoublings = m.contraction && doublings > 0 ? 1 : doublings;
+    const double finest = std::ldexp(double(finestInner), int(spanDoublings));
+    m.hashLevels += spanDoublings;
     m.hashGrowth = m.hashLevels > 1 ? float(std::pow(finest / m.hashBaseResolution, 1.0 / (m.hashLevels - 1))) : 1.0f;
     const std::string cap = cpuDevice ? "; at most " + std::to_string(kMaxFinestCpu) + " on a CPU" : "";
     std::snprintf(why, sizeof why,
-                  "finest %.0f over the box: %u over its inner cube (2 cells per pixel footprint %.3g at distance %.3g over "
+                  "finest %.0f over the %sbox: %u over its inner cube (2 cells per pixel footprint %.3g at distance %.3g over "
                   "the inner cube's %.3g: %.0f%s) times %u",
-                  finest, finestInner, footprint, distance, inner, wanted, cap.c_str(), 1u << doublings);
+                  finest, spanDoublings != doublings ? "contracted " : "", finestInner, footprint, distance, inner, wanted,
+                  cap.c_str(), 1u << spanDoublings);
   } else {
     std::snprintf(why, sizeof why, "finest %.0f (as configured)", m.hashBaseResolution * std::pow(double(m.hashGrowth), double(m.hashLevels - 1)));
   }

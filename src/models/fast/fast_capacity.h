@@ -10,6 +10,8 @@
 //     whole box at that cell size, N x 2^(cascades - 1) over the box (instant-ngp's 2048 x
 //     aabb_scale), with one level more per cascade beyond the first, so that the inner cube keeps its
 //     detail whatever aabb_scale (one spread of 512 cells over a box 32 times the fruit's left it 16).
+//     With contraction (FastModel::contraction) it spans the contracted box, twice the inner cube:
+//     2N, one level more.
 //   - the march step (FastModel::marchSteps): about 4 pixel footprints, the inner cascade's diagonal
 //     over 4 x distance / focal, the power of two nearest it, within [128, 1024], [128, 512] on a
 //     CPU; at most as many samples per ray (maxSamplesPerRay), where that is open too.

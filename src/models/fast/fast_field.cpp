@@ -47,6 +47,7 @@ nerf::HashGridConfig hashGridConfigFor(const FastModel& m) {
   c.log2TableSize = m.hashLog2Size;
   c.baseResolution = m.hashBaseResolution;
   c.growthFactor = m.hashGrowth;
+  if (m.contraction && m.cascades > 1) c.contraction = 1u << (m.cascades - 1);
   return c;
 }
 

@@ -13,7 +13,6 @@ namespace vknerf::models {
 namespace {
 
 constexpr float kOccupancyDecay = 0.95f;       // instant-ngp's EMA factor per update of a quarter of the cells
-constexpr float kOccupancyThickness = 0.01f;   // a cell is empty when one step through it is < 1% opaque
 constexpr uint32_t kMaxOccupancyPoints = 1u << 18;
 
 float stepOf(const FastModel& m, const Aabb& box, uint32_t marchSteps) {
@@ -34,6 +33,7 @@ OccupancyEstimator::OccupancyEstimator(Context& ctx, const FastModel& model, con
     : box_(box),
       updateInterval_(model.gridUpdateInterval),
       warmupSteps_(model.gridWarmupSteps),
+      emptyOpacity_(model.occupancyThreshold),
       dt_(stepOf(model, box, renderMarchSteps ? renderMarchSteps : model.marchSteps)),
       trainedDt_(stepOf(model, box, model.marchSteps)),
       cone_(coneStepsFor(model, box, dt_)),
@@ -80,11 +80,11 @@ void OccupancyEstimator::recordUpdateIfDue(gpu::Recorder& rec, uint32_t step, ui
     count = step < warmupSteps_ ? updatePoints_ : std::max(1u, updatePoints_ / 4);
     grid_.recordRandomCellPoints(rec, seed, count, updatePositions_, updateCells_);
   }
-  // instant-ngp's threshold: the density at which one step is 1% opaque, or the grid's mean density
+  // instant-ngp's threshold: the density at which one step is 1% opaque (FastModel::occupancyThreshold), or the grid's mean density
   // (before this update, computed on the device; a cell no camera sees counts as 0) when that is
   // lower, so that a young field whose densities are all small is not declared empty everywhere
   // (nothing would be sampled, and nothing learnt).
-  const float threshold = nerf::OccupancyGrid::densityThreshold(kOccupancyThickness, trainedDt_);
+  const float threshold = nerf::OccupancyGrid::densityThreshold(emptyOpacity_, trainedDt_);
   density(rec, count, updatePositions_, updateDensity_);
   const float decay = nerf::OccupancyGrid::decayFor(kOccupancyDecay, count, grid_.numCells());
   grid_.recordUpdate(rec, {updateCells_, updateDensity_, count}, {decay, threshold, true});

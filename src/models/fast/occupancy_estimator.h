@@ -73,6 +73,7 @@ class OccupancyEstimator final : public StatePart {
  private:
   Aabb box_;
   uint32_t updateInterval_, warmupSteps_;
+  float emptyOpacity_;  // a cell is empty where one trained step through it is less opaque than this
   float dt_, trainedDt_;
   nerf::ConeSteps cone_;
   nerf::OccupancyGrid grid_;

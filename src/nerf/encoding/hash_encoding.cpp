@@ -45,7 +45,8 @@ const HashGridConfig& checked(const HashGridConfig& c, Context& ctx) {
 // The grid's shape, which the forward pass and every backward kernel but the reduce specialize on.
 std::vector<gpu::SpecConstant> gridSpec(const HashGridConfig& c) {
   using Spec = glsl::HashGridSpec;
-  return {{Spec::LEVELS, c.levels}, {Spec::FEATURES, c.featuresPerLevel}, {Spec::LOG2_TABLE, c.log2TableSize}};
+  return {{Spec::LEVELS, c.levels}, {Spec::FEATURES, c.featuresPerLevel}, {Spec::LOG2_TABLE, c.log2TableSize},
+          {Spec::CONTRACT, c.contraction}};
 }
 
 // The scatter's module (encoding/encode_hash_backward.glsl): with the position gradient or not,

@@ -11,6 +11,7 @@
 //   dense  (res_l + 1)^3 <= 2^T:  vx + (res_l + 1) * (vy + (res_l + 1) * vz)
 //   hashed otherwise:             (vx * 1 ^ vy * 2654435761 ^ vz * 805459861) mod 2^T  (uint32 wrap)
 // Output: L * F features per sample, level-major: feature[l * F + f].
+// With contraction S > 0 the lookup's p is hashGridContract(p, S) below.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -36,6 +37,18 @@ inline uint32_t hashGridIndex(uint32_t res, bool dense, uint32_t log2Table, uint
   return (vx * 1u ^ vy * 2654435761u ^ vz * 805459861u) & ((1u << log2Table) - 1u);
 }
 
+// mip-NeRF 360's contraction with the max norm (nerfacto's SceneContraction(order=inf)) about the
+// inner cube [-1/S, 1/S]^3 of the box: q = S p; q if m = max_k |q_k| <= 1, else (2 - 1/m) q / m; then
+// halved, so the box's contraction lies in [-1, 1]^3 with the inner cube over its middle half.
+template <class T>
+std::array<T, 3> hashGridContract(const T* p, uint32_t scale) {
+  if (scale == 0) return {p[0], p[1], p[2]};
+  T q[3], m = T(0);
+  for (int k = 0; k < 3; ++k) q[k] = p[k] * T(scale), m = std::max(m, std::abs(q[k]));
+  const T f = m <= T(1) ? T(1) : (T(2) - T(1) / m) / m;
+  return {T(0.5) * (f * q[0]), T(0.5) * (f * q[1]), T(0.5) * (f * q[2])};
+}
+
 template <class T> struct HashCorner {
   uint32_t entry;  // index into the flat table, in entries: l * 2^T + index (multiply by F for floats)
   T weight;
@@ -44,7 +57,8 @@ template <class T> struct HashCorner {
 // The 8 corners of p's cell at `level`, corner c = (bit0: +x, bit1: +y, bit2: +z). The arithmetic is
 // the shader's, step for step, so the float instantiation reproduces it.
 template <class T>
-std::array<HashCorner<T>, 8> hashGridCorners(const HashGridConfig& c, uint32_t level, const T* p) {
+std::array<HashCorner<T>, 8> hashGridCorners(const HashGridConfig& c, uint32_t level, const T* box) {
+  const std::array<T, 3> p = hashGridContract(box, c.contraction);
   const uint32_t res = hashGridResolution(c, level);
   const bool dense = hashGridDense(c, level);
   uint32_t cell[3];

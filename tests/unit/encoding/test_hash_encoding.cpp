@@ -33,6 +33,8 @@ const HashGridConfig kPow2{6, 2, 12, 4, 2.0};
 const HashGridConfig kOdd{3, 1, 6, 3, 1.37};
 const HashGridConfig kWide{2, 4, 8, 8, 3.0};
 const HashGridConfig kEight{3, 8, 7, 2, 2.0};
+// kPow2 over a box of three cascades, contracted about its inner quarter.
+const HashGridConfig kContracted{6, 2, 12, 4, 2.0, 4};
 
 std::vector<float> randomTable(const HashGridConfig& c, uint32_t seed) {
   std::mt19937 gen(seed);
@@ -124,7 +126,10 @@ void expectForwardMatches(Context& ctx, const HashGridConfig& c, uint32_t count,
         ASSERT_EQ(row[j], 0.0f) << "padding column " << j;
       } else {
         const uint32_t f = j - offset;
-        const double tol = forwardTolerance(enc.resolution(f / F));
+        // The contraction rounds p' = ((2 - 1/m) / m) q / 2 about 4 times, each by 2^-24 of |p'| <= 1,
+        // which moves x = (p' + 1) / 2 * res by 2 res 2^-24 more: 4 res 2^-24 on the blend, per axis.
+        const double tol = forwardTolerance(enc.resolution(f / F)) +
+                           (c.contraction ? 12.0 * enc.resolution(f / F) * std::ldexp(1.0, -24) : 0.0);
         ASSERT_TRUE(test::near(row[j], wantD[f], 0, tol))
             << "row " << r << " feature " << f << " p = " << pf[0] << ", " << pf[1] << ", " << pf[2];
         ASSERT_TRUE(test::near(row[j], wantF[f], 0, tol)) << "float reference, row " << r << " feature " << f;
@@ -354,6 +359,30 @@ TEST(HashEncodingReference, GradientMatchesFiniteDifferences) {
   }
 }
 
+// The contraction about the inner cube [-1/S, 1/S]^3: the inner cube stays (halved into the grid's
+// middle half), a point at max-norm m = |S p|_inf > 1 lands at max-norm (2 - 1/m) / 2 on the same ray
+// from the centre, so the box (m <= S) stays inside [-1, 1]^3; continuous across the inner cube's faces.
+TEST(HashEncodingReference, ContractionKeepsTheInnerCubeAndSqueezesTheRest) {
+  const uint32_t S = 8;
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 1000; ++i) {
+    const double p[3] = {u(gen), u(gen), u(gen)};
+    const auto c = ref::hashGridContract(p, S);
+    const double m = S * std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
+    const double cm = std::max({std::fabs(c[0]), std::fabs(c[1]), std::fabs(c[2])});
+    EXPECT_NEAR(cm, m <= 1 ? m / 2 : (2 - 1 / m) / 2, 1e-15);
+    EXPECT_LT(cm, 1.0);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(c[a] * m, cm * S * p[a], 1e-14) << "not on p's ray";
+  }
+  const double face[3] = {1.0 / S, 0.3 / S, -0.7 / S}, beyond[3] = {(1.0 + 1e-9) / S, 0.3 / S, -0.7 / S};
+  const auto a = ref::hashGridContract(face, S), b = ref::hashGridContract(beyond, S);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-9);
+  const double corner[3] = {1, -1, 1};
+  EXPECT_DOUBLE_EQ(ref::hashGridContract(corner, S)[1], -(2 - 1.0 / S) / 2);
+  EXPECT_EQ(ref::hashGridContract(corner, 0)[1], -1.0);  // 0: no contraction
+}
+
 TEST(HashEncodingReference, InitialParametersAreSmallUniformAndSeeded) {
   auto a = ref::hashGridInitialParameters(kPow2, 1), b = ref::hashGridInitialParameters(kPow2, 1);
   auto c = ref::hashGridInitialParameters(kPow2, 2);
@@ -376,6 +405,7 @@ TEST_F(HashEncoding, ForwardMatchesReference) {
   expectForwardMatches(ctx(), kOdd, 333, 4, 4);
   expectForwardMatches(ctx(), kWide, 65, 8, 0);
   expectForwardMatches(ctx(), kEight, 200, 4, 4);
+  expectForwardMatches(ctx(), kContracted, 600, 4, 0);
 }
 
 TEST_F(HashEncoding, BackwardMatchesReferenceAndAccumulates) {
@@ -386,6 +416,31 @@ TEST_F(HashEncoding, BackwardMatchesReferenceAndAccumulates) {
       nerf::HashEncoding enc(ctx(), c, mode);
       expectBackwardMatches(ctx(), enc, 784, 130, true);
     }
+}
+
+// Positions whose contraction is exact in float (S = 4): dyadic points inside the inner cube
+// (p' = 2 p), and points with |4 p|_inf = 2 or 4, where (2 - 1/m) / m = 3/4 or 7/16: the device's
+// cells and in-cell positions equal the reference's, so expectBackwardMatches' bound holds as it is.
+std::vector<float> exactlyContractedPositions(uint32_t count, uint32_t seed) {
+  std::mt19937 gen(seed);
+  std::uniform_int_distribution<int> k(-512, 512);
+  std::vector<float> v(4 * size_t(count), 0.0f);
+  for (uint32_t i = 0; i < count; ++i) {
+    float* p = &v[4 * size_t(i)];
+    const float m = i % 3 == 0 ? 1.0f : i % 3 == 1 ? 2.0f : 4.0f;  // |4 p|_inf at most / exactly
+    for (int a = 0; a < 3; ++a) p[a] = float(k(gen)) / 512.0f * m / 4.0f;
+    if (m > 1.0f) p[i % 3] = (i & 4 ? m : -m) / 4.0f;
+  }
+  return v;
+}
+
+TEST_F(HashEncoding, BackwardThroughTheContractionMatchesReference) {
+  const auto positions = exactlyContractedPositions(914, 3);
+  for (auto mode : {nerf::HashBackwardMode::Atomic, nerf::HashBackwardMode::SortReduce, nerf::HashBackwardMode::CompareSwap}) {
+    if (!test::deviceRuns(mode)) continue;
+    nerf::HashEncoding enc(ctx(), kContracted, mode);
+    expectBackwardMatches(ctx(), enc, 784, 130, true, &positions);
+  }
 }
 
 TEST_F(HashEncoding, SortReduceInManyPasses) {

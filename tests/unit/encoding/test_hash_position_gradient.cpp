@@ -1,6 +1,7 @@
 // encode_hash_position_gradient.comp (HashEncoding::recordPositionGradient: dL/dp for camera
 // refinement) against central differences of the CPU reference in double (tests/reference/encoding/hash_encoding.h),
 // and the same gradient from the table's backward pass (encode_hash_backward_position.comp).
+#include <algorithm>
 #include <cmath>
 #include <ostream>
 #include <random>
@@ -106,6 +107,74 @@ TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesOfTheReference) {
       }
     }
     for (int a = 0; a < 3; ++a) EXPECT_EQ(got[4 * (n - 1) + a], 0.0f);
+  }
+}
+
+// Through the contraction (S = 4 over kConfigs[0]): the chain rule of hashGridContractGradient
+// against central differences of the reference, which contracts in double. Points are drawn over the
+// whole box and kept away from every kink the step h could straddle: a cell face of any level in
+// the contracted grid, the inner cube's faces (m = 1) and the planes where the largest axis changes.
+TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesThroughTheContraction) {
+  HashGridConfig c = kConfigs[0];
+  c.contraction = 4;
+  nerf::HashEncoding enc(ctx(), c);
+  const uint32_t n = 300, D = enc.outputDims(), stride = enc.paddedDims();
+  std::mt19937 gen(17);
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::vector<float> table(enc.parameterCount()), dF(size_t(n) * stride, 0.0f), pos;
+  for (auto& x : table) x = u(gen);
+  for (auto& x : dF) x = u(gen);
+  const double h = 1e-5, margin = 1e-3;
+  while (pos.size() < 4 * size_t(n)) {
+    const float p[3] = {u(gen), u(gen), u(gen)};
+    const double pd[3] = {p[0], p[1], p[2]};
+    double a[3];
+    for (int k = 0; k < 3; ++k) a[k] = std::fabs(4.0 * pd[k]);
+    std::sort(a, a + 3);
+    bool nearKink = std::fabs(a[2] - 1.0) < margin || a[2] - a[1] < margin;
+    const auto q = ref::hashGridContract(pd, 4);
+    for (uint32_t l = 0; l < c.levels; ++l)
+      for (int k = 0; k < 3; ++k) {
+        const double x = (q[k] + 1) * 0.5 * ref::hashGridResolution(c, l);
+        nearKink |= std::fabs(x - std::round(x)) < 3 * margin;  // h moves x by up to h S res / 4 = 1.3e-3
+      }
+    if (!nearKink) pos.insert(pos.end(), {p[0], p[1], p[2], 0.0f});
+  }
+  auto pb = gpu::Buffer::of(ctx(), pos), tb = gpu::Buffer::of(ctx(), table), db = gpu::Buffer::of(ctx(), dF);
+  auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(n) * 4, 12345.0f));
+  auto grads = gpu::Buffer::zeros(ctx(), enc.parameterCount() * 4);
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    if (GetParam() == Way::Alone) enc.recordPositionGradient(rec, {n, pb, db, stride, 0}, tb, out);
+    else enc.recordBackward(rec, {n, pb, db, stride, 0}, grads, nerf::PositionGradientTarget{tb, out});
+  });
+  const auto got = out.download<float>();
+  const std::vector<double> tableD(table.begin(), table.end());
+  double resSum = 0;
+  for (uint32_t l = 0; l < c.levels; ++l) resSum += ref::hashGridResolution(c, l);
+  // MatchesFiniteDifferencesOfTheReference's bound on dL/dp' times the Jacobian's norm, at most
+  // S / 2 (2/m - 1/m^2 <= 1, the radial term adds at most 2 more): 3 S / 2; plus the contracted
+  // position's own rounding (4 roundings of |p'| <= 1), which moves w by 2 res 2^-24 and the
+  // gradient, 2 F max|t dF| res / 2 per unit of w, by F res^2 2^-24 per level; and the quotient's
+  // truncation, second derivatives of the contraction (<= 6 S^2 / m^3) times h^2.
+  double tol = 1.5 * 4 * (80.0 * c.featuresPerLevel * resSum * std::ldexp(1.0, -24)) + 1e-6;
+  for (uint32_t l = 0; l < c.levels; ++l) {
+    const double r = ref::hashGridResolution(c, l);
+    tol += 1.5 * 4 * c.featuresPerLevel * r * r * std::ldexp(1.0, -24);
+  }
+  for (uint32_t r = 0; r < n; ++r) {
+    auto S = [&](const double* p) {
+      const auto f = ref::hashEncoding<double>(c, tableD.data(), p);
+      double s = 0;
+      for (uint32_t j = 0; j < D; ++j) s += double(dF[size_t(r) * stride + j]) * f[j];
+      return s;
+    };
+    for (int a = 0; a < 3; ++a) {
+      double up[3] = {pos[4 * r], pos[4 * r + 1], pos[4 * r + 2]}, down[3] = {up[0], up[1], up[2]};
+      up[a] += h, down[a] -= h;
+      const double want = (S(up) - S(down)) / (2 * h);
+      ASSERT_TRUE(test::near(got[4 * r + a], want, 0, tol))
+          << "row " << r << " axis " << a << ": " << got[4 * r + a] << " vs " << want << " (tol " << tol << ")";
+    }
   }
 }
 

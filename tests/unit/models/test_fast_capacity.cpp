@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "models/fast/fast_capacity.h"
+#include "models/fast/fast_field.h"
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"
 
@@ -129,6 +130,26 @@ TEST(FastCapacity, CascadesKeepTheInnerCubesDetail) {
   cpu.cascades = 3;
   models::resolveFastCapacity(cpu, ring(100, 800, 800, 60, 4, 4), true);
   EXPECT_NEAR(finestOf(cpu), 4 * 512, 1e-1);
+}
+
+// Contracted, the grid spans twice the inner cube whatever the cascades: one level more than the
+// inner cube alone at twice its finest resolution; and the encoding contracts about the inner cube
+// (S = 2^(cascades - 1)), only where there are cascades.
+TEST(FastCapacity, AContractedGridSpansTwiceTheInnerCube) {
+  FastModel alone = openModel();
+  models::resolveFastCapacity(alone, ring(8, 400, 400, 60, 4), false);
+  FastModel contracted = openModel();
+  contracted.cascades = 4, contracted.contraction = true;
+  const std::string note = models::resolveFastCapacity(contracted, ring(8, 400, 400, 60, 4, 8), false);
+  EXPECT_EQ(contracted.hashLevels, alone.hashLevels + 1) << note;
+  EXPECT_NEAR(finestOf(contracted), 2 * finestOf(alone), 1e-2 * finestOf(alone)) << note;
+  EXPECT_NE(note.find("contracted box"), std::string::npos) << note;
+  EXPECT_EQ(models::hashGridConfigFor(contracted).contraction, 8u);
+  FastModel single = openModel();
+  single.contraction = true;
+  models::resolveFastCapacity(single, ring(8, 400, 400, 60, 4), false);
+  EXPECT_EQ(single.hashLevels, alone.hashLevels);
+  EXPECT_EQ(models::hashGridConfigFor(single).contraction, 0u);
 }
 
 // The march step, left open: the power of two nearest 4 pixel footprints of the typical camera over

@@ -13,6 +13,9 @@ struct RenderedImage {
   // 3 per pixel: the colour behind the field that rgb is composited over (a learned far field's
   // colour in the pixel's direction, else the constant background); empty in images made by hand.
   std::vector<float> background;
+  // Field samples shaded to render it (Model::render; 0 in images made by hand): over the pixels,
+  // the samples per ray a render spends, where early termination ends most rays short of the cap.
+  uint64_t samples = 0;
 };
 
 }  // namespace vknerf

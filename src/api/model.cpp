@@ -33,6 +33,7 @@ RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(ui
   img.opacity.resize(total);
   img.background.resize(size_t(total) * 3);
   gpu::Recorder rec(c);
+  const uint64_t samplesBefore = pipe->renderedSamples();
   for (uint32_t first = 0; first < total; first += cap) {
     const uint32_t n = std::min(cap, total - first);
     rec.begin();
@@ -51,6 +52,7 @@ RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(ui
     }
     if (progress) progress(first + n, total);
   }
+  img.samples = pipe->renderedSamples() - samplesBefore;
   return img;
 }
 

@@ -68,6 +68,9 @@ class FieldPipeline {
   const gpu::Buffer& color() const { return renderOutputs().color; }
   const gpu::Buffer& depth() const { return renderOutputs().depth; }
   const gpu::Buffer& backgrounds() const { return renderOutputs().background; }
+  // Field samples the renders recorded with mayWait have shaded since the pipeline was built (the
+  // fast model's: in front of where each ray became opaque, up to a segment's end).
+  uint64_t renderedSamples() const { return renderedSamples_; }
 
   // The field at points chosen by the caller (an exporter): queryBatch()'s positions (vec4, the
   // scene box mapped onto [-1, 1]^3) and directions (vec4, unit) for `count` <= its capacity points
@@ -135,6 +138,7 @@ class FieldPipeline {
     if (training) lossReport_.emplace(ctx, rayCapacity);
   }
   LossReport& report() { return lossReport_.value(); }
+  void countRenderedSamples(uint64_t samples) { renderedSamples_ += samples; }
 
   // The model's parts, registered once in checkpoint order by the model's constructor.
   ParameterGroups& parts() { return parts_; }
@@ -157,6 +161,7 @@ class FieldPipeline {
   ParameterGroups parts_;
   std::vector<StepExtension*> extensions_;
   std::optional<LossReport> lossReport_;
+  uint64_t renderedSamples_ = 0;
 };
 
 // Rays per render batch of a loaded model.

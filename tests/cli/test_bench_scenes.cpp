@@ -117,6 +117,11 @@ TEST(BenchReports, ReadsTheSummaryAndEvalJsonAndRefusesWhatLacksANumber) {
   EXPECT_DOUBLE_EQ(e.ssim, 0.81);
   EXPECT_DOUBLE_EQ(e.secondsPerView, 0.25);
   EXPECT_EQ(e.views, 3u);
+  EXPECT_FALSE(e.samplesPerPixel);  // an older build's eval
+  EXPECT_DOUBLE_EQ(bench::readEvalJson(R"({"psnr": 24.5, "ssim": 0.81, "seconds_per_image": 0.25, "count": 3,
+                                          "samples_per_pixel": 41.5})", "e.json").samplesPerPixel.value_or(0), 41.5);
+  EXPECT_THROW(bench::readEvalJson(R"({"psnr": 1, "ssim": 1, "seconds_per_image": 1, "count": 1, "samples_per_pixel": "x"})",
+                                   "e.json"), Error);
   try {
     bench::readEvalJson(R"({"psnr": 24.5, "ssim": 0.81, "count": 3})", "e.json");
     ADD_FAILURE() << "no seconds_per_image";
@@ -153,20 +158,21 @@ TEST(BenchPlan, NamesScenesByFolderAndBuildsByWhereTheirPathsDiffer) {
 TEST(SceneTable, WritesEveryColumnAndLeavesWhatWasNotMeasuredEmpty) {
   bench::SceneRow ok{"cup", "before"};
   ok.psnr = 22.126, ok.ssim = 0.7, ok.steps = 1500, ok.samplesPerRay = 12.5, ok.secondsPerView = 3.25;
+  ok.renderSamplesPerPixel = 7.3;
   ok.hostMiB = 900, ok.deviceMiB = 300.4, ok.sheet = "cup-before.png";
   bench::SceneRow failed{"broken", "before"};
   failed.failed = true, failed.status = "train failed (exit 1): vknerf: error: a, b | c";
   const auto rows = csvRows(bench::sceneTableCsv({ok, failed}));
   ASSERT_EQ(rows.size(), 3u);
-  EXPECT_EQ(rows[0].size(), 11u);
-  EXPECT_EQ(rows[1], (std::vector<std::string>{"cup", "before", "22.1260", "0.70000", "1500", "12.500", "3.2500", "900.0",
-                                               "300.4", "cup-before.png", "ok"}));
-  EXPECT_EQ(rows[2], (std::vector<std::string>{"broken", "before", "", "", "", "", "", "", "", "", failed.status}));
+  EXPECT_EQ(rows[0].size(), 12u);
+  EXPECT_EQ(rows[1], (std::vector<std::string>{"cup", "before", "22.1260", "0.70000", "1500", "12.500", "3.2500", "7.30",
+                                               "900.0", "300.4", "cup-before.png", "ok"}));
+  EXPECT_EQ(rows[2], (std::vector<std::string>{"broken", "before", "", "", "", "", "", "", "", "", "", failed.status}));
   const std::string md = bench::sceneTableMarkdown({ok, failed}, "Device: x");
   EXPECT_EQ(md.rfind("Device: x\n", 0), 0u) << md;
-  EXPECT_NE(md.find("| cup | before | 22.13 | 0.700 | 1500 | 12.5 | 3.25 | 900 | 300 | [cup-before.png](<cup-before.png>) | ok |"),
+  EXPECT_NE(md.find("| cup | before | 22.13 | 0.700 | 1500 | 12.5 | 3.25 | 7.3 | 900 | 300 | [cup-before.png](<cup-before.png>) | ok |"),
             std::string::npos) << md;
-  EXPECT_NE(md.find("| broken | before | - | - | - | - | - | - | - | - | train failed (exit 1): vknerf: error: a, b \\| c |"),
+  EXPECT_NE(md.find("| broken | before | - | - | - | - | - | - | - | - | - | train failed (exit 1): vknerf: error: a, b \\| c |"),
             std::string::npos) << md;
 }
 
@@ -263,23 +269,24 @@ TEST(BenchScenesCli, OneRowPerSceneASheetEachAndABrokenSceneFails) {
   const auto rows = csvRows(readText(out / "scenes.csv"));
   ASSERT_EQ(rows.size(), 3u) << r.output;
   EXPECT_EQ(rows[0], csvRows(bench::kSceneTableCsvHeader)[0]);
-  ASSERT_EQ(rows[1].size(), 11u);
+  ASSERT_EQ(rows[1].size(), 12u);
   EXPECT_EQ(rows[1][0], "tiny");
-  EXPECT_EQ(rows[1][10], "ok");
+  EXPECT_EQ(rows[1][11], "ok");
   EXPECT_GT(finite(rows[1][2]), 0.0);                                  // held-out PSNR
   EXPECT_GT(finite(rows[1][3]), 0.0);                                  // SSIM
   EXPECT_LE(finite(rows[1][3]), 1.0);
   EXPECT_EQ(finite(rows[1][4]), 4.0);                                  // steps
   EXPECT_EQ(finite(rows[1][5]), 24.0);  // samples per ray: 8 coarse, then 8 + 8 through the fine network
   EXPECT_GT(finite(rows[1][6]), 0.0);                                  // seconds per view
-  EXPECT_GT(finite(rows[1][7]), 10.0);                                 // peak host MiB of a Vulkan process
-  EXPECT_GT(finite(rows[1][8]), 0.0);                                  // device MiB
-  EXPECT_EQ(rows[1][9], "tiny.png");
-  ASSERT_EQ(rows[2].size(), 11u);
+  EXPECT_EQ(finite(rows[1][7]), 24.0);                                 // a render's samples per pixel: the same
+  EXPECT_GT(finite(rows[1][8]), 10.0);                                 // peak host MiB of a Vulkan process
+  EXPECT_GT(finite(rows[1][9]), 0.0);                                  // device MiB
+  EXPECT_EQ(rows[1][10], "tiny.png");
+  ASSERT_EQ(rows[2].size(), 12u);
   EXPECT_EQ(rows[2][0], "broken");
-  EXPECT_EQ(rows[2][10].rfind("train failed (exit 1): ", 0), 0u) << rows[2][10];
-  EXPECT_NE(rows[2][10].find("transforms.json"), std::string::npos) << rows[2][10];
-  for (int c = 2; c <= 6; ++c) EXPECT_EQ(rows[2][c], "") << c;
+  EXPECT_EQ(rows[2][11].rfind("train failed (exit 1): ", 0), 0u) << rows[2][11];
+  EXPECT_NE(rows[2][11].find("transforms.json"), std::string::npos) << rows[2][11];
+  for (int c = 2; c <= 7; ++c) EXPECT_EQ(rows[2][c], "") << c;
   const std::string md = readText(out / "scenes.md");
   EXPECT_NE(md.find("| tiny | "), std::string::npos) << md;
   EXPECT_NE(md.find("| broken | "), std::string::npos) << md;
@@ -333,14 +340,14 @@ TEST(BenchScenesCli, ComparesAnOlderBuildInOneSitting) {
   EXPECT_EQ(rows[1][1], "old");
   EXPECT_EQ(rows[2][1], "now");
   for (int i : {1, 2}) {
-    EXPECT_EQ(rows[i][10], "ok");
+    EXPECT_EQ(rows[i][11], "ok");
     EXPECT_EQ(finite(rows[i][4]), 4.0);
     EXPECT_EQ(finite(rows[i][5]), 24.0);
-    EXPECT_GT(finite(rows[i][8]), 0.0);
-    EXPECT_EQ(rows[i][9], "tiny-" + rows[i][1] + ".png");
+    EXPECT_GT(finite(rows[i][9]), 0.0);
+    EXPECT_EQ(rows[i][10], "tiny-" + rows[i][1] + ".png");
     // One view of the two, as --sheet-views asked, on the older build's sheet too (this build drew it).
     using Sheet = nerf::ContactSheet;
-    EXPECT_EQ(vknerf::loadImage((out / rows[i][9]).string()).height, Sheet::kGap + 2 * Sheet::kTextHeight + 20 + Sheet::kGap);
+    EXPECT_EQ(vknerf::loadImage((out / rows[i][10]).string()).height, Sheet::kGap + 2 * Sheet::kTextHeight + 20 + Sheet::kGap);
   }
   EXPECT_FALSE(fs::exists(out / "runs" / "tiny-old.train.json"));  // no --summary: read from its output
   EXPECT_TRUE(fs::exists(out / "runs" / "tiny-now.train.json"));

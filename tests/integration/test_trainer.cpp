@@ -219,6 +219,27 @@ TEST_F(TrainerTest, AHigherOccupancyThresholdSkipsMoreOfTheBox) {
   EXPECT_LT(*sharp.meanSamplesPerRay, *usual.meanSamplesPerRay);
 }
 
+// A render says how many field samples it shaded: the vanilla model every sample of every pixel,
+// the coarse ones and then coarse and fine together through the fine network (the paper's 64 + 192
+// of 128 fine); the fast model, which marches only occupied cells and ends rays where they turn
+// opaque, some but fewer than its cap per pixel.
+TEST_F(TrainerTest, ARenderCountsTheSamplesItShaded) {
+  Trainer vanilla(sharedContext(), scene(), tinyConfig());
+  const Camera& cam = scene().cameras[0];
+  const VanillaModel& v = tinyConfig().vanillaModel();
+  EXPECT_EQ(vanilla.model().render(cam).samples, uint64_t(cam.width) * cam.height * (2 * v.coarseSamples + v.fineSamples));
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.raysPerBatch = 1024;
+  Trainer fast(sharedContext(), scene(), c);
+  for (int i = 0; i < 64; ++i) fast.step();
+  const RenderedImage a = fast.model().render(cam), b = fast.model().render(cam);
+  EXPECT_GT(a.samples, 0u);
+  EXPECT_LT(a.samples, uint64_t(cam.width) * cam.height * fast.model().config().fastModel().maxSamplesPerRay);
+  EXPECT_EQ(a.samples, b.samples);  // a render's own count, not the pipeline's running total
+}
+
 TEST_F(TrainerTest, StepProfileAttributesTheWholeStep) {
   Trainer t(sharedContext(), scene(), tinyConfig());
   t.step();

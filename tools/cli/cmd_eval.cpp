@@ -97,7 +97,7 @@ int run(const Options& o, const Globals& g) {
   size_t n = data.cameras.size();
   if (o.limit && n > o.limit) n = o.limit;
   nlohmann::json images = nlohmann::json::array();
-  double sumPsnr = 0, sumSsim = 0, sumSeconds = 0;
+  double sumPsnr = 0, sumSsim = 0, sumSeconds = 0, sumSamples = 0, sumPixels = 0;
   const std::vector<bool> onSheet = sheetViews(n, o.sheetViews);
   std::vector<SheetView> sheetViewsKept;  // drawn once their depths' range is known
   for (size_t i = 0; i < n; ++i) {
@@ -106,9 +106,12 @@ int run(const Options& o, const Globals& g) {
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto gt = vknerf::compositeOver(data.images[i], model.config().background);
     double p = nerf::psnr(img.rgb, gt), q = nerf::ssim(img.rgb, gt, img.width, img.height);
-    sumPsnr += p, sumSsim += q, sumSeconds += s;
-    images.push_back({{"name", data.names[i]}, {"psnr", p}, {"ssim", q}, {"seconds", s}});
-    std::printf("%-40s PSNR %6.2f dB  SSIM %.4f  %.3f s\n", data.names[i].c_str(), p, q, s);
+    // The samples a render shaded per pixel: what its time follows (early termination ends a ray
+    // where it turns opaque, so this is under the samples a training step marches per ray).
+    const double pixels = double(img.width) * img.height, perPixel = double(img.samples) / pixels;
+    sumPsnr += p, sumSsim += q, sumSeconds += s, sumSamples += double(img.samples), sumPixels += pixels;
+    images.push_back({{"name", data.names[i]}, {"psnr", p}, {"ssim", q}, {"seconds", s}, {"samples_per_pixel", perPixel}});
+    std::printf("%-40s PSNR %6.2f dB  SSIM %.4f  %.3f s  %.1f samples a pixel\n", data.names[i].c_str(), p, q, s, perPixel);
     if (!o.sheet.empty() && onSheet[i]) {
       char label[64];
       std::snprintf(label, sizeof label, "  PSNR %.2f dB  SSIM %.3f", p, q);
@@ -117,9 +120,10 @@ int run(const Options& o, const Globals& g) {
   }
   nlohmann::json result = {{"model", o.model}, {"scene", o.scene}, {"split", o.split}, {"count", n},
                            {"psnr", sumPsnr / double(n)}, {"ssim", sumSsim / double(n)},
-                           {"seconds_per_image", sumSeconds / double(n)}, {"device", ctx->describe()}, {"images", images}};
-  std::printf("mean over %zu %s views: PSNR %.2f dB, SSIM %.4f, %.3f s per image\n", n, o.split.c_str(),
-              sumPsnr / double(n), sumSsim / double(n), sumSeconds / double(n));
+                           {"seconds_per_image", sumSeconds / double(n)}, {"samples_per_pixel", sumSamples / sumPixels},
+                           {"device", ctx->describe()}, {"images", images}};
+  std::printf("mean over %zu %s views: PSNR %.2f dB, SSIM %.4f, %.3f s per image, %.1f samples a pixel\n", n,
+              o.split.c_str(), sumPsnr / double(n), sumSsim / double(n), sumSeconds / double(n), sumSamples / sumPixels);
   if (!o.json.empty()) writeFileAtomically(o.json, result.dump(2) + "\n");
   if (!o.csv.empty()) {
     std::ostringstream f;

@@ -213,7 +213,7 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
       rec.end();
       rec.submitAndWait();
       rec.begin();
-      renderedSamples_ += segments_.samples();
+      countRenderedSamples(segments_.samples());
       live = segments_.active();
     }
   }

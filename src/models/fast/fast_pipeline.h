@@ -49,9 +49,6 @@ class FastPipeline final : public FieldPipeline {
   // A training step runs its forward in segments once the last step kept at most this fraction of
   // its marched samples (default kSegmentsBelowKept; 1: always, below 0: never).
   void segmentTrainingBelowKept(double fraction) { segmentsBelowKept_ = fraction; }
-  // Samples a render has shaded (and composited) since the pipeline was built: with segments, the
-  // ones in front of where each ray became opaque (up to a segment's end).
-  uint64_t renderedSamples() const { return renderedSamples_; }
   size_t parameterCount() const { return parts().parameterCount(); }
 
  private:
@@ -123,7 +120,6 @@ class FastPipeline final : public FieldPipeline {
   gpu::Buffer wholeRays_;  // a training batch's rays that fit the sample capacity whole (device-written)
   nerf::SegmentAccumulator segments_;  // a render's rays, marched segment by segment
   float renderMinTransmittance_;  // where a render's ray stops (RenderSettings)
-  uint64_t renderedSamples_ = 0;
   double segmentsBelowKept_;
 };
 

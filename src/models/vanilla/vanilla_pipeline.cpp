@@ -121,9 +121,10 @@ void VanillaPipeline::recordBackward(gpu::Recorder& rec, uint32_t numRays, const
   parts().recordOptimizerSteps(rec, at);
 }
 
-void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool) {
+void VanillaPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, bool mayWait) {
   rays_.recordView(rec, view, box_);
   recordForward(rec, view.count, 0, false);
+  if (mayWait) countRenderedSamples(uint64_t(view.count) * (levels_[0].samplesPerRay + levels_[1].samplesPerRay));
 }
 
 uint32_t VanillaPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at) {

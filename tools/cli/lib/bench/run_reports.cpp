@@ -75,6 +75,7 @@ EvalReport readEvalJson(const std::string& json, const std::string& what) {
   r.ssim = finiteNumber(j, "ssim", what);
   r.secondsPerView = finiteNumber(j, "seconds_per_image", what);
   r.views = uint64_t(finiteNumber(j, "count", what));
+  if (j.contains("samples_per_pixel")) r.samplesPerPixel = finiteNumber(j, "samples_per_pixel", what);
   return r;
 }
 

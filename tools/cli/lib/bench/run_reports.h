@@ -4,7 +4,8 @@
 //   "  samples per ray (mean over all steps)            6.1"   (fast; vanilla: "(last step)")
 //   "memory: host peak 812.3 MiB; device 95.2 MiB (model ...)"
 //   "done after 200 steps (41.2 s, last train PSNR 24.10 dB); model saved to ..."
-// eval's --json has been the same in every build: psnr, ssim, seconds_per_image, count.
+// eval's --json has had psnr, ssim, seconds_per_image and count in every build; samples_per_pixel
+// (the field samples its renders shaded) since 2026-12.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@ TrainReport parseTrainLog(const std::string& log);
 struct EvalReport {
   double psnr = 0, ssim = 0, secondsPerView = 0;
   uint64_t views = 0;
+  std::optional<double> samplesPerPixel;  // empty from a build that does not write it
 };
 
 // eval --json's file. Throws vknerf::Error naming `what` when a number is missing or not finite.

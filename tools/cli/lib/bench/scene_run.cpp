@@ -115,7 +115,7 @@ SceneRow runScene(const std::string& scenePath, const std::string& scene, const 
       return row;
     }
     const EvalReport e = readEvalJson(readText(evalJson), evalJson.string());
-    row.psnr = e.psnr, row.ssim = e.ssim, row.secondsPerView = e.secondsPerView;
+    row.psnr = e.psnr, row.ssim = e.ssim, row.secondsPerView = e.secondsPerView, row.renderSamplesPerPixel = e.samplesPerPixel;
     if (build.self) {
       row.sheet = sheetName;
       return row;

@@ -38,7 +38,8 @@ std::string sheetLink(const std::string& sheet) {
 }  // namespace
 
 const char* const kSceneTableCsvHeader =
-    "scene,build,psnr,ssim,steps,samples_per_ray,seconds_per_view,host_peak_mib,device_mib,sheet,status";
+    "scene,build,psnr,ssim,steps,samples_per_ray,seconds_per_view,render_samples_per_pixel,host_peak_mib,device_mib,sheet,"
+    "status";
 
 std::string sceneTableCsv(const std::vector<SceneRow>& rows) {
   std::ostringstream f;
@@ -46,7 +47,8 @@ std::string sceneTableCsv(const std::vector<SceneRow>& rows) {
   for (const SceneRow& r : rows)
     f << nerf::csvField(r.scene) << "," << nerf::csvField(r.build) << "," << formatted(r.psnr, "%.4f") << ","
       << formatted(r.ssim, "%.5f") << "," << formatted(r.steps, "%u") << "," << formatted(r.samplesPerRay, "%.3f") << ","
-      << formatted(r.secondsPerView, "%.4f") << "," << formatted(r.hostMiB, "%.1f") << "," << formatted(r.deviceMiB, "%.1f")
+      << formatted(r.secondsPerView, "%.4f") << "," << formatted(r.renderSamplesPerPixel, "%.2f") << ","
+      << formatted(r.hostMiB, "%.1f") << "," << formatted(r.deviceMiB, "%.1f")
       << "," << nerf::csvField(r.sheet) << "," << nerf::csvField(r.status) << "\n";
   return f.str();
 }
@@ -54,12 +56,14 @@ std::string sceneTableCsv(const std::vector<SceneRow>& rows) {
 std::string sceneTableMarkdown(const std::vector<SceneRow>& rows, const std::string& preamble) {
   std::ostringstream md;
   md << preamble << "\n"
-     << "| scene | build | held-out PSNR dB | SSIM | steps | samples/ray | s/view | peak host MiB | device MiB | sheet | status |\n"
-     << "|---|---|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
+     << "| scene | build | held-out PSNR dB | SSIM | steps | samples/ray | s/view | render samples/pixel | peak host MiB | "
+        "device MiB | sheet | status |\n"
+     << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
   for (const SceneRow& r : rows)
     md << "| " << cell(r.scene) << " | " << cell(r.build) << " | " << cell(formatted(r.psnr, "%.2f")) << " | "
        << cell(formatted(r.ssim, "%.3f")) << " | " << cell(formatted(r.steps, "%u")) << " | "
        << cell(formatted(r.samplesPerRay, "%.1f")) << " | " << cell(formatted(r.secondsPerView, "%.2f")) << " | "
+       << cell(formatted(r.renderSamplesPerPixel, "%.1f")) << " | "
        << cell(formatted(r.hostMiB, "%.0f")) << " | " << cell(formatted(r.deviceMiB, "%.0f")) << " | "
        << sheetLink(r.sheet) << " | " << cell(r.status) << " |\n";
   return md.str();

@@ -16,6 +16,7 @@ struct SceneRow {
   std::optional<double> psnr, ssim;
   std::optional<uint32_t> steps;
   std::optional<double> samplesPerRay, secondsPerView, hostMiB, deviceMiB;
+  std::optional<double> renderSamplesPerPixel;  // what a held-out render shaded, per pixel
   std::string sheet;  // the contact sheet's file name in the output folder, "" when none was written
 };
 

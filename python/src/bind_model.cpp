@@ -30,6 +30,7 @@ py::dict renderLocked(const PyModel& m, const Camera& camera) {
   out["rgb"] = toArray(std::move(img.rgb), {h, w, 3});
   out["depth"] = toArray(std::move(img.depth), {h, w});
   out["opacity"] = toArray(std::move(img.opacity), {h, w});
+  out["samples"] = img.samples;  // field samples the render shaded
   return out;
 }
 

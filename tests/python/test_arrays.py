@@ -96,3 +96,4 @@ def test_a_synthetic_dataset_trains_and_renders(ctx, synthetic):
     assert view["rgb"].shape == (12, 16, 3) and view["rgb"].dtype == np.float32
     assert view["depth"].shape == (12, 16) and view["opacity"].shape == (12, 16)
     assert np.isfinite(view["rgb"]).all() and (view["opacity"] >= 0).all() and (view["opacity"] <= 1.0001).all()
+    assert view["samples"] == 12 * 16 * (8 + 8 + 8)  # 8 coarse, then 8 + 8 through the fine network, a pixel

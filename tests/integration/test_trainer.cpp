@@ -225,8 +225,8 @@ TEST_F(TrainerTest, AHigherOccupancyThresholdSkipsMoreOfTheBox) {
 // opaque, some but fewer than its cap per pixel.
 TEST_F(TrainerTest, ARenderCountsTheSamplesItShaded) {
   Trainer vanilla(sharedContext(), scene(), tinyConfig());
-  const Camera& cam = scene().cameras[0];
-  const VanillaModel& v = tinyConfig().vanillaModel();
+  const Camera cam = scene().cameras[0];
+  const VanillaModel v = tinyConfig().vanillaModel();
   EXPECT_EQ(vanilla.model().render(cam).samples, uint64_t(cam.width) * cam.height * (2 * v.coarseSamples + v.fineSamples));
   TrainConfig c = TrainConfig::fast(*sharedContext());
   c.fastModel().gridResolution = 16;

@@ -59,6 +59,31 @@ void PrintTo(Way w, std::ostream* os) { *os << nameOf(w); }
 
 class HashPositionGradientWays : public HashPositionGradient, public testing::WithParamInterface<Way> {};
 
+// The device's dL/dp (vec4 per row in `got`) against central differences, step h, of
+// S(p) = dF_r . features(p) from the double reference, within `tol`, for every row and axis.
+void expectMatchesCentralDifferences(const HashGridConfig& c, const std::vector<float>& table, const std::vector<float>& dF,
+                                     uint32_t stride, const std::vector<float>& pos, const std::vector<float>& got,
+                                     double h, double tol) {
+  const std::vector<double> tableD(table.begin(), table.end());
+  const uint32_t D = c.levels * c.featuresPerLevel, n = uint32_t(pos.size() / 4);
+  for (uint32_t r = 0; r < n; ++r) {
+    auto S = [&](const double* p) {
+      const auto f = ref::hashEncoding<double>(c, tableD.data(), p);
+      double s = 0;
+      for (uint32_t j = 0; j < D; ++j) s += double(dF[size_t(r) * stride + j]) * f[j];
+      return s;
+    };
+    for (int a = 0; a < 3; ++a) {
+      double up[3] = {pos[4 * r], pos[4 * r + 1], pos[4 * r + 2]}, down[3] = {up[0], up[1], up[2]};
+      up[a] += h, down[a] -= h;
+      const double want = (S(up) - S(down)) / (2 * h);
+      ASSERT_TRUE(test::near(got[4 * r + a], want, 0, tol))
+          << "levels " << c.levels << " F " << c.featuresPerLevel << " contraction " << c.contraction << " row " << r
+          << " axis " << a << ": " << got[4 * r + a] << " vs " << want << " (tol " << tol << ")";
+    }
+  }
+}
+
 TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesOfTheReference) {
   for (const HashGridConfig& c : kConfigs) {
     nerf::HashEncoding enc(ctx(), c);
@@ -81,7 +106,6 @@ TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesOfTheReference) {
     });
     const auto got = out.download<float>();
 
-    const std::vector<double> tableD(table.begin(), table.end());
     double resSum = 0;
     for (uint32_t l = 0; l < c.levels; ++l) resSum += ref::hashGridResolution(c, l);
     // Per level the device sums 8 corners of F products (|dF|, |table| <= 1) times weight
@@ -89,23 +113,8 @@ TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesOfTheReference) {
     // 80 F res 2^-24 per level, summed over levels. The difference quotient is exact up to
     // rounding of S (trilinear within a cell): |S| <= L F, 1e-15 relative over h = 1e-5.
     const double tol = 80.0 * c.featuresPerLevel * resSum * std::ldexp(1.0, -24) + 1e-8;
-    const double h = 1e-5;
-    for (uint32_t r = 0; r < n; ++r) {
-      auto S = [&](const double* p) {
-        const auto f = ref::hashEncoding<double>(c, tableD.data(), p);
-        double s = 0;
-        for (uint32_t j = 0; j < D; ++j) s += double(dF[size_t(r) * stride + j]) * f[j];
-        return s;
-      };
-      for (int a = 0; a < 3; ++a) {
-        double up[3] = {pos[4 * r], pos[4 * r + 1], pos[4 * r + 2]}, down[3] = {up[0], up[1], up[2]};
-        up[a] += h, down[a] -= h;
-        const double want = (S(up) - S(down)) / (2 * h);
-        ASSERT_TRUE(test::near(got[4 * r + a], want, 0, tol))
-            << "levels " << c.levels << " F " << c.featuresPerLevel << " row " << r << " axis " << a << ": " << got[4 * r + a]
-            << " vs " << want;
-      }
-    }
+    expectMatchesCentralDifferences(c, table, dF, stride, pos, got, 1e-5, tol);
+    if (HasFatalFailure()) return;
     for (int a = 0; a < 3; ++a) EXPECT_EQ(got[4 * (n - 1) + a], 0.0f);
   }
 }
@@ -148,7 +157,6 @@ TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesThroughTheContraction) 
     else enc.recordBackward(rec, {n, pb, db, stride, 0}, grads, nerf::PositionGradientTarget{tb, out});
   });
   const auto got = out.download<float>();
-  const std::vector<double> tableD(table.begin(), table.end());
   double resSum = 0;
   for (uint32_t l = 0; l < c.levels; ++l) resSum += ref::hashGridResolution(c, l);
   // MatchesFiniteDifferencesOfTheReference's bound on dL/dp' times the Jacobian's norm, at most
@@ -161,21 +169,7 @@ TEST_P(HashPositionGradientWays, MatchesFiniteDifferencesThroughTheContraction) 
     const double r = ref::hashGridResolution(c, l);
     tol += 1.5 * 4 * c.featuresPerLevel * r * r * std::ldexp(1.0, -24);
   }
-  for (uint32_t r = 0; r < n; ++r) {
-    auto S = [&](const double* p) {
-      const auto f = ref::hashEncoding<double>(c, tableD.data(), p);
-      double s = 0;
-      for (uint32_t j = 0; j < D; ++j) s += double(dF[size_t(r) * stride + j]) * f[j];
-      return s;
-    };
-    for (int a = 0; a < 3; ++a) {
-      double up[3] = {pos[4 * r], pos[4 * r + 1], pos[4 * r + 2]}, down[3] = {up[0], up[1], up[2]};
-      up[a] += h, down[a] -= h;
-      const double want = (S(up) - S(down)) / (2 * h);
-      ASSERT_TRUE(test::near(got[4 * r + a], want, 0, tol))
-          << "row " << r << " axis " << a << ": " << got[4 * r + a] << " vs " << want << " (tol " << tol << ")";
-    }
-  }
+  expectMatchesCentralDifferences(c, table, dF, stride, pos, got, h, tol);
 }
 
 TEST_P(HashPositionGradientWays, RowLimitLeavesLaterRowsUntouched) {

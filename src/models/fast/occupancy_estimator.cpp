@@ -80,8 +80,8 @@ void OccupancyEstimator::recordUpdateIfDue(gpu::Recorder& rec, uint32_t step, ui
     count = step < warmupSteps_ ? updatePoints_ : std::max(1u, updatePoints_ / 4);
     grid_.recordRandomCellPoints(rec, seed, count, updatePositions_, updateCells_);
   }
-  // instant-ngp's threshold: the density at which one step is 1% opaque (FastModel::occupancyThreshold), or the grid's mean density
-  // (before this update, computed on the device; a cell no camera sees counts as 0) when that is
+  // instant-ngp's threshold: the density at which one step is 1% opaque (FastModel::occupancyThreshold),
+  // or the grid's mean density (before this update, computed on the device; a cell no camera sees counts as 0) when that is
   // lower, so that a young field whose densities are all small is not declared empty everywhere
   // (nothing would be sampled, and nothing learnt).
   const float threshold = nerf::OccupancyGrid::densityThreshold(emptyOpacity_, trainedDt_);

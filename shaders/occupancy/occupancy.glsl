@@ -51,7 +51,7 @@ vec3 gridPoint(vec3 go, vec3 gd, float t) {
 uvec3 cellOf(vec3 p, uint r) { return uvec3(clamp(floor(p), vec3(0.0), vec3(float(r - 1u)))); }
 
 // ---- March with empty-space skipping (the includer defines OCCUPANCY_MARCH and declares
-// `vec4 rays[]` and `uint occupancyBits[]` before including) ----
+// `vec4 rays[]`, `uint occupancyBits[]` and `float gridDensity[]` before including) ----
 #ifdef OCCUPANCY_MARCH
 
 layout(local_size_x = 32) in;  // one invocation per ray; small groups spread few rays over threads
@@ -143,12 +143,20 @@ uint cascadeOf(vec3 g, uint r) {
   return c;
 }
 
-// Whether the cell of g in cascade c is occupied, and the t at which the ray leaves that cell.
-bool cascadeCellOccupied(MarchRay m, vec3 g, uint c, float t, out float tExit) {
-  float half_ = float(m.r) * 0.5, s = 1.0 / powerOfTwo(c), scale = powerOfTwo(c);
+// The cell of g in cascade c, clamped into that cascade's grid.
+uvec3 cascadeCell(MarchRay m, vec3 g, uint c) {
+  float half_ = float(m.r) * 0.5, s = 1.0 / powerOfTwo(c);
   precise vec3 local = (g - half_) * s + half_;
-  uvec3 cell = cellOf(local, m.r);
-  uint index = c * m.r * m.r * m.r + cellIndex(cell, m.r);
+  return cellOf(local, m.r);
+}
+
+uint cascadeCellIndex(uvec3 cell, uint c, uint r) { return c * r * r * r + cellIndex(cell, r); }
+
+// Whether the cell of g in cascade c is occupied, its index, and the t at which the ray leaves it.
+bool cascadeCellOccupied(MarchRay m, vec3 g, uint c, float t, out float tExit, out uint index) {
+  float half_ = float(m.r) * 0.5, scale = powerOfTwo(c);
+  uvec3 cell = cascadeCell(m, g, c);
+  index = cascadeCellIndex(cell, c, m.r);
   tExit = kMaxFloat;
   for (int a = 0; a < 3; ++a) {
     if (m.gd[a] != 0.0) {
@@ -166,8 +174,35 @@ float coneStart(MarchRay m) {
   return t;
 }
 
-// From t (updated in place) to the next occupied point before t_far: true with its step dt, or
-// false when the ray is done. Empty cells are jumped over in whole steps of the current dt.
+// Opacity-bounded steps (pc.stepOpacity > 0): the sample at t stands for n cone steps [t, t + n dt)
+// instead of one, n the largest up to pc.stretch for which every point t + k dt (0 < k < n) lies
+// before t_far in an occupied cell, and n dt times the largest running-maximum density of the cells
+// of t, ..., t + (n - 1) dt is at most pc.stepOpacity. Through a faint fog (a half-transparent
+// cloth, haze) one sample then does the work of n, each no more opaque than the bound; a dense cell
+// keeps the plain step, and an empty one ends the stretch, so no sample spans empty space.
+float stretchedStep(MarchRay m, float t, float dt, uint index) {
+  if (!(pc.stepOpacity > 0.0)) return dt;
+  float sigma = max(gridDensity[index], 0.0);
+  uint n = 1u;
+  for (; n < pc.stretch; ++n) {
+    precise float tk = t + float(n) * dt;
+    if (!(tk < m.tFar)) break;
+    vec3 g = gridPoint(m.go, m.gd, tk);
+    uint c = cascadeOf(g, m.r);
+    uint i = cascadeCellIndex(cascadeCell(m, g, c), c, m.r);
+    if (!bitSet(occupancyBits[i >> 5u], i)) break;
+    float s = max(sigma, gridDensity[i]);
+    precise float depth = s * (float(n + 1u) * dt);
+    if (!(depth <= pc.stepOpacity)) break;
+    sigma = s;
+  }
+  precise float stretched = float(n) * dt;
+  return stretched;
+}
+
+// From t (updated in place) to the next occupied point before t_far: true with its step dt (the
+// cone step, stretched through a fog by stretchedStep), or false when the ray is done. Empty cells
+// are jumped over in whole steps of the current dt.
 bool coneNextSample(MarchRay m, inout float t, out float dt) {
   dt = 0.0;
   if (!(m.tNear >= 0.0)) return false;
@@ -175,7 +210,11 @@ bool coneNextSample(MarchRay m, inout float t, out float dt) {
     dt = coneStep(t);
     vec3 g = gridPoint(m.go, m.gd, t);
     float tExit;
-    if (cascadeCellOccupied(m, g, cascadeOf(g, m.r), t, tExit)) return true;
+    uint index;
+    if (cascadeCellOccupied(m, g, cascadeOf(g, m.r), t, tExit, index)) {
+      dt = stretchedStep(m, t, dt, index);
+      return true;
+    }
     precise float steps = max(1.0, ceil((tExit - t) / dt));
     precise float next = t + steps * dt;
     if (!(next > t)) return false;  // a step no longer moves t

@@ -7,6 +7,7 @@
 layout(std430, binding = 0) readonly buffer Rays { vec4 rays[]; };             // (o, t_near), (d, t_far)
 layout(std430, binding = 1) readonly buffer Bits { uint occupancyBits[]; };
 layout(std430, binding = 2) writeonly buffer Counts { uint counts[]; };
+layout(std430, binding = 3) readonly buffer Density { float gridDensity[]; };  // the grid's running maxima
 #include "occupancy/occupancy.glsl"
 
 void main() {

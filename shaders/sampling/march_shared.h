@@ -15,6 +15,8 @@ PUSH_CONSTANTS_BEGIN(MarchPush)
   uint cascades;    // 1: the lattice march over one grid; more: the cascaded cone march below
   float coneAngle;  // cascaded march: dt(t) = clamp(t coneAngle, dt, dtMax)
   float dtMax;
+  float stepOpacity;  // cascaded march: > 0 stretches steps through faint cells (stretchedStep), 0 never
+  uint stretch;       // the most cone steps one stretched sample stands for
 PUSH_CONSTANTS_END
 
 #endif

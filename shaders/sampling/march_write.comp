@@ -9,6 +9,7 @@ layout(std430, binding = 1) readonly buffer Bits { uint occupancyBits[]; };
 layout(std430, binding = 2) readonly buffer Offsets { uint offsets[]; };       // numRays + 1
 layout(std430, binding = 3) writeonly buffer Samples { vec2 samples[]; };      // (t, delta)
 layout(std430, binding = 4) writeonly buffer SampleRay { uint sampleRay[]; };
+layout(std430, binding = 5) readonly buffer Density { float gridDensity[]; };  // the grid's running maxima
 #include "occupancy/occupancy.glsl"
 
 void main() {

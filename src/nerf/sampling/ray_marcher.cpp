@@ -23,11 +23,12 @@ using gpu::requireBytes;
 RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays)
     : maxRays_(maxRays),
       layout_(ctx, maxRays),
-      count_(ctx, {gpu::shaders::march_count, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+      count_(ctx, {gpu::shaders::march_count,
+                   {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                    sizeof(MarchPush), {}}),
       write_(ctx, {gpu::shaders::march_write,
                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
-                    gpu::Binding::Storage},
+                    gpu::Binding::Storage, gpu::Binding::Storage},
                    sizeof(MarchPush), {}}) {}
 
 float RayMarcher::defaultStep(const Aabb& box) {
@@ -78,16 +79,21 @@ void RayMarcher::record(gpu::Recorder& rec, const RaySpan& raySpan, const Occupa
   if (cascades > 1 && !(std::isfinite(cone.coneAngle) && cone.coneAngle >= 0.0f && cone.dtMax >= dt && std::isfinite(cone.dtMax)))
     throw Error("RayMarcher: cone angle " + std::to_string(cone.coneAngle) + " must be finite and >= 0, and the largest step " +
                 std::to_string(cone.dtMax) + " finite and >= the step " + std::to_string(dt));
+  if (cascades > 1 && !(std::isfinite(cone.stepOpacity) && cone.stepOpacity >= 0.0f && cone.stretch >= 1 &&
+                        cone.stretch <= kMaxStretch))
+    throw Error("RayMarcher: step opacity " + std::to_string(cone.stepOpacity) + " must be finite and >= 0, and the stretch " +
+                std::to_string(cone.stretch) + " in [1, " + std::to_string(kMaxStretch) + "]");
   // The grid coordinates are cascade 0's: the inner cube's (the box itself for one cascade).
   const Aabb g = cascades > 1 ? innerCube(box, cascades) : box;
   MarchPush p{{g.min[0], g.min[1], g.min[2], dt},
               {float(r) / (g.max[0] - g.min[0]), float(r) / (g.max[1] - g.min[1]), float(r) / (g.max[2] - g.min[2]), 0},
               numRays, r, maxSamplesPerRay, steps.seed, steps.jitter ? 1u : 0u, uint32_t(capacity), cascades,
-              cone.coneAngle, cone.dtMax};
-  rec.dispatchFlat(count_, {rays, grid.bits(), layout_.counts()}, p, numRays, kMarchLocal, "march_count");
+              cone.coneAngle, cone.dtMax, cascades > 1 ? cone.stepOpacity : 0.0f, std::max(cone.stretch, 1u)};
+  rec.dispatchFlat(count_, {rays, grid.bits(), layout_.counts(), grid.density()}, p, numRays, kMarchLocal, "march_count");
   layout_.recordOffsetsAndTotals(rec, numRays, uint32_t(capacity), offsets, totals);
   if (capacity > 0)
-    rec.dispatchFlat(write_, {rays, grid.bits(), offsets, samples, sampleRay}, p, numRays, kMarchLocal, "march_write");
+    rec.dispatchFlat(write_, {rays, grid.bits(), offsets, samples, sampleRay, grid.density()}, p, numRays, kMarchLocal,
+                     "march_write");
 }
 
 }  // namespace vknerf::nerf

@@ -8,7 +8,8 @@
 // samples of the one-step-at-a-time march (tests/reference/occupancy/occupancy_grid.h, ref::marchRay).
 // A grid of several cascades (unbounded scenes) is marched with instant-ngp's cone steps instead:
 // dt(t) = clamp(t coneAngle, dt, dtMax), empty cells of every cascade jumped over in whole steps
-// (ref::marchRayCascaded); each sample is then (t, min(dt(t), t_far - t)).
+// (ref::marchRayCascaded); each sample is then (t, min(dt(t), t_far - t)), or n dt(t) for a
+// sample stretched through faint cells (ConeSteps::stepOpacity).
 // Output layouts:
 //   offsets     uint[numRays + 1]: ray r owns samples [off[r], off[r+1]); off[numRays] = total
 //               (the packed layout of nerf::Compositor with samplesPerRay = 0)
@@ -31,8 +32,13 @@
 namespace vknerf::nerf {
 
 // Step sizes of a cascaded march: the step grows with t up to dtMax (dtMax >= the march's dt).
+// stepOpacity > 0 stretches a sample over up to `stretch` steps through cells faint enough that it
+// stays at most that optically thick by the grid's running-maximum densities (occupancy.glsl,
+// stretchedStep; ref::marchRayCascaded); 0 never stretches.
 struct ConeSteps {
   float coneAngle = 0, dtMax = 0;
+  float stepOpacity = 0;
+  uint32_t stretch = 1;
 };
 
 // How one march steps along its rays: the step dt, at most maxSamplesPerRay samples per ray, the
@@ -49,13 +55,17 @@ class RayMarcher {
  public:
   RayMarcher(Context& ctx, uint32_t maxRays);
 
+  // The most cone steps one stretched sample may stand for: each costs the march a cell lookup.
+  static constexpr uint32_t kMaxStretch = 64;
+
   // instant-ngp's step for a bounded scene: the box diagonal over 1024.
   static float defaultStep(const Aabb& box);
 
   // rays: 2 x vec4 per ray (o, t_near), (d, t_far), misses (-1, -1). Throws vknerf::Error for
   // rays.count > maxRays, steps.dt not finite and > 0, steps.maxSamplesPerRay == 0, rays.count *
   // maxSamplesPerRay over 32 bits, an empty box, or outputs too small for the rays (offsets,
-  // totals); with cascades, a cone angle not finite and >= 0 or dtMax < dt. `box` is the whole scene
+  // totals); with cascades, a cone angle not finite and >= 0, dtMax < dt, a step opacity not finite
+  // and >= 0, or a stretch outside [1, kMaxStretch]. `box` is the whole scene
   // box (the outermost cascade's).
   void record(gpu::Recorder& rec, const RaySpan& rays, const OccupancyGrid& grid, const Aabb& box,
               const MarchSteps& steps, const PackedSamples& out);

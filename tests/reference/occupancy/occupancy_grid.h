@@ -133,10 +133,18 @@ std::vector<MarchSample<T>> marchRay(const std::array<T, 3>& o, const std::array
 // jitter) and from a sample at t goes to t + dt(t). In an empty cell it jumps by whole steps of the
 // current dt to the first point past the cell's exit: n = max(1, ceil((t_exit - t) / dt(t))).
 
+//
+// Opacity-bounded steps (stepOpacity > 0): the sample at t stands for n steps [t, t + n dt(t)), n
+// the largest up to `stretch` for which every point t + k dt (0 < k < n) lies before t_far in an
+// occupied cell and n dt times the largest running-maximum density (negatives as 0) of the cells of
+// t, ..., t + (n - 1) dt is at most stepOpacity; the march goes on from t + n dt.
+
 struct ConeMarchParams {
   MarchParams base;       // boxMin, gridScale: the inner cube's; dt: dtMin
   uint32_t cascades = 1;
   float coneAngle = 0, dtMax = 0;
+  float stepOpacity = 0;  // 0: no stretching
+  uint32_t stretch = 1;
 };
 
 template <class T> T coneStep(T t, const ConeMarchParams& p) {
@@ -162,9 +170,11 @@ template <class T> std::array<uint32_t, 3> cascadeCell(const std::array<T, 3>& g
 }
 
 // Samples of one ray, (t, min(dt(t), t_far - t)), in order, at most maxSamples; none for a miss.
+// `density`: the grid's running maxima, read only for stretched steps.
 template <class T>
 std::vector<MarchSample<T>> marchRayCascaded(const std::array<T, 3>& o, const std::array<T, 3>& d, T tNear, T tFar,
-                                             uint32_t ray, const ConeMarchParams& p, const std::vector<uint32_t>& bits) {
+                                             uint32_t ray, const ConeMarchParams& p, const std::vector<uint32_t>& bits,
+                                             const std::vector<float>& density = {}) {
   std::vector<MarchSample<T>> out;
   const MarchParams& b = p.base;
   if (!(tNear >= T(0)) || b.maxSamples == 0) return out;
@@ -184,10 +194,29 @@ std::vector<MarchSample<T>> marchRayCascaded(const std::array<T, 3>& o, const st
     const uint32_t c = cascadeOf(g, r, p.cascades);
     const auto cell = cascadeCell(g, r, c);
     T next;
-    if (bitSet(bits, c * cells + cellIndex(cell[0], cell[1], cell[2], r))) {
-      out.push_back({t, std::min(dt, tFar - t)});
+    const uint32_t index = c * cells + cellIndex(cell[0], cell[1], cell[2], r);
+    if (bitSet(bits, index)) {
+      uint32_t n = 1;
+      if (p.stepOpacity > 0.0f) {
+        T sigma = std::max(T(density[index]), T(0));
+        for (; n < p.stretch; ++n) {
+          const T tk = t + T(n) * dt;
+          if (!(tk < tFar)) break;
+          std::array<T, 3> gk;
+          for (int a = 0; a < 3; ++a) gk[a] = go[a] + tk * gd[a];
+          const uint32_t ck = cascadeOf(gk, r, p.cascades);
+          const auto cellK = cascadeCell(gk, r, ck);
+          const uint32_t ik = ck * cells + cellIndex(cellK[0], cellK[1], cellK[2], r);
+          if (!bitSet(bits, ik)) break;
+          const T s = std::max(sigma, T(density[ik]));
+          if (!(s * (T(n + 1) * dt) <= T(p.stepOpacity))) break;
+          sigma = s;
+        }
+      }
+      const T step = T(n) * dt;
+      out.push_back({t, std::min(step, tFar - t)});
       if (out.size() == b.maxSamples) break;
-      next = t + dt;
+      next = t + step;
     } else {
       const T scale = T(std::ldexp(1.0f, int(c)));
       T tExit = T(FLT_MAX);

@@ -178,6 +178,146 @@ TEST_F(Cascades, ConeMarchMatchesReference) {
   EXPECT_GT(total, 50000u);  // the comparison saw real work
 }
 
+// Densities log-uniform so that one step dt is from 1e-3 to 1 optically thick: the stretch meets
+// cells that allow many steps, a few, and none.
+std::vector<float> randomDensities(const nerf::OccupancyGrid& grid, float dt, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> exponent(-3.0f, 0.0f);
+  std::vector<float> density(grid.numCells());
+  for (auto& d : density) d = std::pow(10.0f, exponent(rng)) / dt;
+  return density;
+}
+
+TEST_F(Cascades, StretchedConeMarchMatchesReference) {
+  nerf::OccupancyGrid grid(ctx(), kRes, kCascades);
+  const float dt = diagonal(nerf::RayMarcher::innerCube(kBox, kCascades)) / 64.0f;
+  const nerf::ConeSteps cone{1.0f / 32.0f, diagonal(kBox) / kRes, 0.05f, 16};
+  const auto rays = randomRays(2000, kBox, 13);
+  const auto bits = randomBits(grid, 0.7, 70);
+  const auto density = randomDensities(grid, dt, 3);
+  grid.bits().upload(bits);
+  grid.density().upload(density);
+  uint64_t total = 0, stretched = 0;
+  for (bool jitter : {false, true}) {
+    const auto out = runMarch(ctx(), rays, grid, kBox, dt, cone, 4096, 5, jitter);
+    auto params = paramsFor(grid, kBox, dt, cone, 4096, 5, jitter);
+    params.stepOpacity = cone.stepOpacity, params.stretch = cone.stretch;
+    for (uint32_t r = 0; r < rays.size(); ++r) {
+      const auto& ray = rays[r];
+      const auto expected = ref::marchRayCascaded<float>(ray.o, ray.d, ray.tNear, ray.tFar, r, params, bits, density);
+      const uint32_t first = out.offsets[r], count = out.offsets[r + 1] - first;
+      ASSERT_EQ(count, expected.size()) << "ray " << r;
+      for (uint32_t i = 0; i < count; ++i) {
+        EXPECT_EQ(out.samples[2 * (first + i)], expected[i].t) << "ray " << r << " sample " << i;
+        EXPECT_EQ(out.samples[2 * (first + i) + 1], expected[i].delta) << "ray " << r << " sample " << i;
+        stretched += i + 1 < count && expected[i].delta > 1.5f * ref::coneStep(expected[i].t, params);
+      }
+      total += count;
+    }
+  }
+  EXPECT_GT(total, 20000u);         // the comparison saw real work
+  EXPECT_GT(stretched, total / 20);  // and stretched samples among it
+}
+
+TEST(CascadeReference, AStretchedSampleStaysUnderItsOpacityBound) {
+  // Checked from plain geometry in double: a sample that stands for n steps has the points
+  // t + k dt (k < n) of those steps in occupied cells, and the largest density among those cells
+  // times its delta is at most the bound.
+  const uint32_t cells = kRes * kRes * kRes * kCascades;
+  std::mt19937 rng(21);
+  std::bernoulli_distribution on(0.8);
+  std::vector<uint32_t> bits((cells + 31) / 32);
+  for (uint32_t i = 0; i < cells; ++i)
+    if (on(rng)) ref::setBit(bits, i);
+  const Aabb inner = nerf::RayMarcher::innerCube(kBox, kCascades);
+  const float dt = diagonal(inner) / 64.0f, bound = 0.08f;
+  std::vector<float> density(cells);
+  std::uniform_real_distribution<float> exponent(-3.0f, 0.0f);
+  for (auto& d : density) d = std::pow(10.0f, exponent(rng)) / dt;
+  ref::ConeMarchParams p;
+  p.base.boxMin = inner.min;
+  p.base.gridScale = ref::gridScale(kRes, inner.min, inner.max);
+  p.base.resolution = kRes;
+  p.base.dt = dt;
+  p.base.maxSamples = 100000;
+  p.cascades = kCascades, p.coneAngle = 1.0f / 32.0f, p.dtMax = diagonal(kBox) / kRes;
+  p.stepOpacity = bound, p.stretch = 16;
+  // The cell of a world point, from the geometry: the smallest cube about the centre holding it;
+  // `ambiguous` where the point lies within float rounding of a cell face or a cascade's border.
+  const auto cellOf = [&](const std::array<double, 3>& x, bool& ambiguous) {
+    double q[3], m = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double centre = 0.5 * (kBox.min[k] + kBox.max[k]), half = 0.5 * (inner.max[k] - inner.min[k]);
+      q[k] = (x[k] - centre) / half;
+      m = std::max(m, std::fabs(q[k]));
+    }
+    const uint32_t c = m <= 1 ? 0 : m <= 2 ? 1 : 2;
+    ambiguous = std::fabs(m - 1) < 1e-4 || std::fabs(m - 2) < 1e-4;
+    uint32_t g[3];
+    for (int k = 0; k < 3; ++k) {
+      const double u = (q[k] / std::ldexp(1.0, int(c)) + 1) * 0.5 * kRes;
+      ambiguous = ambiguous || std::fabs(u - std::round(u)) < 1e-3;
+      g[k] = uint32_t(std::clamp(std::floor(u), 0.0, double(kRes - 1)));
+    }
+    return c * kRes * kRes * kRes + ref::cellIndex(g[0], g[1], g[2], kRes);
+  };
+  uint32_t stretched = 0, checked = 0;
+  for (const auto& ray : randomRays(500, kBox, 6)) {
+    for (const auto& s : ref::marchRayCascaded<float>(ray.o, ray.d, ray.tNear, ray.tFar, 0, p, bits, density)) {
+      const double step = ref::coneStep<float>(s.t, p);
+      const uint32_t n = uint32_t(std::lround(s.delta / step));
+      if (n <= 1) continue;
+      ++stretched;
+      double sigma = 0;
+      for (uint32_t k = 0; k < n; ++k) {
+        const double tk = s.t + k * step;
+        std::array<double, 3> x;
+        for (int a = 0; a < 3; ++a) x[a] = ray.o[a] + tk * ray.d[a];
+        bool ambiguous;
+        const uint32_t cell = cellOf(x, ambiguous);
+        if (ambiguous) continue;
+        EXPECT_TRUE(ref::bitSet(bits, cell)) << "t " << s.t << " step " << k << " of " << n;
+        sigma = std::max(sigma, double(density[cell]));
+      }
+      EXPECT_LE(sigma * s.delta, bound * (1 + 1e-5)) << "t " << s.t << " n " << n;
+      ++checked;
+    }
+  }
+  EXPECT_GT(stretched, 500u);
+  EXPECT_EQ(checked, stretched);
+}
+
+TEST(CascadeReference, AUniformFogIsCrossedInEqualStretchedSteps) {
+  // Every cell occupied, each step a quarter of the bound thick (a hair under, so that rounding
+  // cannot tip it): inside the box every sample but the last stands for exactly 4 steps.
+  const uint32_t cells = kRes * kRes * kRes * kCascades;
+  const std::vector<uint32_t> bits((cells + 31) / 32, ~0u);
+  const float dt = 0.01f, bound = 0.05f;
+  const std::vector<float> density(cells, bound / (4 * dt) * 0.999f);
+  const Aabb inner = nerf::RayMarcher::innerCube(kBox, kCascades);
+  ref::ConeMarchParams p;
+  p.base.boxMin = inner.min;
+  p.base.gridScale = ref::gridScale(kRes, inner.min, inner.max);
+  p.base.resolution = kRes;
+  p.base.dt = dt;
+  p.base.maxSamples = 100000;
+  p.cascades = kCascades, p.coneAngle = 0, p.dtMax = dt;  // a constant step
+  p.stepOpacity = bound, p.stretch = 16;
+  uint32_t rays = 0;
+  for (const auto& ray : randomRays(100, kBox, 2)) {
+    const auto s = ref::marchRayCascaded<float>(ray.o, ray.d, ray.tNear, ray.tFar, 0, p, bits, density);
+    if (s.size() < 2) continue;
+    ++rays;
+    for (size_t i = 0; i + 1 < s.size(); ++i) {
+      EXPECT_FLOAT_EQ(s[i].delta, 4 * dt) << i;
+      // a difference of two t of ~1 to 10: their float rounding, a few 1e-7, is all it may differ by
+      EXPECT_TRUE(test::near(s[i + 1].t - s[i].t, 4.0 * dt, 0, 2e-6)) << i;
+    }
+    EXPECT_LE(s.back().delta, 4 * dt);
+  }
+  EXPECT_GT(rays, 50u);
+}
+
 TEST_F(Cascades, StepsFollowTheConeRule) {
   // With every cell occupied nothing is skipped: consecutive samples are exactly one step apart,
   // and each step is clamp(t * angle, dtMin, dtMax) (computed here in double), or the rest to t_far.
@@ -284,6 +424,11 @@ TEST_F(Cascades, BadConeStepsAreErrors) {
   const auto rays = randomRays(4, kBox, 1);
   EXPECT_THROW(runMarch(ctx(), rays, grid, kBox, 0.1f, {1.0f / 256, 0.05f}, 16, 0, false), Error);  // dtMax < dt
   EXPECT_THROW(runMarch(ctx(), rays, grid, kBox, 0.1f, {-1.0f, 1.0f}, 16, 0, false), Error);
+  EXPECT_THROW(runMarch(ctx(), rays, grid, kBox, 0.1f, {0.0f, 1.0f, -0.1f, 4}, 16, 0, false), Error);
+  EXPECT_THROW(runMarch(ctx(), rays, grid, kBox, 0.1f, {0.0f, 1.0f, NAN, 4}, 16, 0, false), Error);
+  EXPECT_THROW(runMarch(ctx(), rays, grid, kBox, 0.1f, {0.0f, 1.0f, 0.05f, 0}, 16, 0, false), Error);
+  EXPECT_THROW(runMarch(ctx(), rays, grid, kBox, 0.1f, {0.0f, 1.0f, 0.05f, nerf::RayMarcher::kMaxStretch + 1}, 16, 0, false),
+               Error);
   EXPECT_THROW(nerf::OccupancyGrid(ctx(), 8, 0), Error);
   EXPECT_THROW(nerf::OccupancyGrid(ctx(), 8, 9), Error);
   EXPECT_THROW(nerf::OccupancyGrid(ctx(), 256, 2), Error);  // 2^25 cells

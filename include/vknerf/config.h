@@ -70,6 +70,10 @@ struct FastModel {
   // A cell is empty where one march step (the trained, smallest) through it is less opaque than
   // this: instant-ngp's 1%; higher skips more of a young field's fog (fewer samples per ray).
   float occupancyThreshold = 0.01f;
+  // With cascades: a march sample through faint occupied cells stands for several steps, as many
+  // as keep it at most this opaque by the grid's densities (fewer samples per ray through a fog);
+  // 0: one sample a step, as instant-ngp marches.
+  float stepOpacity = 0.0f;
   float hashLearningRateScale = 1.0f;    // the hash table's learning rate relative to the MLP's
   bool earlyTermination = true;          // train only on samples in front of transmittance 1e-4
   // Weight of mip-NeRF 360's distortion loss per ray against the photometric loss (0: none): it

@@ -1,6 +1,7 @@
 // The vanilla trainer on the shipped sample scene: steps run, checkpoints resume exactly, a loaded
 // model renders what the trainer's model renders.
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include "support/gpu_test.h"
@@ -217,6 +218,36 @@ TEST_F(TrainerTest, AHigherOccupancyThresholdSkipsMoreOfTheBox) {
   EXPECT_LT(*sharp.occupiedFraction, *usual.occupiedFraction);
   EXPECT_GT(*sharp.occupiedFraction, 0.0);
   EXPECT_LT(*sharp.meanSamplesPerRay, *usual.meanSamplesPerRay);
+}
+
+// FastModel::stepOpacity stretches march samples through faint cells: the same cascaded training
+// with a loose bound marches fewer samples per ray and still learns, the checkpoint keeps the bound,
+// and the loaded model renders what the trainer's does (it marches the same stretched samples).
+TEST_F(TrainerTest, StretchedStepsMarchFewerSamplesAndTheCheckpointKeepsThem) {
+  const test::TempDir tmp("trainer");
+  Dataset unbounded = scene();
+  unbounded.aabbScale = 4;
+  auto run = [&](float stepOpacity) {
+    TrainConfig c = TrainConfig::fast(*sharedContext());
+    c.fastModel().gridResolution = 16;
+    c.fastModel().samplesPerBatch = 4096;
+    c.fastModel().stepOpacity = stepOpacity;
+    c.raysPerBatch = 1024;
+    auto t = std::make_unique<Trainer>(sharedContext(), unbounded, c);
+    double first = 0, last = 0;
+    for (int i = 0; i < 48; ++i) (i == 0 ? first : last) = t->step(true).loss;
+    EXPECT_LT(last, first) << "step opacity " << stepOpacity;
+    return t;
+  };
+  const auto plain = run(0.0f), stretched = run(0.3f);
+  EXPECT_LT(*stretched->statistics().meanSamplesPerRay, 0.9 * *plain->statistics().meanSamplesPerRay);
+  stretched->save(tmp.file("stretched.vknerf"));
+  EXPECT_EQ(Trainer::configOf(tmp.file("stretched.vknerf")).fastModel().stepOpacity, 0.3f);
+  const Model m = Model::load(sharedContext(), tmp.file("stretched.vknerf"));
+  const RenderedImage a = stretched->model().render(unbounded.cameras[0]), b = m.render(unbounded.cameras[0]);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  EXPECT_EQ(a.samples, b.samples);
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "value " << i;
 }
 
 // A render says how many field samples it shaded: the vanilla model every sample of every pixel,

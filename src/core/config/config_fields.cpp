@@ -226,6 +226,10 @@ std::vector<ConfigField> table() {
       fastTop("occupancy_threshold", &FastModel::occupancyThreshold).addedLater(0.01f).range(0.0, 1.0).openLow()
           .flag("--occupancy-threshold", "fast: a cell is skipped where one march step through it is less opaque than this (instant-ngp: 0.01)")
           .flagRange(1e-6, 0.5),
+      // Models saved before it marched one sample a step.
+      fastTop("step_opacity", &FastModel::stepOpacity).addedLater(0.0f).range(0.0, 1.0)
+          .flag("--step-opacity", "fast, with cascades: a sample through faint cells stands for several steps while it stays at most this opaque (0: one a step)")
+          .flagRange(0.0, 0.5),
       fastTop("hash_lr_scale", &FastModel::hashLearningRateScale).addedLater().range(0.0, 1e6).openLow(),
       fastTop("early_termination", &FastModel::earlyTermination).addedLater()
           .flag("--no-early-termination", "fast: train on every marched sample, also behind opaque surfaces")

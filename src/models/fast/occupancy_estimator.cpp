@@ -14,6 +14,9 @@ namespace {
 
 constexpr float kOccupancyDecay = 0.95f;       // instant-ngp's EMA factor per update of a quarter of the cells
 constexpr uint32_t kMaxOccupancyPoints = 1u << 18;
+// The most steps one sample stretched through a fog stands for (FastModel::stepOpacity): at 0.05 a
+// fog at the occupancy threshold (1% a step) is crossed in steps of 5.
+constexpr uint32_t kStretch = 16;
 
 float stepOf(const FastModel& m, const Aabb& box, uint32_t marchSteps) {
   return nerf::RayMarcher::diagonal(nerf::RayMarcher::innerCube(box, m.cascades)) / float(marchSteps);
@@ -23,7 +26,7 @@ float stepOf(const FastModel& m, const Aabb& box, uint32_t marchSteps) {
 // (or dt, for a render asking for coarser steps than that).
 nerf::ConeSteps coneStepsFor(const FastModel& m, const Aabb& box, float dt) {
   if (m.cascades <= 1) return {};
-  return {m.coneAngle, std::max(dt, nerf::RayMarcher::diagonal(box) / float(m.gridResolution))};
+  return {m.coneAngle, std::max(dt, nerf::RayMarcher::diagonal(box) / float(m.gridResolution)), m.stepOpacity, kStretch};
 }
 
 }  // namespace

@@ -174,7 +174,7 @@ TEST(ConfigJson, EveryFieldRoundTrips) {
   TrainConfig f = fastConfig(12);
   FastModel& m = f.fastModel();
   m.coneAngle = 1.0f / 64, m.cascades = 3, m.nearDistance = 0.1f, m.hashGrowth = 1.38f, m.earlyTermination = false;
-  m.contraction = true, m.occupancyThreshold = 0.03f;
+  m.contraction = true, m.occupancyThreshold = 0.03f, m.stepOpacity = 0.05f;
   m.farField = FarField::Learned, m.density = DensityActivation::Softplus, m.distortionLoss = 0.001f;
   for (const TrainConfig& c : {v, f}) {
     const auto j = io::toJson(c);

@@ -74,21 +74,29 @@ MarchOut runMarch(Context& ctx, const std::vector<TestRay>& rays, const nerf::Oc
   return out;
 }
 
-ref::ConeMarchParams paramsFor(const nerf::OccupancyGrid& grid, const Aabb& box, float dt, const nerf::ConeSteps& cone,
-                               uint32_t maxSamples, uint32_t seed, bool jitter) {
-  const Aabb inner = nerf::RayMarcher::innerCube(box, grid.cascades());
+// The reference's parameters for a march of `cascades` grids of resolution^3 over `box`.
+ref::ConeMarchParams paramsFor(uint32_t resolution, uint32_t cascades, const Aabb& box, float dt,
+                               const nerf::ConeSteps& cone, uint32_t maxSamples, uint32_t seed, bool jitter) {
+  const Aabb inner = nerf::RayMarcher::innerCube(box, cascades);
   ref::ConeMarchParams p;
   p.base.boxMin = inner.min;
-  p.base.gridScale = ref::gridScale(grid.resolution(), inner.min, inner.max);
-  p.base.resolution = grid.resolution();
+  p.base.gridScale = ref::gridScale(resolution, inner.min, inner.max);
+  p.base.resolution = resolution;
   p.base.dt = dt;
   p.base.maxSamples = maxSamples;
   p.base.seed = seed;
   p.base.jitter = jitter;
-  p.cascades = grid.cascades();
+  p.cascades = cascades;
   p.coneAngle = cone.coneAngle;
   p.dtMax = cone.dtMax;
+  p.stepOpacity = cone.stepOpacity;
+  p.stretch = cone.stretch;
   return p;
+}
+
+ref::ConeMarchParams paramsFor(const nerf::OccupancyGrid& grid, const Aabb& box, float dt, const nerf::ConeSteps& cone,
+                               uint32_t maxSamples, uint32_t seed, bool jitter) {
+  return paramsFor(grid.resolution(), grid.cascades(), box, dt, cone, maxSamples, seed, jitter);
 }
 
 std::vector<uint32_t> randomBits(const nerf::OccupancyGrid& grid, double p, uint32_t seed) {
@@ -180,10 +188,10 @@ TEST_F(Cascades, ConeMarchMatchesReference) {
 
 // Densities log-uniform so that one step dt is from 1e-3 to 1 optically thick: the stretch meets
 // cells that allow many steps, a few, and none.
-std::vector<float> randomDensities(const nerf::OccupancyGrid& grid, float dt, uint32_t seed) {
+std::vector<float> randomDensities(uint32_t cells, float dt, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> exponent(-3.0f, 0.0f);
-  std::vector<float> density(grid.numCells());
+  std::vector<float> density(cells);
   for (auto& d : density) d = std::pow(10.0f, exponent(rng)) / dt;
   return density;
 }
@@ -194,14 +202,13 @@ TEST_F(Cascades, StretchedConeMarchMatchesReference) {
   const nerf::ConeSteps cone{1.0f / 32.0f, diagonal(kBox) / kRes, 0.05f, 16};
   const auto rays = randomRays(2000, kBox, 13);
   const auto bits = randomBits(grid, 0.7, 70);
-  const auto density = randomDensities(grid, dt, 3);
+  const auto density = randomDensities(grid.numCells(), dt, 3);
   grid.bits().upload(bits);
   grid.density().upload(density);
   uint64_t total = 0, stretched = 0;
   for (bool jitter : {false, true}) {
     const auto out = runMarch(ctx(), rays, grid, kBox, dt, cone, 4096, 5, jitter);
-    auto params = paramsFor(grid, kBox, dt, cone, 4096, 5, jitter);
-    params.stepOpacity = cone.stepOpacity, params.stretch = cone.stretch;
+    const auto params = paramsFor(grid, kBox, dt, cone, 4096, 5, jitter);
     for (uint32_t r = 0; r < rays.size(); ++r) {
       const auto& ray = rays[r];
       const auto expected = ref::marchRayCascaded<float>(ray.o, ray.d, ray.tNear, ray.tFar, r, params, bits, density);
@@ -231,17 +238,8 @@ TEST(CascadeReference, AStretchedSampleStaysUnderItsOpacityBound) {
     if (on(rng)) ref::setBit(bits, i);
   const Aabb inner = nerf::RayMarcher::innerCube(kBox, kCascades);
   const float dt = diagonal(inner) / 64.0f, bound = 0.08f;
-  std::vector<float> density(cells);
-  std::uniform_real_distribution<float> exponent(-3.0f, 0.0f);
-  for (auto& d : density) d = std::pow(10.0f, exponent(rng)) / dt;
-  ref::ConeMarchParams p;
-  p.base.boxMin = inner.min;
-  p.base.gridScale = ref::gridScale(kRes, inner.min, inner.max);
-  p.base.resolution = kRes;
-  p.base.dt = dt;
-  p.base.maxSamples = 100000;
-  p.cascades = kCascades, p.coneAngle = 1.0f / 32.0f, p.dtMax = diagonal(kBox) / kRes;
-  p.stepOpacity = bound, p.stretch = 16;
+  const auto density = randomDensities(cells, dt, 22);
+  const auto p = paramsFor(kRes, kCascades, kBox, dt, {1.0f / 32.0f, diagonal(kBox) / kRes, bound, 16}, 100000, 0, false);
   // The cell of a world point, from the geometry: the smallest cube about the centre holding it;
   // `ambiguous` where the point lies within float rounding of a cell face or a cascade's border.
   const auto cellOf = [&](const std::array<double, 3>& x, bool& ambiguous) {
@@ -294,15 +292,7 @@ TEST(CascadeReference, AUniformFogIsCrossedInEqualStretchedSteps) {
   const std::vector<uint32_t> bits((cells + 31) / 32, ~0u);
   const float dt = 0.01f, bound = 0.05f;
   const std::vector<float> density(cells, bound / (4 * dt) * 0.999f);
-  const Aabb inner = nerf::RayMarcher::innerCube(kBox, kCascades);
-  ref::ConeMarchParams p;
-  p.base.boxMin = inner.min;
-  p.base.gridScale = ref::gridScale(kRes, inner.min, inner.max);
-  p.base.resolution = kRes;
-  p.base.dt = dt;
-  p.base.maxSamples = 100000;
-  p.cascades = kCascades, p.coneAngle = 0, p.dtMax = dt;  // a constant step
-  p.stepOpacity = bound, p.stretch = 16;
+  const auto p = paramsFor(kRes, kCascades, kBox, dt, {0, dt, bound, 16}, 100000, 0, false);  // a constant step
   uint32_t rays = 0;
   for (const auto& ray : randomRays(100, kBox, 2)) {
     const auto s = ref::marchRayCascaded<float>(ray.o, ray.d, ray.tNear, ray.tFar, 0, p, bits, density);

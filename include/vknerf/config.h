@@ -79,6 +79,10 @@ struct FastModel {
   // Weight of mip-NeRF 360's distortion loss per ray against the photometric loss (0: none): it
   // gathers each ray's weight into few samples, against fog and floaters.
   float distortionLoss = 0;
+  // With the distortion loss: the weight a ray leaves to the far field (or the background) counts
+  // as one more interval at its far end, so that a half-transparent surface costs the loss instead
+  // of lowering it.
+  bool distortionFarField = false;
   // What a ray sees behind the field when it leaves the scene box partly transparent. Learned: a
   // colour per direction at infinity (a hash grid on the unit sphere and a small MLP, trained with
   // the field: the sky, and whatever the box leaves out), for photos without alpha. Constant:

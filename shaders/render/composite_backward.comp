@@ -20,7 +20,8 @@
 // delta_k (g_k T_{k+1} - D_k), D_k = sum_{i>k} g_i w_i, also carried back to front. m and l are
 // taken in the ray's normalised distance s in [0, 1], even in march steps (render/distortion.glsl,
 // tests/reference/render/distortion_loss.h): the loss is the same in any units and wherever the ray
-// starts, so one weight serves every scene.
+// starts, so one weight serves every scene. With pc.distortionFarField the far field's weight
+// T_final counts as one more interval, at s = 1 and of length 0 (ref::DistortionRay::farField).
 // With pc.writeTermValues, each ray's value of the loss terms it adds, weighted, goes to
 // termValues[ray] (x: the distortion loss, 2 sum_i w_i (m_i W_i - S_i) + 1/3 sum_i w_i^2 l_i, the
 // pairwise sum taken once per pair from the front pass's running sums) for the loss's report.
@@ -58,6 +59,8 @@ void main() {
   float prefix = 0.0;
   float opaque = 0.0;
   float wFront = 0.0, sFront = 0.0, distortionValue = 0.0;
+  bool far = distortion && pc.distortionFarField != 0u;
+  float farA = 0.0;  // sum_i w_i |1 - m_i|, with the far field in the loss
   uint cut = begin;
   for (; cut < end && opaque <= pc.maxOpticalDepth; ++cut) {
     float sigma = imageLoad(field, int(cut)).w;
@@ -70,6 +73,7 @@ void main() {
       distortionValue += w * (2.0 * (ml.x * wFront - sFront) + (1.0 / 3.0) * w * ml.y);
       wFront += w;
       sFront += w * ml.x;
+      farA += w * abs(1.0 - ml.x);
     }
     prefix += x;
     dField[cut].x = exp(-prefix);
@@ -77,6 +81,11 @@ void main() {
   }
   for (uint i = cut; i < end; ++i) dField[i] = vec4(0.0);
   end = cut;
+  // The far field in the loss: L += 2 T_final A, A = sum_i w_i |1 - m_i|, so dL/dw_i gains
+  // 2 T_final |1 - m_i| and every sigma_k gains -delta_k T_final 2 A (through T_final).
+  float tFinal = exp(-prefix);
+  if (far) distortionValue += 2.0 * tFinal * farA;
+  float farTerm = far ? pc.distortion * 2.0 * farA * tFinal : 0.0;
   if (pc.writeTermValues != 0u) termValues[ray] = vec4(pc.distortion * distortionValue, 0.0, 0.0, 0.0);
 
   vec4 g = dColor[ray];
@@ -96,8 +105,9 @@ void main() {
     if (distortion) {
       vec2 front = dField[i].yz, ml = distortionInterval(s, frame, spacing);
       float w = tIn * a.x;
-      float gw = pc.distortion * (2.0 * (ml.x * front.x - front.y + sBehind - ml.x * wBehind) + (2.0 / 3.0) * w * ml.y);
-      inner += gw * tOut - dBehind;
+      float gw = pc.distortion * (2.0 * (ml.x * front.x - front.y + sBehind - ml.x * wBehind) + (2.0 / 3.0) * w * ml.y +
+                                  (far ? 2.0 * tFinal * abs(1.0 - ml.x) : 0.0));
+      inner += gw * tOut - dBehind - farTerm;
       dBehind += gw * w;
       wBehind += w;
       sBehind += w * ml.x;

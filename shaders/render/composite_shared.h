@@ -13,6 +13,7 @@ PUSH_CONSTANTS_BEGIN(CompositePush)
   float distortion;               // backward: the distortion loss's weight per ray; 0: none
   float coneAngle, dtMin, dtMax;  // backward: the march's spacing (MarchSpacing), for the distortion loss
   uint writeTermValues;           // backward: write each ray's weighted loss terms (binding 9)
+  uint distortionFarField;        // backward: the far field's weight T_final as the distortion loss's last interval
 PUSH_CONSTANTS_END
 
 #endif

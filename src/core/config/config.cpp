@@ -51,7 +51,7 @@ std::string TrainConfig::describe() const {
     // Streamed, not "~" + to_string(...): GCC 12 warns of a memcpy overlap in that operator+ (-Wrestrict, a false positive).
     if (m->samplesPerBatch) os << "~" << m->samplesPerBatch; else os << "auto";
     os << " samples/step";
-    if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss;
+    if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss << (m->distortionFarField ? " (far field counted)" : "");
     os << ", far field " << farFieldName(m->farField);
   } else {
     const VanillaModel& v = std::get<VanillaModel>(model);

@@ -238,6 +238,9 @@ std::vector<ConfigField> table() {
       fastTop("distortion_loss", &FastModel::distortionLoss).addedLater(0.0f).range(0.0, 1e3)
           .flag("--distortion-loss", "fast: weight of mip-NeRF 360's distortion loss against fog and floaters (default 0: off; 0.001 leaves half-transparent surfaces the far field paints)")
           .flagRange(0.0, 100.0),
+      // Models saved before it left the far field out of the loss.
+      fastTop("distortion_far_field", &FastModel::distortionFarField).addedLater(false)
+          .flag("--distortion-far-field", "fast, with --distortion-loss: the weight a ray leaves to the far field counts in the loss, as an interval at its far end"),
       // Models saved before it had a constant far field.
       model("far_field", &FastModel::farField).addedLater(std::string("constant"))
           .check([](const TrainConfig& c) { checkCount("model.far_field", uint32_t(c.fastModel().farField), 0, uint32_t(FarField::Learned)); })

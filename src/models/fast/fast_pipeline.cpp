@@ -288,7 +288,8 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const StepBatch& b
   // even in the march's steps.
   const float dt = estimator_.dt();
   const nerf::DistortionLoss distortion{model_.distortionLoss / float(R), estimator_.cone().coneAngle, dt,
-                                        std::max(dt, estimator_.cone().dtMax), batch.rays.range};
+                                        std::max(dt, estimator_.cone().dtMax), batch.rays.range,
+                                        model_.distortionFarField};
   nerf::CompositeGradients gradients{dColor_, zeroDepthGrad_, f.dField, {distortion}};
   if (distortionTerm_) gradients.termValues = gpu::BufferRange(rayLossValues_);
   compositor_.recordBackward(rec, composite, gradients);

@@ -58,7 +58,8 @@ void Compositor::dispatch(gpu::Recorder& rec, gpu::Kernel& kernel, const char* l
   Push p{{background[0], background[1], background[2], 0}, numRays, samplesPerRay, perRayBackground ? 1u : 0u,
          maxOpticalDepth, out3 ? 1u : 0u, distorted ? distortion->weight : 0.0f,
          distorted ? distortion->coneAngle : 0.0f, distorted ? distortion->dtMin : 1.0f,
-         distorted ? distortion->dtMax : 1.0f, termValues ? 1u : 0u};
+         distorted ? distortion->dtMax : 1.0f, termValues ? 1u : 0u,
+         distorted && distortion->farField ? 1u : 0u};
   gpu::BufferRange offsets = rayOffsets.buffer ? rayOffsets : gpu::BufferRange(dummy_);
   gpu::BufferRange bg = perRayBackground ? *perRayBackground : gpu::BufferRange(dummy_);
   gpu::BufferRange kept = out3 ? *out3 : gpu::BufferRange(dummy_);

@@ -47,6 +47,9 @@ struct DistortionLoss {
   float weight = 0;
   float coneAngle = 0, dtMin = 1, dtMax = 1;  // step(t) = clamp(t coneAngle, dtMin, dtMax)
   gpu::BufferRange rays;
+  // The weight a ray leaves to what lies behind the box counts as one more interval at its far end
+  // (ref::DistortionRay::farField), so that handing weight to the far field is not free.
+  bool farField = false;
 };
 
 // What both passes read, built once for a batch and handed to its forward and then its backward:

@@ -73,9 +73,13 @@ std::vector<std::array<T, 4>> compositeBackward(std::span<const T> samples, std:
   }
   std::vector<std::array<T, 4>> grad(n);
   std::vector<T> gDistortion(n, T(0));
+  // With the far field in the loss, T_final = exp(-sum_k x_k) reaches every sigma_k as
+  // -delta_k T_final dL/dT_final.
+  T farTerm = 0;
   if (distortion != 0) {
     gDistortion = distortionWeightGradient<T>(samples, weight, ray);
     for (T& g : gDistortion) g *= distortion;
+    farTerm = distortion * distortionFarGradient<T>(samples, weight, ray) * tIn;
   }
   T suffix = 0;  // sum_{i>k} gDistortion_i w_i
   T opacityTerm = dColor[3] * tIn;
@@ -86,7 +90,7 @@ std::vector<std::array<T, 4>> compositeBackward(std::span<const T> samples, std:
     T t = samples[2 * i], delta = samples[2 * i + 1];
     T colorTerm = 0;
     for (int k = 0; k < 3; ++k) colorTerm += dColor[k] * (c[k] - q[k]);
-    T inner = tOut[i] * (colorTerm + dDepth * (t - qDepth)) + opacityTerm + gDistortion[i] * tOut[i] - suffix;
+    T inner = tOut[i] * (colorTerm + dDepth * (t - qDepth)) + opacityTerm + gDistortion[i] * tOut[i] - suffix - farTerm;
     suffix += gDistortion[i] * weight[i];
     grad[i] = {weight[i] * dColor[0], weight[i] * dColor[1], weight[i] * dColor[2], delta * inner};
     T survive = std::exp(-opticalDepth(field[4 * i + 3], delta));

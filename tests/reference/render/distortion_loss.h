@@ -38,10 +38,14 @@ template <class T> T marchCoordinate(T t, const MarchSpacing<T>& m) {
 }
 
 // One ray's normalised distance: its march spacing and its [near, far] (the box's entry, past the
-// near plane, and its exit).
+// near plane, and its exit). With farField, the weight the ray leaves to what lies behind the box
+// (T_final = 1 - sum_i w_i, the learned far field's) counts as one more interval, at s = 1 and of
+// length 0: mip-NeRF 360's loss sees all of a ray's weight (its scene has no far field), and without
+// it a ray lowers its loss by handing weight to the far field (a half-transparent table).
 template <class T> struct DistortionRay {
   MarchSpacing<T> spacing;
   T tNear = 0, tFar = 1;
+  bool farField = false;
 
   T s(T t) const {
     const T g0 = marchCoordinate(tNear, spacing);
@@ -53,7 +57,15 @@ template <class T> struct DistortionRay {
   T length(T t, T delta) const { return s(t + delta) - s(t); }
 };
 
-// The definition, O(n^2): the reference the kernel's O(n) prefix sums are tested against.
+// The far field's weight T_final = 1 - sum_i w_i (0 when the ray keeps none for it).
+template <class T> T farWeightOf(std::span<const T> weights) {
+  T sum = 0;
+  for (T w : weights) sum += w;
+  return std::max(T(1) - sum, T(0));
+}
+
+// The definition, O(n^2): the reference the kernel's O(n) prefix sums are tested against. With
+// ray.farField, the far field's interval at s = 1 adds 2 T_final sum_i w_i |m_i - 1| (m_i <= 1).
 template <class T>
 T distortionLoss(std::span<const T> samples, std::span<const T> weights, const DistortionRay<T>& ray) {
   const size_t n = samples.size() / 2;
@@ -62,22 +74,34 @@ T distortionLoss(std::span<const T> samples, std::span<const T> weights, const D
     const T mi = ray.midpoint(samples[2 * i], samples[2 * i + 1]);
     for (size_t j = 0; j < n; ++j) loss += weights[i] * weights[j] * std::abs(mi - ray.midpoint(samples[2 * j], samples[2 * j + 1]));
     loss += weights[i] * weights[i] * ray.length(samples[2 * i], samples[2 * i + 1]) / 3;
+    if (ray.farField) loss += 2 * farWeightOf(weights) * weights[i] * std::abs(T(1) - mi);
   }
   return loss;
 }
 
-// dL/dw_i = 2 sum_j w_j |m_i - m_j| + 2/3 w_i l_i.
+// dL/dw_i with T_final held fixed: 2 sum_j w_j |m_i - m_j| + 2/3 w_i l_i (+ 2 T_final |1 - m_i|
+// with the far field; T_final's own part is distortionFarGradient).
 template <class T>
 std::vector<T> distortionWeightGradient(std::span<const T> samples, std::span<const T> weights, const DistortionRay<T>& ray) {
   const size_t n = samples.size() / 2;
+  const T farWeight = ray.farField ? farWeightOf(weights) : T(0);
   std::vector<T> g(n);
   for (size_t i = 0; i < n; ++i) {
     const T mi = ray.midpoint(samples[2 * i], samples[2 * i + 1]);
     T sum = 0;
     for (size_t j = 0; j < n; ++j) sum += weights[j] * std::abs(mi - ray.midpoint(samples[2 * j], samples[2 * j + 1]));
-    g[i] = 2 * sum + T(2) / 3 * weights[i] * ray.length(samples[2 * i], samples[2 * i + 1]);
+    g[i] = 2 * sum + T(2) / 3 * weights[i] * ray.length(samples[2 * i], samples[2 * i + 1]) + 2 * farWeight * std::abs(T(1) - mi);
   }
   return g;
+}
+
+// dL/dT_final with the weights held fixed: 2 sum_i w_i |1 - m_i| with the far field, else 0.
+template <class T>
+T distortionFarGradient(std::span<const T> samples, std::span<const T> weights, const DistortionRay<T>& ray) {
+  if (!ray.farField) return 0;
+  T sum = 0;
+  for (size_t i = 0; i < samples.size() / 2; ++i) sum += weights[i] * std::abs(T(1) - ray.midpoint(samples[2 * i], samples[2 * i + 1]));
+  return 2 * sum;
 }
 
 }  // namespace vknerf::ref

@@ -67,6 +67,19 @@ TEST(ConfigJson, DistortionLossRoundTripsAndDefaultsToNoneForOldModels) {
   }
 }
 
+// Whether the far field counts in the distortion loss: written, read back, and off for a model saved
+// before the choice existed (its loss left the far field out).
+TEST(ConfigJson, DistortionFarFieldRoundTripsAndIsOffForOldModels) {
+  TrainConfig c = fastConfig(16);
+  c.fastModel().distortionLoss = 0.001f;
+  c.fastModel().distortionFarField = true;
+  auto j = io::toJson(c);
+  EXPECT_EQ(j["distortion_far_field"], true);
+  EXPECT_TRUE(io::trainConfigFromJson(j, "m.vknerf").fastModel().distortionFarField);
+  j.erase("distortion_far_field");
+  EXPECT_FALSE(io::trainConfigFromJson(j, "old.vknerf").fastModel().distortionFarField);
+}
+
 // The far field is part of the model (its parameters are in the checkpoint): written, read back,
 // constant for a model saved before it existed; an unknown name is an error naming the key and file.
 TEST(ConfigJson, FarFieldRoundTripsAndDefaultsToConstantForOldModels) {

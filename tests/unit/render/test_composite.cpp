@@ -50,8 +50,8 @@ struct Batch {
     const float tNear = s.empty() ? 0.0f : 0.9f * s[0], tFar = s.empty() ? 1.0f : s[s.size() - 2] + s.back() + 0.25f;
     rays.insert(rays.end(), {0, 0, 0, tNear, 0, 0, -1, tFar});
   }
-  ref::DistortionRay<double> distortionRay(uint32_t r, const ref::MarchSpacing<double>& spacing) const {
-    return {spacing, rays[8 * r + 3], rays[8 * r + 7]};
+  ref::DistortionRay<double> distortionRay(uint32_t r, const ref::MarchSpacing<double>& spacing, bool farField = false) const {
+    return {spacing, rays[8 * r + 3], rays[8 * r + 7], farField};
   }
   std::array<double, 3> background(uint32_t r) const {
     if (perRayBg.empty()) return {bg[0], bg[1], bg[2]};
@@ -70,10 +70,12 @@ struct GpuResult {
   std::vector<float> termValues;  // vec4 per ray: the loss terms the backward added, weighted
 };
 
-// The distortion loss's weight per ray and the march spacing it measures distances in.
+// The distortion loss's weight per ray, the march spacing it measures distances in, and whether
+// the far field's weight counts as its last interval.
 struct Distortion {
   double weight = 0;
   ref::MarchSpacing<double> spacing;
+  bool farField = false;
 };
 // Cone steps from 0.01 to 0.08 at 1/64: t1 = 0.64 and t2 = 5.12 put all three pieces of the spacing
 // inside the random rays' [0.5, ~12].
@@ -108,7 +110,8 @@ GpuResult runGpu(Context& ctx, const Batch& b, const Distortion& distortion = {}
                            sampleBuf, fieldBuf, b.bg};
   if (!b.perRayBg.empty()) in.perRayBackground = gpu::BufferRange(bgBuf);
   const nerf::DistortionLoss loss{float(distortion.weight), float(distortion.spacing.coneAngle),
-                                  float(distortion.spacing.dtMin), float(distortion.spacing.dtMax), rayBuf};
+                                  float(distortion.spacing.dtMin), float(distortion.spacing.dtMax), rayBuf,
+                                  distortion.farField};
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     comp.recordForward(rec, in, {color, depth, weights});
     comp.recordBackward(rec, in, {dColor, dDepth, dField, {loss}, gpu::BufferRange(termValues)});
@@ -148,7 +151,7 @@ RayTolerance rayTolerance(std::span<const double> s, std::span<const double> f) 
   auto fwd = ref::compositeForward<double>(s, f, bg);
   std::array<double, 4> dc = {b.dColor[4 * r], b.dColor[4 * r + 1], b.dColor[4 * r + 2], b.dColor[4 * r + 3]};
   double dd = b.dDepth[r];
-  const auto distortionRay = b.distortionRay(r, distortion.spacing);
+  const auto distortionRay = b.distortionRay(r, distortion.spacing, distortion.farField);
   auto bwd = ref::compositeBackward<double>(s, f, bg, dc, dd, distortion.weight, distortionRay);
   auto tol = rayTolerance(s, f);
   double tMax = 0;
@@ -195,6 +198,10 @@ RayTolerance rayTolerance(std::span<const double> s, std::span<const double> f) 
       weightErr += fwd.weights[i] * tol.eps[i];
     }
     errDistortion = distortion.weight * M * (16 * double(n) * kU + 4 * weightErr) * 4;
+    // The far field's part is of the same kind: 2 T_final |1 - m_i| in dL/dw_i (T_final off by
+    // T_final eps_n, |1 - m| <= M) and 2 A T_final in every dL/dsigma_k, A a running sum of n terms
+    // w_i |1 - m_i| <= M: at most as large and as inexact again as the rest.
+    if (distortion.farField) errDistortion *= 2;
   }
   for (size_t i = 0; i < n; ++i) {
     double w = g.weights[first + i], errW = fwd.weights[i] * tol.eps[i] + 1e-38;
@@ -365,19 +372,30 @@ TEST_F(Composite, MatchesReferenceWithDistortion) {
   expectAllRaysMatch(runGpu(ctx(), c, {0.05, kConeSpacing}), c, {0.05, kConeSpacing});
 }
 
+// The same with the far field's weight as the loss's last interval, in both layouts and both
+// spacings: its part of dL/dsigma reaches every sample of a ray through T_final.
+TEST_F(Composite, MatchesReferenceWithDistortionAndFarField) {
+  const Distortion cone{0.5, kConeSpacing, true}, constant{0.05, {0, 0.02, 0.02}, true};
+  auto b = randomBatch(200, 0, 96, true, 33);
+  expectAllRaysMatch(runGpu(ctx(), b, cone), b, cone);
+  auto c = randomBatch(70, 24, 0, false, 34);
+  expectAllRaysMatch(runGpu(ctx(), c, constant), c, constant);
+}
+
 // Each ray's distortion loss as the backward reports it (termValues' distortion column, for the
 // loss's breakdown): its weight times ref::distortionLoss over the reference's weights, in cone
 // steps and in one grid's constant step; 0 without the loss.
 TEST_F(Composite, ReportsEachRaysWeightedDistortionLoss) {
-  for (const Distortion& d : {Distortion{0.5, kConeSpacing}, Distortion{0.05, {0, 0.02, 0.02}}, Distortion{0, kConeSpacing}}) {
-    SCOPED_TRACE(d.weight);
+  for (const Distortion& d : {Distortion{0.5, kConeSpacing}, Distortion{0.05, {0, 0.02, 0.02}}, Distortion{0, kConeSpacing},
+                              Distortion{0.5, kConeSpacing, true}}) {
+    SCOPED_TRACE(::testing::Message() << d.weight << (d.farField ? " with the far field" : ""));
     auto b = randomBatch(150, 0, 96, true, 41);
     const GpuResult g = runGpu(ctx(), b, d);
     const uint32_t column = nerf::rayLossColumn(nerf::DistortionLoss{});
     for (uint32_t r = 0; r < b.numRays(); ++r) {
       const auto s = b.raySamples(r), f = b.rayField(r);
       const auto fw = ref::compositeForward<double>(s, f, b.background(r));
-      const auto ray = b.distortionRay(r, d.spacing);
+      const auto ray = b.distortionRay(r, d.spacing, d.farField);
       const double want = d.weight * ref::distortionLoss<double>(s, fw.weights, ray);
       // The float sums run over the ray's n samples with weights off by at most eps_n relative
       // (rayTolerance) and midpoints and lengths in [0, M] off by a few ulps of M: the pairwise
@@ -389,7 +407,8 @@ TEST_F(Composite, ReportsEachRaysWeightedDistortionLoss) {
         M = std::max(M, ref::marchCoordinate(s[2 * i] + s[2 * i + 1], d.spacing) /
                             std::max(ref::marchCoordinate(ray.tFar, d.spacing) - ref::marchCoordinate(ray.tNear, d.spacing), 1e-30) + 1);
       const double n = double(s.size() / 2);
-      const double bound = d.weight * M * (8 * n * kU + 4 * tol.eps.back()) * 4 + 1e-30;
+      // The far field's term 2 T_final sum_i w_i |1 - m_i| is one more such sum (at most 2M).
+      const double bound = d.weight * M * (8 * n * kU + 4 * tol.eps.back()) * 4 * (d.farField ? 2 : 1) + 1e-30;
       ASSERT_TRUE(test::near(g.termValues[4 * r + column], want, 0, bound)) << "ray " << r << ": " << g.termValues[4 * r + column]
                                                                           << " vs " << want;
     }
@@ -429,6 +448,23 @@ TEST(DistortionReference, LossByHand) {
   // Spread weight costs more than the same weight gathered.
   std::vector<double> spread = {1, 0.1, 1.5, 0.1, 2, 0.1}, wSpread = {0.3, 0.3, 0.3}, wGathered = {0, 0.9, 0};
   EXPECT_GT(ref::distortionLoss<double>(spread, wSpread, ray), 2 * ref::distortionLoss<double>(spread, wGathered, ray));
+}
+
+// With the far field as the last interval (s = 1, length 0): one sample of weight w at midpoint m
+// costs w^2 l / 3 + 2 (1 - w) w (1 - m). A ray that hands all its weight to the far field, or keeps
+// it all on a surface, pays only the surface's own length; half-and-half pays for the gap between
+// them, which the loss without the far field does not see.
+TEST(DistortionReference, FarFieldIntervalByHand) {
+  const ref::DistortionRay<double> plain{{0, 0.5, 0.5}, 0, 10}, far{{0, 0.5, 0.5}, 0, 10, true};
+  const std::vector<double> one = {2.9, 0.2};  // m = 0.3, l = 0.02
+  for (double w : {0.0, 0.5, 0.8, 1.0}) {
+    const std::vector<double> weight = {w};
+    EXPECT_NEAR(ref::distortionLoss<double>(one, weight, far), w * w * 0.02 / 3 + 2 * (1 - w) * w * 0.7, 1e-15) << w;
+    EXPECT_NEAR(ref::distortionLoss<double>(one, weight, plain), w * w * 0.02 / 3, 1e-15) << w;
+  }
+  const std::vector<double> half = {0.5}, opaque = {1.0};
+  EXPECT_GT(ref::distortionLoss<double>(one, half, far), 10 * ref::distortionLoss<double>(one, opaque, far));
+  EXPECT_LT(ref::distortionLoss<double>(one, half, plain), ref::distortionLoss<double>(one, opaque, plain));
 }
 
 // The loss does not depend on the scene's units: the same weights on the same ray with every length
@@ -509,7 +545,8 @@ TEST(CompositeReference, GradientsMatchFiniteDifferences) {
 }
 
 // The same with the distortion loss: L = dC . C + lambda * distortionLoss(w), alone (dC = 0) and
-// with the colour term, over a ray whose first sample starts at t = 0 (its near), in cone steps.
+// with the colour term, over a ray whose first sample starts at t = 0 (its near), in cone steps;
+// without and with the far field's interval (whose T_final = 1 - sum w moves with every sigma).
 // Same steps and tolerance as above: the loss is O(1) and smooth in sigma.
 TEST(CompositeReference, DistortionGradientsMatchFiniteDifferences) {
   std::mt19937 rng(8);
@@ -519,31 +556,35 @@ TEST(CompositeReference, DistortionGradientsMatchFiniteDifferences) {
   for (size_t i = 0; i < 12; ++i) s[2 * i] -= sf[0];  // from t = 0
   f[4 * 5 + 3] = 0;   // a transparent sample
   s[2 * 7 + 1] = 0;   // a duplicate sample
-  f[4 * 9 + 3] = 30;  // a nearly opaque one
   const std::array<double, 3> bg = {0.2, 0.5, 0.8};
   const std::array<std::array<double, 4>, 2> dCs = {{{0, 0, 0, 0}, {0.9, -0.3, 0.4, 0.2}}};
-  const ref::DistortionRay<double> ray{kConeSpacing, 0, s[22] + s[23] + 1};
-  for (double lambda : {1.0, 0.01}) {
-    for (const auto& dc : dCs) {
-      auto loss = [&](const std::vector<double>& field) {
-        auto o = ref::compositeForward<double>(s, field, bg);
-        return dc[0] * o.rgb[0] + dc[1] * o.rgb[1] + dc[2] * o.rgb[2] + dc[3] * o.opacity +
-               lambda * ref::distortionLoss<double>(s, o.weights, ray);
-      };
-      auto grad = ref::compositeBackward<double>(s, f, bg, dc, 0.0, lambda, ray);
-      double largest = 0;
-      for (size_t i = 0; i < 12; ++i) {
-        double h = 1e-6 * std::max(1.0, std::fabs(f[4 * i + 3]));
-        auto fp = f, fm = f;
-        fp[4 * i + 3] += h;
-        fm[4 * i + 3] -= h;
-        double fd = (loss(fp) - loss(fm)) / (2 * h);
-        EXPECT_NEAR(grad[i][3], fd, 1e-7 * std::max(1.0, std::fabs(fd))) << "lambda " << lambda << " sample " << i;
-        largest = std::max(largest, std::fabs(fd));
+  // Sample 9 nearly opaque, or faint enough that the far field keeps a visible share of the ray.
+  for (auto [farField, sigma9] : {std::pair{false, 30.0}, std::pair{true, 30.0}, std::pair{true, 0.3}}) {
+    f[4 * 9 + 3] = sigma9;
+    const ref::DistortionRay<double> ray{kConeSpacing, 0, s[22] + s[23] + 1, farField};
+    for (double lambda : {1.0, 0.01}) {
+      for (const auto& dc : dCs) {
+        auto loss = [&](const std::vector<double>& field) {
+          auto o = ref::compositeForward<double>(s, field, bg);
+          return dc[0] * o.rgb[0] + dc[1] * o.rgb[1] + dc[2] * o.rgb[2] + dc[3] * o.opacity +
+                 lambda * ref::distortionLoss<double>(s, o.weights, ray);
+        };
+        auto grad = ref::compositeBackward<double>(s, f, bg, dc, 0.0, lambda, ray);
+        double largest = 0;
+        for (size_t i = 0; i < 12; ++i) {
+          double h = 1e-6 * std::max(1.0, std::fabs(f[4 * i + 3]));
+          auto fp = f, fm = f;
+          fp[4 * i + 3] += h;
+          fm[4 * i + 3] -= h;
+          double fd = (loss(fp) - loss(fm)) / (2 * h);
+          EXPECT_NEAR(grad[i][3], fd, 1e-7 * std::max(1.0, std::fabs(fd)))
+              << "lambda " << lambda << " far field " << farField << " sigma_9 " << sigma9 << " sample " << i;
+          largest = std::max(largest, std::fabs(fd));
+        }
+        // Not a tolerance: the loss's part alone (dC = 0) must be a visible fraction of its weight.
+        EXPECT_GT(largest, 1e-2 * lambda) << "the loss should depend on the densities";
+        EXPECT_EQ(grad[7][3], 0.0);
       }
-      // Not a tolerance: the loss's part alone (dC = 0) must be a visible fraction of its weight.
-      EXPECT_GT(largest, 1e-2 * lambda) << "the loss should depend on the densities";
-      EXPECT_EQ(grad[7][3], 0.0);
     }
   }
 }

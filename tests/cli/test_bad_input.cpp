@@ -151,6 +151,10 @@ TEST(BadInput, FlagsAreUsageErrors) {
        "model.width must be a multiple of 8, got 12"},
       {"NaN orbit radius", "render no.vknerf --orbit 1 --size 16 --radius nan -o " + temp("r"), 2,
        "must be a finite number, got nan"},
+      {"NaN min transmittance", "render no.vknerf --orbit 1 --size 16 --min-transmittance nan -o " + temp("r"), 2,
+       "--min-transmittance: must be a number in [0, 1), got nan"},
+      {"min transmittance 1", "eval no.vknerf " + scene() + " --min-transmittance 1", 2,
+       "--min-transmittance: must be a number in [0, 1), got 1"},
       {"fit-image width", "fit-image " + scene() + "/train/r_0.png --width 6 --steps 1", 2, "multiple of 4"},
   });
 }

@@ -1,13 +1,15 @@
 #include "checks.h"
 
 #include <cmath>
+#include <functional>
 
 namespace vknerf::cli {
 namespace {
 
-CLI::Validator numberCheck(const char* name, bool positive) {
+// A number (the whole argument) that `accepts`; else "must be WANTED, got S".
+CLI::Validator numberCheck(const char* name, const char* wanted, std::function<bool(double)> accepts) {
   return CLI::Validator(
-      [positive](std::string& s) -> std::string {
+      [wanted, accepts](std::string& s) -> std::string {
         double v = 0;
         size_t used = 0;
         try {
@@ -15,8 +17,7 @@ CLI::Validator numberCheck(const char* name, bool positive) {
         } catch (const std::exception&) {
           used = 0;
         }
-        if (used != s.size() || !std::isfinite(v) || (positive && !(v > 0)))
-          return std::string("must be a ") + (positive ? "positive " : "") + "finite number, got " + s;
+        if (used != s.size() || !accepts(v)) return std::string("must be ") + wanted + ", got " + s;
         return "";
       },
       name);
@@ -24,7 +25,10 @@ CLI::Validator numberCheck(const char* name, bool positive) {
 
 }  // namespace
 
-const CLI::Validator PositiveFinite = numberCheck("POSITIVE", true);
-const CLI::Validator FiniteNumber = numberCheck("FINITE", false);
+const CLI::Validator PositiveFinite =
+    numberCheck("POSITIVE", "a positive finite number", [](double v) { return std::isfinite(v) && v > 0; });
+const CLI::Validator FiniteNumber = numberCheck("FINITE", "a finite number", [](double v) { return std::isfinite(v); });
+const CLI::Validator UnitFraction =
+    numberCheck("[0, 1)", "a number in [0, 1)", [](double v) { return v >= 0 && v < 1; });
 
 }  // namespace vknerf::cli

@@ -19,5 +19,7 @@ struct UsageError : Error {
 // value as a 309-digit bound: these say what is wanted in words.
 extern const CLI::Validator PositiveFinite;
 extern const CLI::Validator FiniteNumber;
+// A share in [0, 1) (NaN is none).
+extern const CLI::Validator UnitFraction;
 
 }  // namespace vknerf::cli

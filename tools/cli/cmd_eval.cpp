@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "appearance_option.h"
+#include "render_options.h"
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
@@ -30,7 +30,7 @@ namespace {
 struct Options {
   std::string model, scene, split = "test", json, csv, sheet;
   uint32_t downscale = 1, limit = 0, sheetViews = 8, sheetSize = 100;
-  std::optional<uint32_t> appearance;  // --appearance
+  RenderSettings settings;  // --appearance, --min-transmittance
 };
 
 // The error tiles' full scale: a mean |render - truth| of 0.25 over RGB (PSNR ~12 dB on its own) and
@@ -79,9 +79,7 @@ int run(const Options& o, const Globals& g) {
   files.input(o.model, "model").scene(o.scene).output(o.json, "--json").output(o.csv, "--csv").output(o.sheet, "--sheet");
   files.check();
   auto ctx = g.context();
-  RenderSettings settings;
-  settings.appearancePhoto = o.appearance;
-  Model model = loadForAppearance(ctx, o.model, settings, "eval");
+  Model model = loadForAppearance(ctx, o.model, o.settings, "eval");
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;
@@ -144,7 +142,8 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   app.add_option("--json", o->json, "Write the results as JSON");
   app.add_option("--csv", o->csv, "Write per-image results as CSV");
   app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
-  addAppearanceOption(app, o->appearance);
+  addAppearanceOption(app, o->settings.appearancePhoto);
+  addMinTransmittanceOption(app, o->settings.minTransmittance);
   app.add_option("--limit", o->limit, "Evaluate at most this many views (default 0: all)");
   app.add_option("--sheet", o->sheet,
                  "Write a contact sheet PNG: a row per view (name, PSNR, SSIM), ground truth | render | depth "

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <optional>
 
-#include "appearance_option.h"
+#include "render_options.h"
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
@@ -31,7 +31,7 @@ struct Options {
   // instant-ngp paths only (nerfstudio's state their own); unset: run.py's defaults.
   std::optional<double> seconds;
   std::optional<uint32_t> width, height;
-  std::optional<uint32_t> appearance;  // --appearance
+  RenderSettings settings;  // --appearance, --min-transmittance
 };
 
 // n cameras on a circle around the box centre, looking at it, +Z up (nerf_synthetic's world).
@@ -80,9 +80,7 @@ int run(const Options& o, const Globals& g) {
     if (o.fps <= 0) fps = path.fps;
   }
   auto ctx = g.context();
-  RenderSettings settings;
-  settings.appearancePhoto = o.appearance;
-  Model model = loadForAppearance(ctx, o.model, settings, "render");
+  Model model = loadForAppearance(ctx, o.model, o.settings, "render");
   std::vector<Camera> cams;
   Camera like = pinholeFromFocal(o.size, o.size, 1.2f * float(o.size));  // ~45 degree field of view
   float radius = o.radius;
@@ -163,7 +161,8 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   app.add_option("--radius", o->radius, "Orbit radius (default: the scene cameras' mean distance, else 4)")->check(FiniteNumber);
   app.add_option("--size", o->size, "Orbit image size without a SCENE")->check(CLI::Range(1u, 8192u));
   app.add_option("--downscale", o->downscale, "Downscale SCENE's images by this factor")->check(CLI::Range(1u, 64u));
-  addAppearanceOption(app, o->appearance);
+  addAppearanceOption(app, o->settings.appearancePhoto);
+  addMinTransmittanceOption(app, o->settings.minTransmittance);
   app.add_option("--limit", o->limit, "Render at most this many views (default 0: all)");
   return [o, &g, &app] {
     // A flag that changes nothing in this run is refused, as every flag without effect is: the

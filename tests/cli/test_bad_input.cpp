@@ -155,6 +155,11 @@ TEST(BadInput, FlagsAreUsageErrors) {
        "--min-transmittance: must be a number in [0, 1), got nan"},
       {"min transmittance 1", "eval no.vknerf " + scene() + " --min-transmittance 1", 2,
        "--min-transmittance: must be a number in [0, 1), got 1"},
+      // A vanilla model's rays take a fixed count of samples: the cut would change nothing.
+      {"min transmittance on a vanilla render", "render " + tinyModel() + " --orbit 1 --size 8 --min-transmittance 0.01 -o " +
+       temp("r_vanilla"), 2, "render: --min-transmittance has no effect on " + tinyModel() + ", a vanilla model"},
+      {"min transmittance on a vanilla eval", "eval " + tinyModel() + " " + scene() + " --min-transmittance 0.01", 2,
+       "eval: --min-transmittance has no effect on " + tinyModel() + ", a vanilla model"},
       {"fit-image width", "fit-image " + scene() + "/train/r_0.png --width 6 --steps 1", 2, "multiple of 4"},
   });
 }

@@ -31,6 +31,7 @@ struct Options {
   std::string model, scene, split = "test", json, csv, sheet;
   uint32_t downscale = 1, limit = 0, sheetViews = 8, sheetSize = 100;
   RenderSettings settings;  // --appearance, --min-transmittance
+  bool minTransmittanceGiven = false;
 };
 
 // The error tiles' full scale: a mean |render - truth| of 0.25 over RGB (PSNR ~12 dB on its own) and
@@ -79,7 +80,7 @@ int run(const Options& o, const Globals& g) {
   files.input(o.model, "model").scene(o.scene).output(o.json, "--json").output(o.csv, "--csv").output(o.sheet, "--sheet");
   files.check();
   auto ctx = g.context();
-  Model model = loadForAppearance(ctx, o.model, o.settings, "eval");
+  Model model = loadWithRenderSettings(ctx, o.model, o.settings, o.minTransmittanceGiven, "eval");
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;
@@ -156,6 +157,7 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
     for (const char* flag : {"--sheet-views", "--sheet-size"})
       if (app.count(flag) && o->sheet.empty())
         throw UsageError(std::string("eval: ") + flag + " has no effect without --sheet (add it, or drop " + flag + ")");
+    o->minTransmittanceGiven = app.count("--min-transmittance") > 0;
     return run(*o, g);
   };
 });

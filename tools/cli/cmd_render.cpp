@@ -32,6 +32,7 @@ struct Options {
   std::optional<double> seconds;
   std::optional<uint32_t> width, height;
   RenderSettings settings;  // --appearance, --min-transmittance
+  bool minTransmittanceGiven = false;
 };
 
 // n cameras on a circle around the box centre, looking at it, +Z up (nerf_synthetic's world).
@@ -80,7 +81,7 @@ int run(const Options& o, const Globals& g) {
     if (o.fps <= 0) fps = path.fps;
   }
   auto ctx = g.context();
-  Model model = loadForAppearance(ctx, o.model, o.settings, "render");
+  Model model = loadWithRenderSettings(ctx, o.model, o.settings, o.minTransmittanceGiven, "render");
   std::vector<Camera> cams;
   Camera like = pinholeFromFocal(o.size, o.size, 1.2f * float(o.size));  // ~45 degree field of view
   float radius = o.radius;
@@ -179,6 +180,7 @@ Registration render("render", "Render RGB, depth and opacity images from a train
     if (app.count("--fps") && o->video.empty() && !path) refuse("--fps", "without --video or an instant-ngp --path");
     for (const char* flag : {"--seconds", "--width", "--height"})
       if (app.count(flag) && !path) refuse(flag, "without an instant-ngp --path");
+    o->minTransmittanceGiven = app.count("--min-transmittance") > 0;
     return run(*o, g);
   };
 });

@@ -16,12 +16,16 @@
 
 namespace vknerf::cli {
 
-// Model::load with RenderSettings::appearancePhoto from --appearance: a photo past the model's
-// training photos is the flag out of range, a usage error naming it (exit 2), not a runtime error.
-inline Model loadForAppearance(const std::shared_ptr<Context>& ctx, const std::string& path, const RenderSettings& settings,
-                               const std::string& command) {
+// Model::load with the RenderSettings of these flags, each a usage error naming it (exit 2), not a
+// runtime error, where the model makes it wrong or void: --appearance past the model's training
+// photos, and --min-transmittance (given: `minTransmittanceGiven`) on a vanilla model, whose rays
+// take a fixed count of samples and never stop early, so the flag would change nothing.
+inline Model loadWithRenderSettings(const std::shared_ptr<Context>& ctx, const std::string& path,
+                                    const RenderSettings& settings, bool minTransmittanceGiven,
+                                    const std::string& command) {
+  std::optional<Model> model;
   try {
-    return Model::load(ctx, path, settings);
+    model.emplace(Model::load(ctx, path, settings));
   } catch (const Error& e) {
     // The appearance embedding's own words (src/models/common/appearance.cpp).
     const std::string prefix = "render settings: appearance photo ", what = e.what();
@@ -29,6 +33,10 @@ inline Model loadForAppearance(const std::shared_ptr<Context>& ctx, const std::s
     throw UsageError(command + ": --appearance " + std::to_string(*settings.appearancePhoto) + " is out of range:" +
                      what.substr(what.find(", but") + 5));
   }
+  if (minTransmittanceGiven && !model->config().isFast())
+    throw UsageError(command + ": --min-transmittance has no effect on " + path +
+                     ", a vanilla model (its rays take a fixed count of samples; drop the flag)");
+  return std::move(*model);
 }
 
 inline void addAppearanceOption(CLI::App& app, std::optional<uint32_t>& photo) {

@@ -81,7 +81,7 @@ TrainConfig TrainConfig::fast(const Context& ctx) {
     // black in depth) against 2% without (docs/real_captures.md, "The distortion loss, off").
     m.distortionLoss = 0;
     c.raysPerBatch = 1u << 14;
-    // 2^14 samples a step at 128 march steps, more at finer steps (0: src/models/fast/fast_capacity.h).
+    // 2^14 samples a step, whatever the march steps (0: src/models/fast/fast_capacity.h).
     m.samplesPerBatch = 0;
     c.decaySteps = 4000;
     m.gridUpdateInterval = 16;

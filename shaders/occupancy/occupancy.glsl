@@ -8,9 +8,9 @@
 #ifndef VKNERF_OCCUPANCY_GLSL
 #define VKNERF_OCCUPANCY_GLSL
 
+#include "common/float_limits.glsl"
 #include "common/rng.glsl"
 
-const float kMaxFloat = 3.402823466e38;
 // Lattice points per ray are counted in a uint and converted to float: stay where that is exact.
 const uint kMaxMarchSteps = 16777216u;
 

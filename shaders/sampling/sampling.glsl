@@ -4,11 +4,11 @@
 #ifndef VKNERF_SAMPLING_GLSL
 #define VKNERF_SAMPLING_GLSL
 
+#include "common/float_limits.glsl"
 #include "common/rng.glsl"
 
 // Masses below this count as none and it bounds every denominator (ref::kMinMass).
 const float kMinMass = 1e-30;
-const float kMaxFloat = 3.402823466e38;
 
 // Misses the box, or has no length: every sample becomes (max(t_near, 0), 0).
 bool emptyRay(float tNear, float tFar) { return tNear < 0.0 || !(tFar > tNear); }

@@ -1,0 +1,13 @@
+// The push constants of proposal_sample.comp; on the host, vknerf::glsl::ProposalSamplePush.
+#ifndef VKNERF_SAMPLING_PROPOSAL_SAMPLE_SHARED_H
+#define VKNERF_SAMPLING_PROPOSAL_SAMPLE_SHARED_H
+#include "common/shared_types.h"
+
+PUSH_CONSTANTS_BEGIN(ProposalSamplePush)
+  uint numRays;
+  uint seed;
+  uint jitter;    // 1: one random shift of the edge quantiles a ray (training); 0: none (rendering)
+  float padding;  // the uniform share of the sampling mass, spread over the occupied length
+PUSH_CONSTANTS_END
+
+#endif

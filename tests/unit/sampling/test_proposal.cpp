@@ -1,0 +1,296 @@
+// The proposal estimator's kernels, proposal_sample.comp and proposal_interlevel.comp, against the
+// CPU reference (tests/reference/sampling/proposal.h), and the reference's gradient against finite
+// differences of its loss in double precision.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "gpu/dispatch/recorder.h"
+#include "gpu/memory/buffer.h"
+#include "nerf/sampling/interlevel_loss.h"
+#include "nerf/sampling/proposal_sampler.h"
+#include "reference/sampling/proposal.h"
+#include "support/gpu_test.h"
+#include "support/submit_once.h"
+#include "vknerf/error.h"
+
+using namespace vknerf;
+
+namespace {
+
+// One ray's candidates as the march leaves them: sorted intervals (t, delta) with gaps between
+// some of them, and a proposal density at each.
+struct Ray {
+  std::vector<double> candidates, sigma;
+};
+
+Ray randomRay(std::mt19937& rng, size_t k, bool gaps = true) {
+  std::uniform_real_distribution<double> step(0.01, 0.08), gap(0.0, 0.5), u01(0.0, 1.0);
+  Ray r;
+  double t = 0.5 + u01(rng);
+  for (size_t i = 0; i < k; ++i) {
+    double d = step(rng);
+    r.candidates.insert(r.candidates.end(), {t, d});
+    t += d + (gaps && u01(rng) < 0.2 ? gap(rng) : 0.0);
+    // Mostly thin, with a few dense stretches: a surface, some fog.
+    r.sigma.push_back(u01(rng) < 0.15 ? 5.0 + 40.0 * u01(rng) : 0.5 * u01(rng));
+  }
+  return r;
+}
+
+template <class T> std::vector<T> as(const std::vector<double>& v) { return std::vector<T>(v.begin(), v.end()); }
+
+double occupiedLength(const std::vector<double>& pairs) {
+  double sum = 0;
+  for (size_t i = 1; i < pairs.size(); i += 2) sum += std::max(pairs[i], 0.0);
+  return sum;
+}
+
+// The packed layout of several rays: offsets and the concatenated entries.
+struct Packed {
+  std::vector<uint32_t> offsets{0};
+  std::vector<float> pairs, values;
+  void add(const std::vector<double>& p, const std::vector<double>& v) {
+    offsets.push_back(offsets.back() + uint32_t(p.size() / 2));
+    for (double x : p) pairs.push_back(float(x));
+    for (double x : v) values.push_back(float(x));
+  }
+};
+
+// Buffers may not be empty: pad what a case leaves empty.
+template <class T> std::vector<T> padded(std::vector<T> v) {
+  v.resize(std::max<size_t>(v.size(), 4));
+  return v;
+}
+
+class Proposal : public test::GpuTest {
+ protected:
+  // The samples the kernel places: counts[r] samples for ray r.
+  std::vector<float> sample(const std::vector<Ray>& rays, const std::vector<uint32_t>& counts,
+                            nerf::ProposalSampler::Draws draws) {
+    Packed c;
+    for (const Ray& r : rays) c.add(r.candidates, r.sigma);
+    std::vector<uint32_t> sampleOffsets{0};
+    for (uint32_t n : counts) sampleOffsets.push_back(sampleOffsets.back() + n);
+    auto candOff = gpu::Buffer::of(ctx(), c.offsets), cand = gpu::Buffer::of(ctx(), padded(c.pairs)),
+         sigma = gpu::Buffer::of(ctx(), padded(c.values)), sampOff = gpu::Buffer::of(ctx(), sampleOffsets);
+    gpu::Buffer out(ctx(), std::max<VkDeviceSize>(sampleOffsets.back() * nerf::kSampleBytes, 16));
+    nerf::ProposalSampler sampler(ctx());
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      sampler.record(rec, uint32_t(rays.size()), {candOff, cand, sigma}, draws, {sampOff, out});
+    });
+    return out.download<float>(size_t(sampleOffsets.back()) * 2);
+  }
+
+  struct InterlevelOut {
+    std::vector<float> dWeights, dSigma, loss;
+  };
+  InterlevelOut interlevel(const std::vector<Ray>& rays, const std::vector<std::vector<double>>& samples,
+                           const std::vector<std::vector<double>>& fieldWeights, nerf::InterlevelLoss::Terms terms) {
+    Packed c, s;
+    for (size_t r = 0; r < rays.size(); ++r) {
+      c.add(rays[r].candidates, rays[r].sigma);
+      s.add(samples[r], fieldWeights[r]);
+    }
+    auto candOff = gpu::Buffer::of(ctx(), c.offsets), cand = gpu::Buffer::of(ctx(), padded(c.pairs)),
+         sigma = gpu::Buffer::of(ctx(), padded(c.values)), sampOff = gpu::Buffer::of(ctx(), s.offsets),
+         samp = gpu::Buffer::of(ctx(), padded(s.pairs)), weights = gpu::Buffer::of(ctx(), padded(s.values));
+    const size_t k = c.values.size();
+    gpu::Buffer dW(ctx(), std::max<VkDeviceSize>(k * 4, 16)), dS(ctx(), std::max<VkDeviceSize>(k * 4, 16)),
+        loss(ctx(), std::max<VkDeviceSize>(rays.size() * 4, 16));
+    nerf::InterlevelLoss kernel(ctx());
+    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+      kernel.record(rec, uint32_t(rays.size()), {candOff, cand, sigma}, {sampOff, samp}, weights, terms, {dW, dS, loss});
+    });
+    return {dW.download<float>(k), dS.download<float>(k), loss.download<float>(rays.size())};
+  }
+};
+
+// ---- The reference ----
+
+TEST(ProposalReference, SamplesTileTheOccupiedLengthWithEqualMass) {
+  std::mt19937 rng(3);
+  Ray r = randomRay(rng, 40);
+  const uint32_t n = 16;
+  for (double shift : {0.0, -0.5, 0.37}) {
+    std::vector<double> s = ref::proposalSamples<double>(r.candidates, r.sigma, n, 0.0, shift);
+    double tiled = occupiedLength(s);
+    EXPECT_NEAR(tiled, occupiedLength(r.candidates), 1e-12);
+    // Without padding the interior bins each hold 1/n of the weight, the first and last what the
+    // shift leaves them: measured by a fine sum of the weight density over each bin.
+    std::vector<double> w = ref::proposalWeights<double>(r.candidates, r.sigma);
+    double total = 0;
+    for (double x : w) total += x;
+    std::vector<double> u = ref::occupiedStarts<double>(r.candidates);
+    double e0 = 0;
+    for (uint32_t j = 0; j < n; ++j) {
+      double e1 = e0 + s[2 * j + 1], mass = 0;
+      for (size_t i = 0; i < w.size(); ++i) {
+        double overlap = std::min(e1, u[i + 1]) - std::max(e0, u[i]);
+        if (overlap > 0) mass += w[i] * overlap / (u[i + 1] - u[i]);
+      }
+      double expected = (j == 0 ? (1 + shift) : j + 1 == n ? (1 - shift) : 1.0) / n * total;
+      EXPECT_NEAR(mass, expected, 1e-9 * total) << "bin " << j << " shift " << shift;
+      // The midpoint lies inside a candidate, in t.
+      EXPECT_GE(s[2 * j], r.candidates[0]);
+      e0 = e1;
+    }
+  }
+}
+
+TEST(ProposalReference, SamplesCrowdIntoTheOpaqueCandidate) {
+  // 64 equal candidates of thin fog and one opaque one: a proposal that saw the surface puts most
+  // of a ray's samples inside it.
+  Ray r;
+  for (int i = 0; i < 64; ++i) {
+    r.candidates.insert(r.candidates.end(), {1.0 + 0.05 * i, 0.05});
+    r.sigma.push_back(i == 40 ? 200.0 : 0.01);
+  }
+  std::vector<double> s = ref::proposalSamples<double>(r.candidates, r.sigma, 16, 0.01, 0.0);
+  int inside = 0;
+  for (int j = 0; j < 16; ++j) inside += s[2 * j] >= 3.0 && s[2 * j] <= 3.05;
+  EXPECT_GE(inside, 13);
+}
+
+TEST(ProposalReference, InterlevelLossIsZeroWhenTheProposalIsTheField) {
+  // The field's samples are the candidates and its weights the proposal's own: every bound is met.
+  std::mt19937 rng(5);
+  Ray r = randomRay(rng, 30);
+  std::vector<double> w = ref::proposalWeights<double>(r.candidates, r.sigma);
+  auto res = ref::interlevelLoss<double>(r.candidates, r.sigma, r.candidates, w);
+  EXPECT_EQ(res.loss, 0.0);
+  for (double g : res.dSigma) EXPECT_EQ(g, 0.0);
+  // Halving the proposal's densities lowers its weights at the surface: the loss turns positive.
+  std::vector<double> half = r.sigma;
+  for (double& x : half) x *= 0.5;
+  EXPECT_GT(ref::interlevelLoss<double>(r.candidates, half, r.candidates, w).loss, 0.0);
+}
+
+TEST(ProposalReference, InterlevelSigmaGradientMatchesFiniteDifferences) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    Ray r = randomRay(rng, 24 + 8 * trial);
+    std::vector<double> samples = ref::proposalSamples<double>(r.candidates, r.sigma, 12, 0.01, 0.1 * trial);
+    // Field weights above the bounds where the proposal is thin, so that most terms are active.
+    std::vector<double> fw(12);
+    for (double& w : fw) w = 0.02 + 0.2 * u01(rng);
+    auto res = ref::interlevelLoss<double>(r.candidates, r.sigma, samples, fw, 0.7);
+    for (size_t k = 0; k < r.sigma.size(); ++k) {
+      const double h = 1e-6 * std::max(1.0, r.sigma[k]);
+      std::vector<double> plus = r.sigma, minus = r.sigma;
+      plus[k] += h;
+      minus[k] -= h;
+      double fd = (ref::interlevelLoss<double>(r.candidates, plus, samples, fw, 0.7).loss -
+                   ref::interlevelLoss<double>(r.candidates, minus, samples, fw, 0.7).loss) / (2 * h);
+      // Central differences in double: truncation O(h^2) and rounding ~1e-16 / h, far below this.
+      EXPECT_NEAR(res.dSigma[k], fd, 1e-6 + 1e-5 * std::abs(fd)) << "trial " << trial << " candidate " << k;
+    }
+  }
+}
+
+// ---- The kernels against the reference ----
+
+// Tolerances. The kernels compute in float what the reference does in double, but through the
+// composite's alpha (a series below x = 0.5, where the reference takes expm1): weights agree to a
+// few float ulps. An edge is the inverse CDF of a mass that sums candidates' weights, so its error
+// is the sum's rounding (k ulps of the total) over the smallest mass per length (the padding's
+// 1% of the total spread over the occupied length U): about 1e-4 U for the 60-candidate rays here.
+// Midpoints inherit it; a t is a candidate's start plus a distance in u, so the bound is absolute.
+constexpr double kEdgeTolerance = 2e-4;
+
+TEST_F(Proposal, SamplesMatchReference) {
+  std::mt19937 rng(7);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 6; ++i) rays.push_back(randomRay(rng, 10 + 10 * i, i % 2 == 0));
+  rays.push_back({});                                   // no candidates
+  Ray zero = randomRay(rng, 20);
+  for (double& s : zero.sigma) s = 0;                   // no weight: the padding alone
+  rays.push_back(zero);
+  Ray hard = randomRay(rng, 20);
+  hard.sigma[3] = std::numeric_limits<double>::infinity();
+  hard.sigma[7] = std::numeric_limits<double>::quiet_NaN();
+  hard.sigma[9] = -4.0;
+  rays.push_back(hard);
+  std::vector<uint32_t> counts{16, 8, 32, 1, 16, 0, 16, 16, 24};
+  for (bool jitter : {false, true}) {
+    nerf::ProposalSampler::Draws draws{{9, jitter}, 0.01f};
+    std::vector<float> got = sample(rays, counts, draws);
+    size_t at = 0;
+    for (size_t r = 0; r < rays.size(); ++r) {
+      double shift = ref::proposalShift<double>(9, uint32_t(r), jitter);
+      std::vector<double> want = ref::proposalSamples<double>(rays[r].candidates, rays[r].sigma, counts[r], 0.01, shift);
+      double scale = std::max(occupiedLength(rays[r].candidates), 1.0);
+      for (uint32_t j = 0; j < counts[r]; ++j, ++at) {
+        EXPECT_NEAR(got[2 * at], want[2 * j], kEdgeTolerance * scale) << "ray " << r << " sample " << j;
+        EXPECT_NEAR(got[2 * at + 1], want[2 * j + 1], kEdgeTolerance * scale) << "ray " << r << " sample " << j;
+        EXPECT_TRUE(std::isfinite(got[2 * at]) && std::isfinite(got[2 * at + 1]));
+      }
+    }
+  }
+}
+
+TEST_F(Proposal, AllZeroWeightsWithoutPaddingSampleByLength) {
+  // Masses that sum to nothing fall back to each candidate's length: evenly spread samples.
+  Ray r;
+  for (int i = 0; i < 10; ++i) {
+    r.candidates.insert(r.candidates.end(), {1.0 + 0.2 * i, 0.1});  // gaps of 0.1 between
+    r.sigma.push_back(0.0);
+  }
+  std::vector<float> got = sample({r}, {4}, {{0, false}, 0.0f});
+  for (int j = 0; j < 4; ++j) {
+    EXPECT_NEAR(got[2 * j + 1], 0.25, 1e-6) << j;  // a quarter of the occupied length
+    // The midpoint in u, back in t: candidate c = floor(mid / 0.1) starts at 1 + 0.2 c.
+    double mid = 0.125 + 0.25 * j;
+    int c = int(mid / 0.1);
+    EXPECT_NEAR(got[2 * j], 1.0 + 0.2 * c + (mid - 0.1 * c), 1e-5) << j;
+  }
+}
+
+TEST_F(Proposal, InterlevelMatchesReference) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::vector<Ray> rays;
+  std::vector<std::vector<double>> samples, weights;
+  for (int i = 0; i < 8; ++i) {
+    Ray r = i == 5 ? Ray{} : randomRay(rng, 8 + 7 * i, i % 3 != 0);
+    uint32_t n = i == 6 ? 0 : 4 + 3 * i;
+    samples.push_back(ref::proposalSamples<double>(r.candidates, r.sigma, n, 0.01, 0.2));
+    std::vector<double> fw(n);
+    for (double& w : fw) w = u01(rng) < 0.5 ? 0.3 * u01(rng) : 0.0;
+    if (i == 7 && n > 2) fw[1] = std::numeric_limits<double>::quiet_NaN();  // clamped to 0
+    weights.push_back(fw);
+    rays.push_back(r);
+  }
+  rays[4].sigma[2] = std::numeric_limits<double>::infinity();
+  const double lossWeight = 0.5;
+  InterlevelOut got = interlevel(rays, samples, weights, {float(lossWeight), 1e-7f});
+  size_t at = 0;
+  for (size_t r = 0; r < rays.size(); ++r) {
+    auto want = ref::interlevelLoss<double>(rays[r].candidates, rays[r].sigma, samples[r], weights[r], lossWeight);
+    // Float sums of a few dozen terms, each divided by w + 1e-7: a relative 1e-4 covers their
+    // rounding; the absolute part covers terms whose w is itself near float's resolution.
+    EXPECT_NEAR(got.loss[r], want.loss, 1e-6 + 1e-4 * std::abs(want.loss)) << "ray " << r;
+    for (size_t k = 0; k < rays[r].sigma.size(); ++k, ++at) {
+      EXPECT_NEAR(got.dWeights[at], want.dWeights[k], 1e-5 + 1e-4 * std::abs(want.dWeights[k])) << r << "/" << k;
+      EXPECT_NEAR(got.dSigma[at], want.dSigma[k], 1e-6 + 1e-4 * std::abs(want.dSigma[k])) << r << "/" << k;
+      EXPECT_TRUE(std::isfinite(got.dSigma[at]));
+    }
+  }
+}
+
+TEST_F(Proposal, BadSettingsAreErrors) {
+  Ray r;
+  r.candidates = {1.0, 0.1};
+  r.sigma = {1.0};
+  EXPECT_THROW(sample({r}, {4}, {{0, false}, 1.5f}), Error);
+  EXPECT_THROW(sample({r}, {4}, {{0, false}, -0.1f}), Error);
+  std::vector<std::vector<double>> s{{1.0, 0.1}}, w{{0.5}};
+  EXPECT_THROW(interlevel({r}, s, w, {-1.0f, 1e-7f}), Error);
+  EXPECT_THROW(interlevel({r}, s, w, {1.0f, 0.0f}), Error);
+}
+
+}  // namespace

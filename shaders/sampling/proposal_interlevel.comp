@@ -6,7 +6,7 @@
 //   L = weight * sum_j max(0, w_j - B_j)^2 / (w_j + epsilon).
 // The field's weights are constants here (nerfacto stops their gradient): only the proposal learns.
 // One invocation per ray, three walks, no per-ray arrays:
-//   1. candidates front to back: dWeights = 0, and dSigma holds each candidate's inclusive optical
+//   1. candidates front to back: dWeights = 0, and dField.w holds each candidate's inclusive optical
 //      depth for walk 3 (a back-to-front walk cannot recover it without cancellation);
 //   2. samples front to back with a window of the candidates that overlap each: B_j, the loss, and
 //      dL/dB_j added to dWeights over the window (consecutive windows share at most one candidate,
@@ -18,12 +18,12 @@
 
 layout(std430, binding = 0) readonly buffer CandidateOffsets { uint candidateOffsets[]; };  // numRays + 1
 layout(std430, binding = 1) readonly buffer Candidates { vec2 candidates[]; };              // (t, delta)
-layout(std430, binding = 2) readonly buffer ProposalSigma { float proposalSigma[]; };       // per candidate
+layout(std430, binding = 2) readonly buffer ProposalField { vec4 proposalField[]; };       // sigma in w
 layout(std430, binding = 3) readonly buffer SampleOffsets { uint sampleOffsets[]; };        // numRays + 1
 layout(std430, binding = 4) readonly buffer Samples { vec2 samples[]; };                    // (t, delta)
 layout(std430, binding = 5) readonly buffer FieldWeights { float fieldWeights[]; };         // per sample
 layout(std430, binding = 6) buffer DWeights { float dWeights[]; };                          // per candidate
-layout(std430, binding = 7) buffer DSigma { float dSigma[]; };                              // per candidate
+layout(std430, binding = 7) buffer DField { vec4 dField[]; };                               // (0, 0, 0, dL/dsigma)
 layout(std430, binding = 8) writeonly buffer RayLoss { float rayLoss[]; };                  // per ray
 
 #include "sampling/proposal_interlevel_shared.h"
@@ -47,7 +47,7 @@ void main() {
     uint i = w.index;
     advance(w);
     dWeights[i] = 0.0;
-    dSigma[i] = w.prefix;
+    dField[i] = vec4(0.0, 0.0, 0.0, w.prefix);
   }
 
   precise float loss = 0.0;
@@ -76,8 +76,8 @@ void main() {
     float delta = candidates[i].y;
     float g = dWeights[i];
     float alpha = alphaAndSurvival(candidateDepth(i)).x;
-    precise float d = delta > 0.0 ? delta * exp(-dSigma[i]) * (g - q) : 0.0;
-    dSigma[i] = d;
+    precise float d = delta > 0.0 ? delta * exp(-dField[i].w) * (g - q) : 0.0;
+    dField[i] = vec4(0.0, 0.0, 0.0, d);
     precise float nextQ = g * alpha + (1.0 - alpha) * q;
     q = nextQ;
   }

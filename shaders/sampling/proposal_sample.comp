@@ -11,9 +11,10 @@
 
 layout(std430, binding = 0) readonly buffer CandidateOffsets { uint candidateOffsets[]; };  // numRays + 1
 layout(std430, binding = 1) readonly buffer Candidates { vec2 candidates[]; };              // (t, delta)
-layout(std430, binding = 2) readonly buffer ProposalSigma { float proposalSigma[]; };       // per candidate
+layout(std430, binding = 2) readonly buffer ProposalField { vec4 proposalField[]; };       // sigma in w
 layout(std430, binding = 3) readonly buffer SampleOffsets { uint sampleOffsets[]; };        // numRays + 1
 layout(std430, binding = 4) writeonly buffer Samples { vec2 samples[]; };                   // (t, delta)
+layout(std430, binding = 5) writeonly buffer SampleRay { uint sampleRay[]; };               // per sample
 
 #include "sampling/proposal_sample_shared.h"
 #include "sampling/proposal.glsl"
@@ -42,7 +43,10 @@ void main() {
   for (uint i = c0; i < candidateEnd; ++i) occupied += candidateLength(i);
   occupiedLength = occupied;
   if (!(occupied > 0.0)) {
-    for (uint j = 0u; j < n; ++j) samples[s0 + j] = vec2(0.0);
+    for (uint j = 0u; j < n; ++j) {
+      samples[s0 + j] = vec2(0.0);
+      sampleRay[s0 + j] = ray;
+    }
     return;
   }
   uniformMass = false;
@@ -82,6 +86,7 @@ void main() {
     }
     precise float t = candidates[c].x + clamp(mid - cStart, 0.0, candidateLength(c));
     samples[s0 + j] = vec2(t, nextEdge - prevEdge);
+    sampleRay[s0 + j] = ray;
     prevEdge = nextEdge;
   }
 }

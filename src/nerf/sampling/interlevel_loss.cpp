@@ -21,7 +21,7 @@ InterlevelLoss::InterlevelLoss(Context& ctx)
                     {{glsl::SamplingSpec::LOCAL_SIZE_X, kLocal}}}) {}
 
 void InterlevelLoss::record(gpu::Recorder& rec, uint32_t numRays, const ProposalCandidates& candidates,
-                            const ProposalSamples& samples, const gpu::BufferRange& fieldWeights,
+                            const PackedSamples& samples, const gpu::BufferRange& fieldWeights,
                             const Terms& terms, const Gradients& out) {
   if (!(std::isfinite(terms.weight) && terms.weight >= 0.0f))
     throw Error("proposal_interlevel: weight " + std::to_string(terms.weight) + " must be finite and >= 0");
@@ -31,10 +31,11 @@ void InterlevelLoss::record(gpu::Recorder& rec, uint32_t numRays, const Proposal
   gpu::requireBytes("proposal_interlevel", "candidate offsets", candidates.offsets, offsetBytes);
   gpu::requireBytes("proposal_interlevel", "sample offsets", samples.offsets, offsetBytes);
   gpu::requireBytes("proposal_interlevel", "ray losses", out.rayLoss, uint64_t(numRays) * sizeof(float));
+  if (numRays == 0) return;
   glsl::InterlevelPush p{numRays, terms.weight, terms.epsilon};
   rec.dispatchFlat(kernel_,
-                   {candidates.offsets, candidates.samples, candidates.sigma, samples.offsets, samples.samples,
-                    fieldWeights, out.dWeights, out.dSigma, out.rayLoss},
+                   {candidates.offsets, candidates.samples, candidates.field, samples.offsets, samples.samples,
+                    fieldWeights, out.dWeights, out.dField, out.rayLoss},
                    p, numRays, kLocal, "proposal_interlevel");
 }
 

@@ -1,21 +1,15 @@
 #pragma once
-// What the proposal estimator's kernels read and write (nerf::ProposalSampler, nerf::InterlevelLoss),
-// in the packed layout (nerf::PackedSamples): ray r owns entries [offsets[r], offsets[r+1]).
-//   candidates   the march's samples (t, delta) and the proposal's activated density at each
-//   samples      the samples the proposal places, the field's to evaluate: (t, delta), delta the
-//                bin's length in occupied length (tests/reference/sampling/proposal.h)
-// The offsets come from the device (a count, then a prefix sum), so the host cannot check the
-// entries' buffers against them: whoever writes the offsets sizes those buffers for their totals.
+// What the proposal estimator's kernels read (nerf::ProposalSampler, nerf::InterlevelLoss): a ray's
+// candidates, the march's packed samples (nerf::PackedSamples: ray r owns [offsets[r], offsets[r+1])),
+// and the proposal field at each, vec4 (r, g, b, sigma) as a field writes it (only sigma is read).
+// The offsets come from the device, so the host cannot check the entries' buffers against them:
+// whoever writes the offsets sizes those buffers for their totals.
 #include "gpu/memory/buffer.h"
 
 namespace vknerf::nerf {
 
 struct ProposalCandidates {
-  gpu::BufferRange offsets, samples, sigma;
-};
-
-struct ProposalSamples {
-  gpu::BufferRange offsets, samples;
+  gpu::BufferRange offsets, samples, field;
 };
 
 }  // namespace vknerf::nerf

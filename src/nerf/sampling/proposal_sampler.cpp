@@ -1,9 +1,9 @@
 #include "nerf/sampling/proposal_sampler.h"
 
-#include <cmath>
 #include <string>
 
 #include "vknerf/error.h"
+#include "sampling/proposal_count_shared.h"
 #include "sampling/proposal_sample_shared.h"
 #include "sampling/sampling_shared.h"
 
@@ -16,23 +16,32 @@ constexpr uint32_t kLocal = 32;
 
 }  // namespace
 
-ProposalSampler::ProposalSampler(Context& ctx)
-    : kernel_(ctx, {gpu::shaders::proposal_sample,
-                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
-                     gpu::Binding::Storage},
-                    sizeof(glsl::ProposalSamplePush),
-                    {{glsl::SamplingSpec::LOCAL_SIZE_X, kLocal}}}) {}
+ProposalSampler::ProposalSampler(Context& ctx, uint32_t maxRays)
+    : maxRays_(maxRays),
+      layout_(ctx, maxRays),
+      count_(ctx, {gpu::shaders::proposal_count, {gpu::Binding::Storage, gpu::Binding::Storage},
+                   sizeof(glsl::ProposalCountPush), {{glsl::SamplingSpec::LOCAL_SIZE_X, kLocal}}}),
+      sample_(ctx, {gpu::shaders::proposal_sample, std::vector<gpu::Binding>(6, gpu::Binding::Storage),
+                    sizeof(glsl::ProposalSamplePush), {{glsl::SamplingSpec::LOCAL_SIZE_X, kLocal}}}) {}
 
 void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const ProposalCandidates& candidates,
-                             const Draws& draws, const ProposalSamples& out) {
+                             const Draws& draws, uint32_t capacity, const PackedSamples& out) {
+  if (numRays > maxRays_)
+    throw Error("proposal_sample: " + std::to_string(numRays) + " rays over the sampler's " + std::to_string(maxRays_));
+  if (draws.samplesPerRay == 0) throw Error("proposal_sample: samples per ray must be at least 1");
   if (!(draws.padding >= 0.0f && draws.padding <= 1.0f))
     throw Error("proposal_sample: padding " + std::to_string(draws.padding) + " must be in [0, 1]");
-  const uint64_t offsetBytes = (uint64_t(numRays) + 1) * sizeof(uint32_t);
-  gpu::requireBytes("proposal_sample", "candidate offsets", candidates.offsets, offsetBytes);
-  gpu::requireBytes("proposal_sample", "sample offsets", out.offsets, offsetBytes);
+  gpu::requireBytes("proposal_sample", "candidate offsets", candidates.offsets, (uint64_t(numRays) + 1) * sizeof(uint32_t));
+  PackedLayout::requireOutputs("proposal_sample", numRays, out.offsets, out.totals);
+  gpu::requireBytes("proposal_sample", "samples", out.samples, uint64_t(capacity) * kSampleBytes);
+  gpu::requireBytes("proposal_sample", "sample rays", out.sampleRay, uint64_t(capacity) * sizeof(uint32_t));
+  if (numRays == 0) return;
+  rec.dispatchFlat(count_, {candidates.offsets, layout_.counts()}, glsl::ProposalCountPush{numRays, draws.samplesPerRay},
+                   numRays, kLocal, "proposal_count");
+  layout_.recordOffsetsAndTotals(rec, numRays, capacity, out.offsets, out.totals);
   glsl::ProposalSamplePush p{numRays, draws.jitter.seed, draws.jitter.jitter ? 1u : 0u, draws.padding};
-  rec.dispatchFlat(kernel_, {candidates.offsets, candidates.samples, candidates.sigma, out.offsets, out.samples}, p,
-                   numRays, kLocal, "proposal_sample");
+  rec.dispatchFlat(sample_, {candidates.offsets, candidates.samples, candidates.field, out.offsets, out.samples, out.sampleRay},
+                   p, numRays, kLocal, "proposal_sample");
 }
 
 }  // namespace vknerf::nerf

@@ -1,11 +1,14 @@
 #pragma once
-// The proposal estimator's sampling (shaders/sampling/proposal_sample.comp; nerfacto's proposal
-// sampler): each ray's samples placed by inverse CDF of the proposal's weights on its candidates,
-// measured in occupied length (the march's gaps cost nothing). Ray r gets as many samples as its
-// sample offsets give it (offsets[r+1] - offsets[r]); a ray without occupied length gets samples
-// (0, 0), which weigh nothing.
+// The proposal estimator's sampling (shaders/sampling/proposal_count.comp, proposal_sample.comp;
+// nerfacto's proposal sampler): each ray's samples placed by inverse CDF of the proposal's weights
+// on its candidates, measured in occupied length (the march's gaps cost nothing), into a packed
+// batch (nerf::PackedSamples): samplesPerRay for every ray with candidates, none for the others,
+// the offsets clamped at the output's capacity as a march's are (a ray cut there gets fewer
+// samples, spread over its whole occupied length). A sample is (t, delta), delta its bin's length.
 #include <cstdint>
 
+#include "nerf/sampling/packed_layout.h"
+#include "nerf/sampling/packed_samples.h"
 #include "nerf/sampling/proposal_batch.h"
 #include "nerf/sampling/samplers.h"
 #include "gpu/kernels/kernel.h"
@@ -15,21 +18,26 @@ namespace vknerf::nerf {
 
 class ProposalSampler {
  public:
-  explicit ProposalSampler(Context& ctx);
+  ProposalSampler(Context& ctx, uint32_t maxRays);
 
-  // How the samples are drawn: one random shift of the edge quantiles a ray, keyed by (seed, ray)
-  // (jitter, in training) or none, and the uniform share `padding` in [0, 1] of the sampling mass,
-  // spread over the occupied length. Throws vknerf::Error for a padding outside [0, 1] or offsets
-  // too small for numRays.
+  // How the samples are drawn: samplesPerRay of them, one random shift of the edge quantiles a
+  // ray keyed by (seed, ray) (jitter, in training) or none, and the uniform share `padding` in
+  // [0, 1] of the sampling mass, spread over the occupied length.
   struct Draws {
+    uint32_t samplesPerRay = 0;
     Jitter jitter;
     float padding = 0.01f;
   };
+  // `capacity`: the samples out.samples and out.sampleRay hold. Throws vknerf::Error for more
+  // than maxRays rays, no samples a ray, a padding outside [0, 1], or buffers too small for the
+  // rays or the capacity.
   void record(gpu::Recorder& rec, uint32_t numRays, const ProposalCandidates& candidates, const Draws& draws,
-              const ProposalSamples& out);
+              uint32_t capacity, const PackedSamples& out);
 
  private:
-  gpu::Kernel kernel_;
+  uint32_t maxRays_;
+  PackedLayout layout_;
+  gpu::Kernel count_, sample_;
 };
 
 }  // namespace vknerf::nerf

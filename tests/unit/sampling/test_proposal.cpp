@@ -49,14 +49,18 @@ double occupiedLength(const std::vector<double>& pairs) {
   return sum;
 }
 
-// The packed layout of several rays: offsets and the concatenated entries.
+// The packed layout of several rays: offsets and the concatenated entries; a ray's densities go
+// to the w of a field's vec4 (fieldRows), its field weights stay floats (values).
 struct Packed {
   std::vector<uint32_t> offsets{0};
-  std::vector<float> pairs, values;
+  std::vector<float> pairs, values, fieldRows;
   void add(const std::vector<double>& p, const std::vector<double>& v) {
     offsets.push_back(offsets.back() + uint32_t(p.size() / 2));
     for (double x : p) pairs.push_back(float(x));
-    for (double x : v) values.push_back(float(x));
+    for (double x : v) {
+      values.push_back(float(x));
+      fieldRows.insert(fieldRows.end(), {0.5f, 0.5f, 0.5f, float(x)});
+    }
   }
 };
 
@@ -68,21 +72,30 @@ template <class T> std::vector<T> padded(std::vector<T> v) {
 
 class Proposal : public test::GpuTest {
  protected:
-  // The samples the kernel places: counts[r] samples for ray r.
-  std::vector<float> sample(const std::vector<Ray>& rays, const std::vector<uint32_t>& counts,
-                            nerf::ProposalSampler::Draws draws) {
+  // What the sampler writes for `rays` at draws.samplesPerRay a ray and `capacity` samples.
+  struct Sampled {
+    std::vector<uint32_t> offsets, sampleRay, totals;
+    std::vector<float> samples;  // (t, delta) pairs, offsets.back() of them
+  };
+  Sampled sample(const std::vector<Ray>& rays, nerf::ProposalSampler::Draws draws, uint32_t capacity = 1u << 16) {
     Packed c;
     for (const Ray& r : rays) c.add(r.candidates, r.sigma);
-    std::vector<uint32_t> sampleOffsets{0};
-    for (uint32_t n : counts) sampleOffsets.push_back(sampleOffsets.back() + n);
+    const uint32_t numRays = uint32_t(rays.size());
     auto candOff = gpu::Buffer::of(ctx(), c.offsets), cand = gpu::Buffer::of(ctx(), padded(c.pairs)),
-         sigma = gpu::Buffer::of(ctx(), padded(c.values)), sampOff = gpu::Buffer::of(ctx(), sampleOffsets);
-    gpu::Buffer out(ctx(), std::max<VkDeviceSize>(sampleOffsets.back() * nerf::kSampleBytes, 16));
-    nerf::ProposalSampler sampler(ctx());
+         field = gpu::Buffer::of(ctx(), padded(c.fieldRows));
+    gpu::Buffer offsets(ctx(), (numRays + 1) * 4), totals(ctx(), nerf::PackedLayout::kTotalsBytes),
+        samples(ctx(), std::max<VkDeviceSize>(capacity * nerf::kSampleBytes, 16)),
+        sampleRay(ctx(), std::max<VkDeviceSize>(capacity * 4, 16));
+    nerf::ProposalSampler sampler(ctx(), numRays);
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      sampler.record(rec, uint32_t(rays.size()), {candOff, cand, sigma}, draws, {sampOff, out});
+      sampler.record(rec, numRays, {candOff, cand, field}, draws, capacity, {offsets, samples, sampleRay, totals});
     });
-    return out.download<float>(size_t(sampleOffsets.back()) * 2);
+    Sampled s;
+    s.offsets = offsets.download<uint32_t>(numRays + 1);
+    s.totals = totals.download<uint32_t>(4);
+    s.samples = samples.download<float>(size_t(s.offsets.back()) * 2);
+    s.sampleRay = sampleRay.download<uint32_t>(s.offsets.back());
+    return s;
   }
 
   struct InterlevelOut {
@@ -96,16 +109,23 @@ class Proposal : public test::GpuTest {
       s.add(samples[r], fieldWeights[r]);
     }
     auto candOff = gpu::Buffer::of(ctx(), c.offsets), cand = gpu::Buffer::of(ctx(), padded(c.pairs)),
-         sigma = gpu::Buffer::of(ctx(), padded(c.values)), sampOff = gpu::Buffer::of(ctx(), s.offsets),
+         field = gpu::Buffer::of(ctx(), padded(c.fieldRows)), sampOff = gpu::Buffer::of(ctx(), s.offsets),
          samp = gpu::Buffer::of(ctx(), padded(s.pairs)), weights = gpu::Buffer::of(ctx(), padded(s.values));
     const size_t k = c.values.size();
-    gpu::Buffer dW(ctx(), std::max<VkDeviceSize>(k * 4, 16)), dS(ctx(), std::max<VkDeviceSize>(k * 4, 16)),
+    gpu::Buffer dW(ctx(), std::max<VkDeviceSize>(k * 4, 16)), dField(ctx(), std::max<VkDeviceSize>(k * 16, 16)),
         loss(ctx(), std::max<VkDeviceSize>(rays.size() * 4, 16));
     nerf::InterlevelLoss kernel(ctx());
     test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      kernel.record(rec, uint32_t(rays.size()), {candOff, cand, sigma}, {sampOff, samp}, weights, terms, {dW, dS, loss});
+      // The interlevel loss reads only the offsets and samples of a packed batch.
+      kernel.record(rec, uint32_t(rays.size()), {candOff, cand, field}, {sampOff, samp, samp, samp}, weights, terms,
+                    {dW, dField, loss});
     });
-    return {dW.download<float>(k), dS.download<float>(k), loss.download<float>(rays.size())};
+    std::vector<float> rows = dField.download<float>(4 * k), dSigma(k);
+    for (size_t i = 0; i < k; ++i) {
+      EXPECT_EQ(rows[4 * i] + rows[4 * i + 1] + rows[4 * i + 2], 0.0f) << "the colour gets no gradient";
+      dSigma[i] = rows[4 * i + 3];
+    }
+    return {dW.download<float>(k), dSigma, loss.download<float>(rays.size())};
   }
 };
 
@@ -215,19 +235,25 @@ TEST_F(Proposal, SamplesMatchReference) {
   hard.sigma[7] = std::numeric_limits<double>::quiet_NaN();
   hard.sigma[9] = -4.0;
   rays.push_back(hard);
-  std::vector<uint32_t> counts{16, 8, 32, 1, 16, 0, 16, 16, 24};
-  for (bool jitter : {false, true}) {
-    nerf::ProposalSampler::Draws draws{{9, jitter}, 0.01f};
-    std::vector<float> got = sample(rays, counts, draws);
-    size_t at = 0;
-    for (size_t r = 0; r < rays.size(); ++r) {
-      double shift = ref::proposalShift<double>(9, uint32_t(r), jitter);
-      std::vector<double> want = ref::proposalSamples<double>(rays[r].candidates, rays[r].sigma, counts[r], 0.01, shift);
-      double scale = std::max(occupiedLength(rays[r].candidates), 1.0);
-      for (uint32_t j = 0; j < counts[r]; ++j, ++at) {
-        EXPECT_NEAR(got[2 * at], want[2 * j], kEdgeTolerance * scale) << "ray " << r << " sample " << j;
-        EXPECT_NEAR(got[2 * at + 1], want[2 * j + 1], kEdgeTolerance * scale) << "ray " << r << " sample " << j;
-        EXPECT_TRUE(std::isfinite(got[2 * at]) && std::isfinite(got[2 * at + 1]));
+  for (uint32_t n : {16u, 5u}) {
+    for (bool jitter : {false, true}) {
+      Sampled got = sample(rays, {n, {9, jitter}, 0.01f});
+      // Every ray with candidates gets n samples, the one without none; the totals hold the sum.
+      ASSERT_EQ(got.offsets.back(), n * (rays.size() - 1));
+      EXPECT_EQ(got.totals[0], got.offsets.back());
+      for (size_t r = 0; r < rays.size(); ++r) {
+        const uint32_t first = got.offsets[r], count = got.offsets[r + 1] - first;
+        ASSERT_EQ(count, rays[r].sigma.empty() ? 0u : n) << "ray " << r;
+        double shift = ref::proposalShift<double>(9, uint32_t(r), jitter);
+        std::vector<double> want = ref::proposalSamples<double>(rays[r].candidates, rays[r].sigma, count, 0.01, shift);
+        double scale = std::max(occupiedLength(rays[r].candidates), 1.0);
+        for (uint32_t j = 0; j < count; ++j) {
+          const uint32_t at = first + j;
+          EXPECT_NEAR(got.samples[2 * at], want[2 * j], kEdgeTolerance * scale) << "ray " << r << " sample " << j;
+          EXPECT_NEAR(got.samples[2 * at + 1], want[2 * j + 1], kEdgeTolerance * scale) << "ray " << r << " sample " << j;
+          EXPECT_TRUE(std::isfinite(got.samples[2 * at]) && std::isfinite(got.samples[2 * at + 1]));
+          EXPECT_EQ(got.sampleRay[at], r);
+        }
       }
     }
   }
@@ -240,7 +266,8 @@ TEST_F(Proposal, AllZeroWeightsWithoutPaddingSampleByLength) {
     r.candidates.insert(r.candidates.end(), {1.0 + 0.2 * i, 0.1});  // gaps of 0.1 between
     r.sigma.push_back(0.0);
   }
-  std::vector<float> got = sample({r}, {4}, {{0, false}, 0.0f});
+  std::vector<float> got = sample({r}, {4, {0, false}, 0.0f}).samples;
+  ASSERT_EQ(got.size(), 8u);
   for (int j = 0; j < 4; ++j) {
     EXPECT_NEAR(got[2 * j + 1], 0.25, 1e-6) << j;  // a quarter of the occupied length
     // The midpoint in u, back in t: candidate c = floor(mid / 0.1) starts at 1 + 0.2 c.
@@ -248,6 +275,19 @@ TEST_F(Proposal, AllZeroWeightsWithoutPaddingSampleByLength) {
     int c = int(mid / 0.1);
     EXPECT_NEAR(got[2 * j], 1.0 + 0.2 * c + (mid - 0.1 * c), 1e-5) << j;
   }
+}
+
+TEST_F(Proposal, CapacityCutsTheLastRaysShort) {
+  // Three rays of candidates at 8 samples each into a capacity of 20: the offsets stop at 20, the
+  // third ray gets the 4 left, spread over its whole occupied length.
+  std::mt19937 rng(17);
+  std::vector<Ray> rays{randomRay(rng, 12), randomRay(rng, 12), randomRay(rng, 12)};
+  Sampled got = sample(rays, {8, {0, false}, 0.01f}, 20);
+  EXPECT_EQ(got.offsets, (std::vector<uint32_t>{0, 8, 16, 20}));
+  EXPECT_EQ(got.totals[0], 20u);
+  double tiled = 0;
+  for (uint32_t i = 16; i < 20; ++i) tiled += got.samples[2 * i + 1];
+  EXPECT_NEAR(tiled, occupiedLength(rays[2].candidates), 1e-5);
 }
 
 TEST_F(Proposal, InterlevelMatchesReference) {
@@ -286,8 +326,9 @@ TEST_F(Proposal, BadSettingsAreErrors) {
   Ray r;
   r.candidates = {1.0, 0.1};
   r.sigma = {1.0};
-  EXPECT_THROW(sample({r}, {4}, {{0, false}, 1.5f}), Error);
-  EXPECT_THROW(sample({r}, {4}, {{0, false}, -0.1f}), Error);
+  EXPECT_THROW(sample({r}, {4, {0, false}, 1.5f}), Error);
+  EXPECT_THROW(sample({r}, {4, {0, false}, -0.1f}), Error);
+  EXPECT_THROW(sample({r}, {0, {0, false}, 0.01f}), Error);
   std::vector<std::vector<double>> s{{1.0, 0.1}}, w{{0.5}};
   EXPECT_THROW(interlevel({r}, s, w, {-1.0f, 1e-7f}), Error);
   EXPECT_THROW(interlevel({r}, s, w, {1.0f, 0.0f}), Error);

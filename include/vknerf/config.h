@@ -83,6 +83,14 @@ struct FastModel {
   // as one more interval at its far end, so that a half-transparent surface costs the loss instead
   // of lowering it.
   bool distortionFarField = false;
+  // The proposal estimator (nerfacto's; 0: off): a small density field, the proposal, is evaluated
+  // at every sample the march finds, and each ray's field samples, this many, are placed by inverse
+  // CDF of the proposal's weights, where the ray's weight lies however thick the fog in front of it.
+  // The proposal learns from mip-NeRF 360's interlevel loss (its weights bound the field's), of
+  // weight proposalLoss; it is a hash grid of proposalLevels levels and a network 16 wide.
+  uint32_t proposalSamples = 0;
+  uint32_t proposalLevels = 5;
+  float proposalLoss = 1.0f;
   // What a ray sees behind the field when it leaves the scene box partly transparent. Learned: a
   // colour per direction at infinity (a hash grid on the unit sphere and a small MLP, trained with
   // the field: the sky, and whatever the box leaves out), for photos without alpha. Constant:

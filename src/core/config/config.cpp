@@ -52,6 +52,7 @@ std::string TrainConfig::describe() const {
     if (m->samplesPerBatch) os << "~" << m->samplesPerBatch; else os << "auto";
     os << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss << (m->distortionFarField ? " (far field counted)" : "");
+    if (m->proposalSamples > 0) os << ", " << m->proposalSamples << " samples a ray placed by a proposal of " << m->proposalLevels << " levels";
     os << ", far field " << farFieldName(m->farField);
   } else {
     const VanillaModel& v = std::get<VanillaModel>(model);

@@ -241,6 +241,13 @@ std::vector<ConfigField> table() {
       // Models saved before it left the far field out of the loss.
       fastTop("distortion_far_field", &FastModel::distortionFarField).addedLater(false)
           .flag("--distortion-far-field", "fast, with --distortion-loss: the weight a ray leaves to the far field counts in the loss, as an interval at its far end"),
+      // Models saved before it had none.
+      fastTop("proposal_samples", &FastModel::proposalSamples).addedLater(0u).range(0, 1024)
+          .flag("--proposal-samples", "fast: each ray's field samples, placed by a small proposal density field trained to bound the field's weights (nerfacto's proposal estimator; default 0: off, every marched sample)")
+          .flagRange(0, 1024),
+      fastTop("proposal_levels", &FastModel::proposalLevels).addedLater(5u).range(1, 16)
+          .flag("--proposal-levels", "fast, with --proposal-samples: the proposal's hash-grid levels").flagRange(1, 16),
+      fastTop("proposal_loss", &FastModel::proposalLoss).addedLater(1.0f).range(0.0, 1e3).openLow(),
       // Models saved before it had a constant far field.
       model("far_field", &FastModel::farField).addedLater(std::string("constant"))
           .check([](const TrainConfig& c) { checkCount("model.far_field", uint32_t(c.fastModel().farField), 0, uint32_t(FarField::Learned)); })

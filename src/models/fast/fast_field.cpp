@@ -67,7 +67,7 @@ PositionEncoding hashGridPosition(Context& ctx, const TrainConfig& config, bool 
 }
 
 FastField::FastField(Context& ctx, const TrainConfig& config, bool training, uint32_t capacity, uint32_t densityRows,
-                     PositionEncoding position)
+                     PositionEncoding position, const std::string& stateName)
     : position_(checked(std::move(position.encoding))),
       sh_(ctx, config.fastModel().shDegree),
       mlp_(ctx, nerf::MlpConfig{.depth = config.fastModel().depth,
@@ -80,8 +80,9 @@ FastField::FastField(Context& ctx, const TrainConfig& config, bool training, uin
                                 .seed = config.seed,
                                 .featureWidth = config.fastModel().featureWidth},
            mlpTuningFor(ctx, training)),
-      encoding_(ctx, "encoding", position_->initialParameters(config.seed), position.adam, position_->trainedParts()),
-      network_(ctx, "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),
+      encoding_(ctx, stateName + "encoding", position_->initialParameters(config.seed), position.adam,
+                position_->trainedParts()),
+      network_(ctx, stateName + "mlp", mlp_.initialParameters(), training ? std::optional(adamConfigOf(config)) : std::nullopt),
       batch_(ctx, mlp_, capacity, training) {
   if (training) dEncoded_ = gpu::Buffer::zeros(ctx, VkDeviceSize(capacity) * mlp_.posStride() * 4, "the encoding gradients");
   if (densityRows)

@@ -7,6 +7,7 @@
 // samples (FieldBatch): tiny-cuda-nn's NetworkWithInputEncoding.
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "gpu/dispatch/recorder.h"
 #include "models/common/field_batch.h"
@@ -54,9 +55,10 @@ struct FieldBackwardRows {
 
 class FastField {
  public:
-  // capacity: samples the batch holds; densityRows: the most points a density query takes.
+  // capacity: samples the batch holds; densityRows: the most points a density query takes;
+  // stateName: what its checkpoint arrays' names begin with ("": the field's "encoding" and "mlp").
   FastField(Context& ctx, const TrainConfig& config, bool training, uint32_t capacity, uint32_t densityRows,
-            PositionEncoding position);
+            PositionEncoding position, const std::string& stateName = "");
 
   FieldBatch& batch() { return batch_; }
   const nerf::NerfMlp& mlp() const { return mlp_; }

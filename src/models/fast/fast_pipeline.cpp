@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "models/fast/proposal_field.h"
 #include "vknerf/error.h"
 
 namespace vknerf::models {
@@ -50,6 +51,15 @@ uint32_t sampleCapacityFor(const FastModel& m, uint32_t rayCapacity, bool traini
   return uint32_t(std::min<uint64_t>(std::max(minimum, wanted), 1ull << 28));
 }
 
+// The samples the field evaluates at once with the proposal: every ray of a batch at its samples.
+uint32_t fieldCapacityFor(const FastModel& m, uint32_t rayCapacity, uint32_t sampleCapacity) {
+  if (m.proposalSamples == 0) return sampleCapacity;
+  return uint32_t(std::min<uint64_t>(uint64_t(rayCapacity) * m.proposalSamples, 1ull << 28));
+}
+
+// The uniform share of a proposal's sampling mass (nerfacto's histogram padding, 0.01).
+constexpr float kProposalPadding = 0.01f;
+
 }  // namespace
 
 FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
@@ -60,17 +70,18 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       model_(withOverrides(checked(config.fastModel(), training), overrides)),
       box_(box),
       sampleCapacity_(sampleCapacityFor(model_, this->rayCapacity(), training)),
+      fieldCapacity_(fieldCapacityFor(model_, this->rayCapacity(), sampleCapacity_)),
       training_(training),
       // The per-photo gradients (camera refinement, appearance) are summed over each photo's run of rays.
       rays_(ctx, this->rayCapacity(), model_.nearDistance > 0 ? model_.nearDistance : kNearPlane,
             model_.refineCameras || model_.appearanceDims > 0),
       estimator_(ctx, model_, box, this->rayCapacity(), sampleCapacity_, overrides.marchSteps, training),
-      field_(ctx, config, training, sampleCapacity_, estimator_.maxUpdatePoints(), hashGridPosition(ctx, config, training)),
+      field_(ctx, config, training, fieldCapacity_, estimator_.maxUpdatePoints(), hashGridPosition(ctx, config, training)),
       points_(ctx),
       compositor_(ctx),
       color_(gpu::Buffer::zeros(ctx, VkDeviceSize(this->rayCapacity()) * 16)),
       depth_(gpu::Buffer::zeros(ctx, VkDeviceSize(this->rayCapacity()) * 4)),
-      weights_(gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * 4, "the compositing weights")),
+      weights_(gpu::Buffer::zeros(ctx, VkDeviceSize(fieldCapacity_) * 4, "the compositing weights")),
       wholeRays_(gpu::Buffer::zeros(ctx, 16)),
       segments_(ctx, this->rayCapacity()),
       renderMinTransmittance_(overrides.minTransmittance),
@@ -81,6 +92,16 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
     farField_.emplace(ctx, this->rayCapacity(), config.seed, config.background,
                       training ? std::optional(tableAdamOf(config)) : std::nullopt,
                       training ? std::optional(adamConfigOf(config)) : std::nullopt);
+  if (model_.proposalSamples) {
+    const TrainConfig proposalConfig = proposalConfigOf(config);
+    proposal_.emplace(ctx, proposalConfig, training, sampleCapacity_, 0, hashGridPosition(ctx, proposalConfig, training),
+                      kProposalStateName);
+    proposalSampler_.emplace(ctx, this->rayCapacity());
+    placedOffsets_ = gpu::Buffer::zeros(ctx, (VkDeviceSize(this->rayCapacity()) + 1) * 4, "the proposal's offsets");
+    placedSamples_ = gpu::Buffer::zeros(ctx, VkDeviceSize(fieldCapacity_) * nerf::kSampleBytes, "the proposal's samples");
+    placedSampleRay_ = gpu::Buffer::zeros(ctx, VkDeviceSize(fieldCapacity_) * 4, "the proposal's sample rays");
+    placedTotals_ = gpu::Buffer::zeros(ctx, nerf::PackedLayout::kTotalsBytes, "the proposal's totals");
+  }
   if (training) allocateTraining(ctx);
   // The model's state, in checkpoint order.
   parts().add(field_.encodingParameters(), ParameterRole::Encoding);
@@ -88,6 +109,10 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
   addExtensions(ctx, photos, overrides);
   if (farField_) parts().add(*farField_);
   parts().addState(estimator_);
+  if (proposal_) {
+    parts().add(proposal_->encodingParameters(), ParameterRole::Encoding);
+    parts().add(proposal_->networkParameters(), ParameterRole::Network);
+  }
   if (training && !photos.cameras.empty()) estimator_.markUnseenEmpty(photos.cameras);
 }
 
@@ -98,7 +123,7 @@ void FastPipeline::addExtensions(Context& ctx, const TrainingPhotos& photos, con
     CameraRefinementSettings settings;
     settings.adam = adamConfigOf(config_, model_.cameraLearningRate / config_.learningRate);
     settings.penalty = model_.cameraPenalty;
-    addExtension(cameras_.emplace(ctx, photos.count, sampleCapacity_, settings, report()));
+    addExtension(cameras_.emplace(ctx, photos.count, fieldCapacity_, settings, report()));
   }
   if (model_.appearanceDims && photos.count) {
     // W_a starts as the colour layer's weights would with the vector among its inputs.
@@ -106,7 +131,7 @@ void FastPipeline::addExtensions(Context& ctx, const TrainingPhotos& photos, con
     const AppearanceInit init{config_.seed, float(1.0 / std::sqrt(double(colour.ka + colour.kb + model_.appearanceDims)))};
     addExtension(appearance_.emplace(ctx, photos.count, model_.appearanceDims, colour.n4(), init,
                                      training_ ? std::optional(adamConfigOf(config_)) : std::nullopt,
-                                     overrides.appearancePhoto, training_ ? sampleCapacity_ : 0));
+                                     overrides.appearancePhoto, training_ ? fieldCapacity_ : 0));
   }
 }
 
@@ -121,28 +146,35 @@ void FastPipeline::allocateTraining(Context& ctx) {
   }
   batch_.emplace(ctx, rayCapacity(), kRayAlign, model_.samplesPerBatch);
   if (model_.earlyTermination) {
-    kept_.emplace(ctx, rayCapacity(), sampleCapacity_);
-    gatherBackward_ = sampleCapacity_ <= field_.mlp().chunkRows();
-    if (gatherBackward_) segmentRows_.emplace(ctx, sampleCapacity_);
+    kept_.emplace(ctx, rayCapacity(), fieldCapacity_);
+    gatherBackward_ = fieldCapacity_ <= field_.mlp().chunkRows();
+    // The proposal's few samples a ray lie where its weight does: segments would only add dispatches.
+    if (gatherBackward_ && !proposal_) segmentRows_.emplace(ctx, fieldCapacity_);
+  }
+  if (proposal_) {
+    interlevel_.emplace(ctx);
+    interlevelTerm_ = report().addTerm(LossReport::row("proposal_loss"), true);
+    proposalWeightGrads_ = gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity_) * 4, "the proposal's weight gradients");
+    interlevelValues_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity()) * 4, "the rays' interlevel losses");
   }
 }
 
 void FastPipeline::recordField(gpu::Recorder& rec, const nerf::RaySpan& rays, const StepBatch* batch) {
   FieldBatch& f = field_.batch();
-  const nerf::PackedSamples samples = estimator_.samples();
-  points_.record(rec, sampleCapacity_, rays.range, samples, box_, {f.positions, f.directions});
+  const nerf::PackedSamples samples = fieldSamples();
+  points_.record(rec, fieldCapacity_, rays.range, samples, box_, {f.positions, f.directions});
   const std::optional<nerf::RowBias> colourBias = recordColourBias(rec, batch);
   const bool keep = batch != nullptr;
   // A training step runs in segments, the field over the rows the compositor will read, once the
   // last step kept few of its marched samples; while rays keep most of theirs (early in training),
   // segments would only add dispatches.
   if (!keep || !segmentRows_ || batch_->lastKeptFraction() > segmentsBelowKept_)
-    return field_.recordForward(rec, {sampleCapacity_, samples.total(), std::nullopt, colourBias}, keep);
+    return field_.recordForward(rec, {fieldCapacity_, samples.total(), std::nullopt, colourBias}, keep);
   const float maxDepth = nerf::Compositor::maxOpticalDepth(kMinTransmittance);
   for (size_t s = 0; s + 1 < kTrainingSegments.size(); ++s) {
     segmentRows_->record(rec, rays.count, samples, gpu::BufferRange(f.field), maxDepth, kTrainingSegments[s],
                          kTrainingSegments[s + 1]);
-    field_.recordForward(rec, {sampleCapacity_, segmentRows_->count(), gpu::BufferRange(segmentRows_->rows()), colourBias},
+    field_.recordForward(rec, {fieldCapacity_, segmentRows_->count(), gpu::BufferRange(segmentRows_->rows()), colourBias},
                          true);
   }
 }
@@ -165,7 +197,7 @@ void FastPipeline::recordQuery(gpu::Recorder& rec, uint32_t count) {
 }
 
 nerf::CompositeInputs FastPipeline::compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background) {
-  nerf::CompositeInputs in = nerf::CompositeInputs::packed(count, estimator_.samples(), field_.batch().field);
+  nerf::CompositeInputs in = nerf::CompositeInputs::packed(count, fieldSamples(), field_.batch().field);
   in.background = background;
   in.perRayBackground = rays_.backgrounds(first, count);
   return in;
@@ -178,6 +210,7 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
   if (count == 0) return;
   rays_.recordView(rec, view, box_);
   if (farField_) farField_->recordForward(rec, count, rays_.rays(), rays_.background(), false);
+  if (proposal_) return recordProposalRender(rec, count, mayWait);
   // A tile marched in segments, each ray stopped where it has turned opaque (SegmentAccumulator):
   // a first segment of kFirstSegment samples, then the rest of the model's samples per ray as the
   // capacity holds them for the rays still live (not yet opaque, their march not done). With the
@@ -248,14 +281,15 @@ nerf::RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const Traini
   // sample total (the march's totals, rewritten); every later kernel is recorded for the capacity
   // and cut to those counts (shaders/gpu/row_limit.glsl), so the step is one submission.
   estimator_.recordCutToWholeRays(rec, R, kRayAlign, wholeRayCount());
+  if (proposal_) recordProposal(rec, batch, seed, true);
   return batch;
 }
 
 StepBatch FastPipeline::stepBatch(const nerf::RaySpan& rays) {
   // The backward runs over the kept samples packed (their offsets) or over every marched one.
-  const gpu::Buffer& rowOffsets = gatherBackward_ ? kept_->offsets() : estimator_.offsets();
-  return {rays,           rays_.pixelIds(), estimator_.sampleRay(), estimator_.offsets(), estimator_.marchedSamples(),
-          rowOffsets,     wholeRayCount(),  box_};
+  const nerf::PackedSamples samples = fieldSamples();
+  const gpu::BufferRange rowOffsets = gatherBackward_ ? gpu::BufferRange(kept_->offsets()) : samples.offsets;
+  return {rays, rays_.pixelIds(), samples.sampleRay, samples.offsets, samples.samples, rowOffsets, wholeRayCount(), box_};
 }
 
 nerf::CompositeInputs FastPipeline::recordTrainingForward(gpu::Recorder& rec, const TrainingData& data,
@@ -300,15 +334,68 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const StepBatch& b
   // With the kept samples packed, the backward runs over them alone: the MLP's reads the forward's
   // rows through their index, the encoding's reads the kept positions beside the packed encoding
   // gradients. Else it runs over every marched sample.
-  FieldBackwardRows rows{sampleCapacity_, gpu::BufferRange(f.positions), estimator_.samples().total(), std::nullopt};
+  FieldBackwardRows rows{fieldCapacity_, gpu::BufferRange(f.positions), fieldSamples().total(), std::nullopt};
   if (gatherBackward_) {
-    kept_->record(rec, R, estimator_.offsets(), f.positions);
+    kept_->record(rec, R, fieldSamples().offsets, f.positions);
     rows.positions = kept_->positions(), rows.limit = kept_->total(), rows.gather = kept_->rows();
   }
   FieldGradientTargets targets;
   for (StepExtension* e : extensions()) e->requestGradients(targets);
   field_.recordBackward(rec, rows, targets);
   for (StepExtension* e : extensions()) e->recordGradient(rec, batch);
+  if (proposal_) recordProposalBackward(rec, R);
+}
+
+nerf::PackedSamples FastPipeline::fieldSamples() const {
+  if (!proposal_) return estimator_.samples();
+  return {placedOffsets_, placedSamples_, placedSampleRay_, placedTotals_};
+}
+
+void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t seed, bool training) {
+  FieldBatch& p = proposal_->batch();
+  const nerf::PackedSamples candidates = estimator_.samples();
+  points_.record(rec, sampleCapacity_, rays.range, candidates, box_, {p.positions, p.directions});
+  proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt}, training);
+  // The placement's jitter draws from its own stream: the march's draws are keyed by the same seed.
+  const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding};
+  proposalSampler_->record(rec, rays.count, {candidates.offsets, candidates.samples, p.field}, draws, fieldCapacity_,
+                           fieldSamples());
+}
+
+void FastPipeline::recordProposalBackward(gpu::Recorder& rec, uint32_t R) {
+  FieldBatch& p = proposal_->batch();
+  const nerf::PackedSamples candidates = estimator_.samples();
+  // A mean over the batch's rays, as the photometric loss.
+  const nerf::InterlevelLoss::Terms terms{model_.proposalLoss / float(R)};
+  interlevel_->record(rec, R, {candidates.offsets, candidates.samples, p.field}, fieldSamples(), weights_, terms,
+                      {proposalWeightGrads_, p.dField, interlevelValues_});
+  report().recordTerm(rec, *interlevelTerm_, {interlevelValues_, R, 1, 0});
+  proposal_->recordBackward(rec, {sampleCapacity_, gpu::BufferRange(p.positions), candidates.total(), std::nullopt}, {});
+}
+
+void FastPipeline::recordProposalRender(gpu::Recorder& rec, uint32_t count, bool mayWait) {
+  // Every ray's candidates at once (the proposal's CDF spans the whole ray): a block holds as many
+  // rays as the march's capacity holds at the most samples a ray.
+  const uint32_t most = model_.maxSamplesPerRay;
+  const uint32_t block = std::min(count, std::max(kRayAlign, sampleCapacity_ / most / kRayAlign * kRayAlign));
+  for (uint32_t done = 0; done < count; done += block) {
+    const uint32_t n = std::min(block, count - done);
+    const nerf::RaySpan rays = rays_.rays(done, n);
+    const nerf::SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, nerf::kColorBytes, done, n),
+                                                gpu::rowsOf(depth_, nerf::kDepthBytes, done, n)};
+    if (mayWait) segments_.recordResetCounts(rec);
+    estimator_.recordMarch(rec, rays, most, 0, false);
+    recordProposal(rec, rays, 0, false);
+    recordField(rec, rays, nullptr);
+    compositor_.recordForward(rec, nerf::CompositeInputs::packed(n, fieldSamples(), field_.batch().field),
+                              {segments_.segmentColor(), segments_.segmentDepth(), weights_});
+    segments_.record(rec, {model_.proposalSamples, true, true, renderMinTransmittance_}, rays, fieldSamples(), gathered);
+    if (!mayWait) continue;
+    rec.end();
+    rec.submitAndWait();
+    rec.begin();
+    countRenderedSamples(segments_.samples());
+  }
 }
 
 void FastPipeline::recordStepCounts(gpu::Recorder& rec, uint32_t R, uint32_t slot) {
@@ -318,7 +405,8 @@ void FastPipeline::recordStepCounts(gpu::Recorder& rec, uint32_t R, uint32_t slo
     if (!gatherBackward_) kept_->recordTotal(rec, R);  // else the backward's packing made it
     kept = &kept_->totals();
   }
-  batch_->recordCopy(rec, slot, {wholeRays_, estimator_.totals(), kept});
+  // With the proposal a step's cost is the field's samples, the ones it placed: the rays adapt to those.
+  batch_->recordCopy(rec, slot, {wholeRays_, proposal_ ? placedTotals_ : estimator_.totals(), kept});
 }
 
 FieldPipeline::StepSize FastPipeline::doCollectTrainStep(uint32_t slot) { return batch_->collect(slot); }

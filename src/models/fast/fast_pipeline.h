@@ -5,6 +5,10 @@
 //        -> composite (packed)
 // and, when training, photometric loss -> composite backward -> field backward -> every registered
 // part's optimizer step, with the occupancy grid re-measured on the estimator's schedule.
+// With FastModel::proposalSamples the march's samples are candidates: a small proposal field is
+// evaluated at them, and each ray's field samples are placed by inverse CDF of its weights
+// (nerf::ProposalSampler); in training the proposal learns from the interlevel loss against the
+// field's weights (nerf::InterlevelLoss), and a render marches each ray whole in one round.
 // With FarField::Learned each ray's background is the learned far field in its direction
 // (models/common/far_field.h), trained from the light the ray leaves behind the box. Camera
 // refinement and the appearance embedding are step extensions (models/common/step_extension.h).
@@ -29,8 +33,10 @@
 #include "nerf/loss/photometric_loss.h"
 #include "nerf/render/composite.h"
 #include "nerf/render/segment_accumulator.h"
+#include "nerf/sampling/interlevel_loss.h"
 #include "nerf/sampling/kept_rows.h"
 #include "nerf/sampling/packed_points.h"
+#include "nerf/sampling/proposal_sampler.h"
 #include "nerf/sampling/segment_rows.h"
 #include "vknerf/config.h"
 
@@ -80,6 +86,16 @@ class FastPipeline final : public FieldPipeline {
   void recordField(gpu::Recorder& rec, const nerf::RaySpan& rays, const StepBatch* batch);
   // The colour layer's bias from the step extensions: a training batch's or a render's (none).
   std::optional<nerf::RowBias> recordColourBias(gpu::Recorder& rec, const StepBatch* batch);
+  // The samples the field evaluates: the march's, or those the proposal placed on them.
+  nerf::PackedSamples fieldSamples() const;
+  // With the proposal: the proposal field at the march's samples of `rays`, then each ray's field
+  // samples placed by its weights (jittered from `seed` in training, where its activations are kept).
+  void recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t seed, bool training);
+  // Training with the proposal: the interlevel loss against the field's weights (weights_), and the
+  // proposal's backward.
+  void recordProposalBackward(gpu::Recorder& rec, uint32_t R);
+  // A render with the proposal: each block of rays marched whole, the proposal's samples shaded.
+  void recordProposalRender(gpu::Recorder& rec, uint32_t count, bool mayWait);
   // What the compositor reads of the marched rays [first, first + count): their samples, the field
   // there and each ray's background from rays_ (`background` where a ray has none of its own).
   nerf::CompositeInputs compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background);
@@ -88,7 +104,8 @@ class FastPipeline final : public FieldPipeline {
   TrainConfig config_;
   FastModel model_;
   Aabb box_;
-  uint32_t sampleCapacity_;
+  uint32_t sampleCapacity_;  // the samples a march holds
+  uint32_t fieldCapacity_;   // the samples the field evaluates at once: the march's or the proposal's
   bool training_;
   // Before the estimator: a batch of rays over one binding's limit names the rays, not the march.
   RayBatch rays_;
@@ -100,6 +117,15 @@ class FastPipeline final : public FieldPipeline {
   std::optional<LearnedFarField> farField_;  // FarField::Learned: writes the rays' backgrounds
   std::optional<CameraRefinement> cameras_;  // FastModel::refineCameras, training
   std::optional<Appearance> appearance_;     // FastModel::appearanceDims, once the photos are known
+  // The proposal estimator (FastModel::proposalSamples): its field at the march's samples, the
+  // sampler and the samples it places (packed), and in training the interlevel loss, its gradient
+  // for the proposal's weights and each ray's value of it.
+  std::optional<FastField> proposal_;
+  std::optional<nerf::ProposalSampler> proposalSampler_;
+  gpu::Buffer placedOffsets_, placedSamples_, placedSampleRay_, placedTotals_;
+  std::optional<nerf::InterlevelLoss> interlevel_;
+  gpu::Buffer proposalWeightGrads_, interlevelValues_;
+  std::optional<uint32_t> interlevelTerm_;
 
   // per ray
   gpu::Buffer color_, depth_, dColor_, zeroDepthGrad_;

@@ -80,6 +80,25 @@ TEST(ConfigJson, DistortionFarFieldRoundTripsAndIsOffForOldModels) {
   EXPECT_FALSE(io::trainConfigFromJson(j, "old.vknerf").fastModel().distortionFarField);
 }
 
+// The proposal estimator's settings: written, read back, and off for a model saved before it existed
+// (every marched sample through the field, no proposal arrays in its checkpoint).
+TEST(ConfigJson, ProposalRoundTripsAndIsOffForOldModels) {
+  TrainConfig c = fastConfig(16);
+  c.fastModel().proposalSamples = 24;
+  c.fastModel().proposalLevels = 3;
+  c.fastModel().proposalLoss = 0.5f;
+  auto j = io::toJson(c);
+  EXPECT_EQ(j["proposal_samples"], 24);
+  const FastModel back = io::trainConfigFromJson(j, "m.vknerf").fastModel();
+  EXPECT_EQ(back.proposalSamples, 24u);
+  EXPECT_EQ(back.proposalLevels, 3u);
+  EXPECT_EQ(back.proposalLoss, 0.5f);
+  for (const char* key : {"proposal_samples", "proposal_levels", "proposal_loss"}) j.erase(key);
+  const FastModel old = io::trainConfigFromJson(j, "old.vknerf").fastModel();
+  EXPECT_EQ(old.proposalSamples, 0u);
+  EXPECT_EQ(old.proposalLevels, 5u);
+}
+
 // The far field is part of the model (its parameters are in the checkpoint): written, read back,
 // constant for a model saved before it existed; an unknown name is an error naming the key and file.
 TEST(ConfigJson, FarFieldRoundTripsAndDefaultsToConstantForOldModels) {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <set>
 #include <map>
+#include <memory>
+#include <utility>
 
 #include "gpu/device/device.h"
 #include "gpu/dispatch/recorder.h"
@@ -121,6 +123,60 @@ TEST_F(FastPipelineTest, LearnsTheSampleSceneAndSkipsEmptySpace) {
   // pipelines' capacities, which changes float summation order by a few ulps at most.
   expectSameImage(a.rgb, b.rgb, 1e-5);
   expectSameImage(a.opacity, b.opacity, 1e-5);
+}
+
+// The proposal estimator end to end: the field learns at the samples the proposal places, the
+// proposal from the interlevel loss (reported under its configuration field), a ray gets at most
+// its samples, and the reloaded model, and a render recorded without waits, draw what the
+// trainer's does.
+TEST_F(FastPipelineTest, TheProposalPlacesTheSamplesItIsTrainedFor) {
+  const Dataset& train = scene("train");
+  const Dataset& test = scene("test");
+  TrainConfig cfg = smallFast();
+  cfg.fastModel().proposalSamples = 16;
+  auto trainer = std::make_unique<Trainer>(sharedContext(), train, cfg);
+  const test::TempDir tmp("proposal");
+  const std::string path = tmp.file("proposal.vknerf"), initial = tmp.file("initial.vknerf");
+  trainer->save(initial);
+  StepStats st;
+  for (int i = 0; i < 120; ++i) {
+    st = trainer->step(i == 0 || i == 119);
+    if (!st.hasLoss) continue;
+    EXPECT_TRUE(std::isfinite(st.loss));
+    ASSERT_EQ(st.lossTerms.size(), 1u);
+    EXPECT_EQ(st.lossTerms[0].first, "proposal_loss");
+    EXPECT_TRUE(std::isfinite(st.lossTerms[0].second) && st.lossTerms[0].second > 0) << st.lossTerms[0].second;
+    EXPECT_LE(st.samples, 16ull * st.rays) << "at most the proposal's samples a ray";
+  }
+  trainer->save(path);
+  // The interlevel loss is the proposal's only gradient (Adam makes its weight a mere scale):
+  // its network has moved from where it started.
+  const auto before = io::Checkpoint::load(initial).get<float>("proposal.mlp.params");
+  const auto after = io::Checkpoint::load(path).get<float>("proposal.mlp.params");
+  ASSERT_EQ(before.size(), after.size());
+  double moved = 0;
+  for (size_t i = 0; i < before.size(); ++i) moved = std::max(moved, double(std::fabs(after[i] - before[i])));
+  EXPECT_GT(moved, 1e-3) << "the proposal's network never learned";
+
+  const auto score = test::scoreHeldOut(trainer->model(), test, 4);
+  std::printf("fast with a proposal: held-out PSNR %.2f dB (constant %.2f dB)\n", score.psnr, score.constantPsnr);
+  EXPECT_GT(score.psnr, score.constantPsnr + 3.0);
+
+  EXPECT_FALSE(io::Checkpoint::load(path).get<float>("proposal.encoding.params").empty());
+  Model loaded = Model::load(sharedContext(), path);
+  EXPECT_EQ(loaded.config().fastModel().proposalSamples, 16u);
+  RenderedImage a = trainer->model().render(test.cameras[0]);
+  RenderedImage b = loaded.render(test.cameras[0]);
+  // Same kernels on the same inputs, up to the MLP's chunking (a few ulps), as above.
+  expectSameImage(a.rgb, b.rgb, 1e-5);
+  expectSameImage(a.opacity, b.opacity, 1e-5);
+
+  // A render recorded into one command buffer draws what a waited one does, in blocks of rays
+  // whose every candidate fits the march's capacity (a trainer's: a few blocks for 2048 rays).
+  models::FastPipeline pipe(test::context(), cfg, train.bounds, 2048, true);
+  const std::vector<float> waited = renderBlock(pipe, test.cameras[1], 2048, true);
+  const std::vector<float> recorded = renderBlock(pipe, test.cameras[1], 2048, false);
+  expectSameImage(waited, recorded, 0.0);
 }
 
 TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {

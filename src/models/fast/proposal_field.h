@@ -1,0 +1,20 @@
+#pragma once
+// The proposal estimator's density field (FastModel::proposalSamples): the fast field's parts at a
+// small size, evaluated at every sample the march finds, its density alone read (nerfacto's
+// proposal network: a hash grid of a few levels and one layer 16 wide). Its checkpoint arrays are
+// "proposal.encoding.*" and "proposal.mlp.*".
+#include <cstdint>
+
+#include "models/fast/fast_field.h"
+#include "vknerf/config.h"
+
+namespace vknerf::models {
+
+// The proposal's own configuration: the field's with proposalLevels levels of 2 features in tables
+// of at most 2^17 entries, and a network of one layer 16 wide over first-degree harmonics.
+TrainConfig proposalConfigOf(const TrainConfig& config);
+
+// What the proposal's checkpoint arrays' names begin with (FastField's stateName).
+inline constexpr const char* kProposalStateName = "proposal.";
+
+}  // namespace vknerf::models

@@ -90,6 +90,9 @@ struct FastModel {
   // weight proposalLoss; it is a hash grid of proposalLevels levels and a network 16 wide.
   uint32_t proposalSamples = 0;
   uint32_t proposalLevels = 5;
+  // The proposal's candidates: with cascades, one stands for up to this many march steps through
+  // occupied cells (1: every step), evaluated at its middle.
+  uint32_t proposalStride = 1;
   float proposalLoss = 1.0f;
   // What a ray sees behind the field when it leaves the scene box partly transparent. Learned: a
   // colour per direction at infinity (a hash grid on the unit sphere and a small MLP, trained with

@@ -1,5 +1,6 @@
 #version 450
-// Field inputs of a packed batch: sample s of ray sampleRay[s] becomes the position o + t d mapped
+// Field inputs of a packed batch: sample s of ray sampleRay[s] becomes the position o + t d (or its
+// interval's middle, o + (t + delta / 2) d: nerf::PackedSamplePoints's midpoints) mapped
 // from the scene box onto [-1, 1]^3 and the ray's unit direction, both vec4 with w = 0 (the
 // packed twin of sample_points.comp). The sample count is the marcher's total (the first uint of
 // its totals, bound as the row limit): the dispatches are indirect, chunk by chunk, with workgroup
@@ -26,7 +27,9 @@ void main() {
   uint r = sampleRay[s];
   vec3 o = rays[2u * r].xyz, d = rays[2u * r + 1u].xyz;
   // Same operation order as ref::samplePosition: 2 (x - min) / (max - min) - 1.
-  vec3 x = o + samples[s].x * d;
+  vec2 ts = samples[s];
+  precise float t = pc.midpoints != 0u ? ts.x + 0.5 * ts.y : ts.x;
+  vec3 x = o + t * d;
   vec3 p = 2.0 * (x - pc.boxMin.xyz) / (pc.boxMax.xyz - pc.boxMin.xyz) - 1.0;
   positions[s] = vec4(p, 0.0);
   directions[s] = vec4(d, 0.0);

@@ -247,6 +247,8 @@ std::vector<ConfigField> table() {
           .flagRange(0, 1024),
       fastTop("proposal_levels", &FastModel::proposalLevels).addedLater(5u).range(1, 16)
           .flag("--proposal-levels", "fast, with --proposal-samples: the proposal's hash-grid levels").flagRange(1, 16),
+      fastTop("proposal_stride", &FastModel::proposalStride).addedLater(1u).range(1, 64)
+          .flag("--proposal-stride", "fast, with --proposal-samples and cascades: one proposal evaluation stands for up to this many march steps through occupied cells").flagRange(1, 64),
       fastTop("proposal_loss", &FastModel::proposalLoss).addedLater(1.0f).range(0.0, 1e3).openLow(),
       // Models saved before it had a constant far field.
       model("far_field", &FastModel::farField).addedLater(std::string("constant"))

@@ -276,7 +276,7 @@ nerf::RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const Traini
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   if (farField_) farField_->recordForward(rec, R, rays_.rays(), rays_.background(), true);
   const nerf::RaySpan batch = rays_.rays(0, R);
-  estimator_.recordMarch(rec, batch, model_.maxSamplesPerRay, seed, true);
+  estimator_.recordMarch(rec, batch, model_.maxSamplesPerRay, seed, true, proposal_ ? model_.proposalStride : 1);
   // The batch's size stays on the device: the rays that fit the sample capacity whole, and their
   // sample total (the march's totals, rewritten); every later kernel is recorded for the capacity
   // and cut to those counts (shaders/gpu/row_limit.glsl), so the step is one submission.
@@ -354,7 +354,7 @@ nerf::PackedSamples FastPipeline::fieldSamples() const {
 void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t seed, bool training) {
   FieldBatch& p = proposal_->batch();
   const nerf::PackedSamples candidates = estimator_.samples();
-  points_.record(rec, sampleCapacity_, rays.range, candidates, box_, {p.positions, p.directions});
+  points_.record(rec, sampleCapacity_, rays.range, candidates, box_, {p.positions, p.directions}, true);
   proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt}, training);
   // The placement's jitter draws from its own stream: the march's draws are keyed by the same seed.
   const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding};
@@ -384,7 +384,7 @@ void FastPipeline::recordProposalRender(gpu::Recorder& rec, uint32_t count, bool
     const nerf::SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, nerf::kColorBytes, done, n),
                                                 gpu::rowsOf(depth_, nerf::kDepthBytes, done, n)};
     if (mayWait) segments_.recordResetCounts(rec);
-    estimator_.recordMarch(rec, rays, most, 0, false);
+    estimator_.recordMarch(rec, rays, most, 0, false, model_.proposalStride);
     recordProposal(rec, rays, 0, false);
     recordField(rec, rays, nullptr);
     compositor_.recordForward(rec, nerf::CompositeInputs::packed(n, fieldSamples(), field_.batch().field),

@@ -1,6 +1,9 @@
 #include "models/fast/occupancy_estimator.h"
 
 #include <algorithm>
+#include <limits>
+
+#include <algorithm>
 #include <cmath>
 
 #include "nerf/sampling/points.h"
@@ -62,8 +65,13 @@ OccupancyEstimator::OccupancyEstimator(Context& ctx, const FastModel& model, con
 }
 
 void OccupancyEstimator::recordMarch(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t maxSamples, uint32_t seed,
-                                     bool jitter) {
-  marcher_.record(rec, rays, grid_, box_, {dt_, maxSamples, seed, jitter, cone_}, samples());
+                                     bool jitter, uint32_t group) {
+  nerf::ConeSteps cone = cone_;
+  if (group > 1 && grid_.cascades() > 1) {
+    cone.stepOpacity = std::numeric_limits<float>::max();  // stretch through every occupied cell
+    cone.stretch = std::min(group, nerf::RayMarcher::kMaxStretch);
+  }
+  marcher_.record(rec, rays, grid_, box_, {dt_, maxSamples, seed, jitter, cone}, samples());
 }
 
 void OccupancyEstimator::recordCutToWholeRays(gpu::Recorder& rec, uint32_t rays, uint32_t rayAlign,

@@ -41,7 +41,11 @@ class OccupancyEstimator final : public StatePart {
   void markUnseenEmpty(std::span<const Camera> cameras) { grid_.markUnseenEmpty(cameras, box_); }
 
   // The march of `rays` into samples() (at most maxSamples per ray; jittered starts from `seed`).
-  void recordMarch(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t maxSamples, uint32_t seed, bool jitter);
+  // group > 1 (cascades only): each sample stands for up to `group` consecutive steps through
+  // occupied cells, whatever their density (the proposal's candidates: a coarser march that still
+  // skips exactly the empty cells the plain march skips).
+  void recordMarch(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t maxSamples, uint32_t seed, bool jitter,
+                   uint32_t group = 1);
   // After a march at the sample capacity: the batch cut on the device to the rays that fit it
   // whole (multiples of rayAlign), their count written to `wholeRays`.
   void recordCutToWholeRays(gpu::Recorder& rec, uint32_t rays, uint32_t rayAlign, const gpu::BufferRange& wholeRays);

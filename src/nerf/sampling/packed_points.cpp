@@ -30,7 +30,7 @@ PackedSamplePoints::PackedSamplePoints(Context& ctx, uint32_t chunkRows)
 }
 
 void PackedSamplePoints::record(gpu::Recorder& rec, uint32_t capacity, const gpu::BufferRange& rays,
-                                const PackedSamples& batch, const Aabb& box, const PointBuffers& out) {
+                                const PackedSamples& batch, const Aabb& box, const PointBuffers& out, bool midpoints) {
   const gpu::BufferRange &samples = batch.samples, &sampleRay = batch.sampleRay, &totals = batch.totals;
   const gpu::BufferRange &positions = out.positions, &directions = out.directions;
   for (int k = 0; k < 3; ++k)
@@ -45,7 +45,8 @@ void PackedSamplePoints::record(gpu::Recorder& rec, uint32_t capacity, const gpu
   // of 2048 rays (capacity 131072 samples) paid ~2 ms for its ~30k samples.
   const gpu::BufferRange total = batch.total();
   limited_.begin(rec, &total, capacity, chunkRows_, {kPointsLocal});
-  PointsPush p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}, chunkRows_, 0};
+  PointsPush p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}, chunkRows_, 0,
+               midpoints ? 1u : 0u};
   for (uint32_t c = 0; uint64_t(c) * chunkRows_ < capacity; ++c)
     gpu::dispatchLimited(rec, kernel_, {rays, samples, sampleRay, positions, directions}, p, limited_.rows(c, 0),
                          0, "march_points");

@@ -21,9 +21,10 @@ class PackedSamplePoints {
   static constexpr uint32_t kChunkRows = 1u << 21;
   explicit PackedSamplePoints(Context& ctx, uint32_t chunkRows = kChunkRows);
   // rays: those the batch was marched for (its sampleRay indexes them); reads the batch's samples,
-  // sampleRay and totals.
+  // sampleRay and totals. midpoints: each sample's point is the middle of its interval [t, t +
+  // delta] (a sample that stands for several march steps: the proposal's candidates), else t.
   void record(gpu::Recorder& rec, uint32_t capacity, const gpu::BufferRange& rays, const PackedSamples& batch,
-              const Aabb& box, const PointBuffers& out);
+              const Aabb& box, const PointBuffers& out, bool midpoints = false);
 
  private:
   gpu::Kernel kernel_;

@@ -424,7 +424,7 @@ TEST_F(Marcher, RejectsBadArguments) {
 
 // ---- Packed sample points ----
 
-void packedPointsFollowSampleRays(Context& ctx, uint32_t chunkRows) {
+void packedPointsFollowSampleRays(Context& ctx, uint32_t chunkRows, bool midpoints = false) {
   Aabb box{{-2, -1, -1}, {2, 1, 3}};
   nerf::OccupancyGrid grid(ctx, 16);
   setBits(grid, randomBits(grid, 0.3, 4));
@@ -438,7 +438,7 @@ void packedPointsFollowSampleRays(Context& ctx, uint32_t chunkRows) {
   nerf::PackedSamplePoints points(ctx, chunkRows);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     marcher.record(rec, {rayBuf, n}, grid, box, {0.02f, 256, 8, true}, {offsets, samples, sampleRay, totals});
-    points.record(rec, capacity, rayBuf, {offsets, samples, sampleRay, totals}, box, {positions, directions});
+    points.record(rec, capacity, rayBuf, {offsets, samples, sampleRay, totals}, box, {positions, directions}, midpoints);
   });
   uint32_t total = totals.download<uint32_t>(1)[0];
   ASSERT_GT(total, 1000u);
@@ -450,7 +450,8 @@ void packedPointsFollowSampleRays(Context& ctx, uint32_t chunkRows) {
   for (uint32_t i = 0; i < total; ++i) {
     const auto& r = rays[sr[i]];
     std::array<double, 3> o{r.o[0], r.o[1], r.o[2]}, d{r.d[0], r.d[1], r.d[2]};
-    auto p = ref::samplePosition<double>(o, d, double(s[2 * i]), box);
+    const double t = midpoints ? double(s[2 * i]) + 0.5 * double(s[2 * i + 1]) : double(s[2 * i]);
+    auto p = ref::samplePosition<double>(o, d, t, box);
     for (int k = 0; k < 3; ++k) {
       // o + t d with |o|, t up to ~10, then an affine map with O(1) factors: a few float roundings
       // of values up to ~10, so ~1e-6 absolute; the result lies in [-1, 1] up to that rounding.
@@ -470,3 +471,6 @@ TEST_F(Marcher, PackedPointsFollowSampleRays) {
     packedPointsFollowSampleRays(ctx(), chunkRows);
   }
 }
+
+// At the middle of each sample's interval (the proposal's candidates, which stand for several steps).
+TEST_F(Marcher, PackedPointsAtMidpoints) { packedPointsFollowSampleRays(ctx(), 4096u, true); }

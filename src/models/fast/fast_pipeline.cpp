@@ -225,12 +225,11 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
   // another image than the saved model's render.
   const uint32_t most = model_.maxSamplesPerRay;
   const uint32_t perRay = mayWait ? kFirstSegment : most;
-  const uint32_t block = std::min(count, std::max(kRayAlign, sampleCapacity_ / perRay / kRayAlign * kRayAlign));
+  const uint32_t block = renderBlock(count, perRay);
   for (uint32_t done = 0; done < count; done += block) {
     const uint32_t n = std::min(block, count - done);
     const nerf::RaySpan rays = rays_.rays(done, n);
-    const nerf::SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, nerf::kColorBytes, done, n),
-                                                gpu::rowsOf(depth_, nerf::kDepthBytes, done, n)};
+    const nerf::SegmentAccumulator::Gathered gathered = gatheredRays(done, n);
     for (uint32_t marched = 0, live = n; live > 0 && marched < most;) {
       const uint32_t cap = std::min({std::max(1u, sampleCapacity_ / live), marched == 0 ? kFirstSegment : most,
                                      most - marched});
@@ -243,10 +242,7 @@ void FastPipeline::doRecordRender(gpu::Recorder& rec, const ViewBlock& view, boo
       segments_.record(rec, {cap, first, last, renderMinTransmittance_}, rays, estimator_.samples(), gathered);
       marched += cap;
       if (!mayWait) continue;
-      rec.end();
-      rec.submitAndWait();
-      rec.begin();
-      countRenderedSamples(segments_.samples());
+      waitForRound(rec);
       live = segments_.active();
     }
   }
@@ -346,6 +342,22 @@ void FastPipeline::recordTrainingBackward(gpu::Recorder& rec, const StepBatch& b
   if (proposal_) recordProposalBackward(rec, R);
 }
 
+uint32_t FastPipeline::renderBlock(uint32_t count, uint32_t samplesPerRay) const {
+  return std::min(count, std::max(kRayAlign, sampleCapacity_ / samplesPerRay / kRayAlign * kRayAlign));
+}
+
+nerf::SegmentAccumulator::Gathered FastPipeline::gatheredRays(uint32_t first, uint32_t count) {
+  return {rays_.backgrounds(first, count), gpu::rowsOf(color_, nerf::kColorBytes, first, count),
+          gpu::rowsOf(depth_, nerf::kDepthBytes, first, count)};
+}
+
+void FastPipeline::waitForRound(gpu::Recorder& rec) {
+  rec.end();
+  rec.submitAndWait();
+  rec.begin();
+  countRenderedSamples(segments_.samples());
+}
+
 nerf::PackedSamples FastPipeline::fieldSamples() const {
   if (!proposal_) return estimator_.samples();
   return {placedOffsets_, placedSamples_, placedSampleRay_, placedTotals_};
@@ -377,12 +389,11 @@ void FastPipeline::recordProposalRender(gpu::Recorder& rec, uint32_t count, bool
   // Every ray's candidates at once (the proposal's CDF spans the whole ray): a block holds as many
   // rays as the march's capacity holds at the most samples a ray.
   const uint32_t most = model_.maxSamplesPerRay;
-  const uint32_t block = std::min(count, std::max(kRayAlign, sampleCapacity_ / most / kRayAlign * kRayAlign));
+  const uint32_t block = renderBlock(count, most);
   for (uint32_t done = 0; done < count; done += block) {
     const uint32_t n = std::min(block, count - done);
     const nerf::RaySpan rays = rays_.rays(done, n);
-    const nerf::SegmentAccumulator::Gathered gathered{rays_.backgrounds(done, n), gpu::rowsOf(color_, nerf::kColorBytes, done, n),
-                                                gpu::rowsOf(depth_, nerf::kDepthBytes, done, n)};
+    const nerf::SegmentAccumulator::Gathered gathered = gatheredRays(done, n);
     if (mayWait) segments_.recordResetCounts(rec);
     estimator_.recordMarch(rec, rays, most, 0, false, model_.proposalStride);
     recordProposal(rec, rays, 0, false);
@@ -390,11 +401,7 @@ void FastPipeline::recordProposalRender(gpu::Recorder& rec, uint32_t count, bool
     compositor_.recordForward(rec, nerf::CompositeInputs::packed(n, fieldSamples(), field_.batch().field),
                               {segments_.segmentColor(), segments_.segmentDepth(), weights_});
     segments_.record(rec, {model_.proposalSamples, true, true, renderMinTransmittance_}, rays, fieldSamples(), gathered);
-    if (!mayWait) continue;
-    rec.end();
-    rec.submitAndWait();
-    rec.begin();
-    countRenderedSamples(segments_.samples());
+    if (mayWait) waitForRound(rec);
   }
 }
 

@@ -94,6 +94,13 @@ class FastPipeline final : public FieldPipeline {
   // Training with the proposal: the interlevel loss against the field's weights (weights_), and the
   // proposal's backward.
   void recordProposalBackward(gpu::Recorder& rec, uint32_t R);
+  // A render's rays a block: as many as the march's capacity holds at samplesPerRay each, in whole
+  // multiples of kRayAlign (at least one), at most count.
+  uint32_t renderBlock(uint32_t count, uint32_t samplesPerRay) const;
+  // Where a render gathers the rays [first, first + count): their backgrounds, colours and depths.
+  nerf::SegmentAccumulator::Gathered gatheredRays(uint32_t first, uint32_t count);
+  // A waited render's round: submitted and waited for, its composited samples counted.
+  void waitForRound(gpu::Recorder& rec);
   // A render with the proposal: each block of rays marched whole, the proposal's samples shaded.
   void recordProposalRender(gpu::Recorder& rec, uint32_t count, bool mayWait);
   // What the compositor reads of the marched rays [first, first + count): their samples, the field

@@ -51,10 +51,22 @@ uint32_t sampleCapacityFor(const FastModel& m, uint32_t rayCapacity, bool traini
   return uint32_t(std::min<uint64_t>(std::max(minimum, wanted), 1ull << 28));
 }
 
-// The samples the field evaluates at once with the proposal: every ray of a batch at its samples.
-uint32_t fieldCapacityFor(const FastModel& m, uint32_t rayCapacity, uint32_t sampleCapacity) {
+// The rays a batch at the proposal's samples holds: a training step's as many as twice its sample
+// budget gives them (the march's headroom; the step takes about half), a render block's as many as
+// the march's capacity holds at the most samples a ray (those are its candidates). Sizing the field
+// for every ray of the pipeline instead held five times the device memory (the cup at 32 samples:
+// 848 MiB against 152).
+uint32_t proposalRaysFor(const FastModel& m, uint32_t rayCapacity, uint32_t sampleCapacity, bool training) {
+  const uint32_t perRay = training ? m.proposalSamples : m.maxSamplesPerRay;
+  const uint32_t budget = training ? 2 * m.samplesPerBatch : sampleCapacity;
+  return std::min(rayCapacity, std::max(kRayAlign, budget / perRay / kRayAlign * kRayAlign));
+}
+
+// The samples the field evaluates at once: the march's, or with the proposal its rays' samples.
+uint32_t fieldCapacityFor(const FastModel& m, uint32_t rayCapacity, uint32_t sampleCapacity, bool training) {
   if (m.proposalSamples == 0) return sampleCapacity;
-  return uint32_t(std::min<uint64_t>(uint64_t(rayCapacity) * m.proposalSamples, 1ull << 28));
+  const uint64_t rays = proposalRaysFor(m, rayCapacity, sampleCapacity, training);
+  return uint32_t(std::min<uint64_t>(rays * m.proposalSamples, 1ull << 28));
 }
 
 // The uniform share of a proposal's sampling mass (nerfacto's histogram padding, 0.01).
@@ -70,7 +82,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
       model_(withOverrides(checked(config.fastModel(), training), overrides)),
       box_(box),
       sampleCapacity_(sampleCapacityFor(model_, this->rayCapacity(), training)),
-      fieldCapacity_(fieldCapacityFor(model_, this->rayCapacity(), sampleCapacity_)),
+      fieldCapacity_(fieldCapacityFor(model_, this->rayCapacity(), sampleCapacity_, training)),
       training_(training),
       // The per-photo gradients (camera refinement, appearance) are summed over each photo's run of rays.
       rays_(ctx, this->rayCapacity(), model_.nearDistance > 0 ? model_.nearDistance : kNearPlane,
@@ -144,7 +156,8 @@ void FastPipeline::allocateTraining(Context& ctx) {
     distortionTerm_ = report().addTerm(LossReport::row("distortion_loss"), true);
     rayLossValues_ = gpu::Buffer::zeros(ctx, VkDeviceSize(rayCapacity()) * 4 * nerf::kRayLossColumns, "the rays' loss terms");
   }
-  batch_.emplace(ctx, rayCapacity(), kRayAlign, model_.samplesPerBatch);
+  // With the proposal a step's rays are bounded by the field's capacity at their samples each.
+  batch_.emplace(ctx, proposal_ ? proposalRays() : rayCapacity(), kRayAlign, model_.samplesPerBatch);
   if (model_.earlyTermination) {
     kept_.emplace(ctx, rayCapacity(), fieldCapacity_);
     gatherBackward_ = fieldCapacity_ <= field_.mlp().chunkRows();
@@ -346,6 +359,8 @@ uint32_t FastPipeline::renderBlock(uint32_t count, uint32_t samplesPerRay) const
   return std::min(count, std::max(kRayAlign, sampleCapacity_ / samplesPerRay / kRayAlign * kRayAlign));
 }
 
+uint32_t FastPipeline::proposalRays() const { return fieldCapacity_ / model_.proposalSamples; }
+
 nerf::SegmentAccumulator::Gathered FastPipeline::gatheredRays(uint32_t first, uint32_t count) {
   return {rays_.backgrounds(first, count), gpu::rowsOf(color_, nerf::kColorBytes, first, count),
           gpu::rowsOf(depth_, nerf::kDepthBytes, first, count)};
@@ -389,7 +404,7 @@ void FastPipeline::recordProposalRender(gpu::Recorder& rec, uint32_t count, bool
   // Every ray's candidates at once (the proposal's CDF spans the whole ray): a block holds as many
   // rays as the march's capacity holds at the most samples a ray.
   const uint32_t most = model_.maxSamplesPerRay;
-  const uint32_t block = renderBlock(count, most);
+  const uint32_t block = std::min(renderBlock(count, most), proposalRays());
   for (uint32_t done = 0; done < count; done += block) {
     const uint32_t n = std::min(block, count - done);
     const nerf::RaySpan rays = rays_.rays(done, n);

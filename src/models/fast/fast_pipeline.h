@@ -97,6 +97,8 @@ class FastPipeline final : public FieldPipeline {
   // A render's rays a block: as many as the march's capacity holds at samplesPerRay each, in whole
   // multiples of kRayAlign (at least one), at most count.
   uint32_t renderBlock(uint32_t count, uint32_t samplesPerRay) const;
+  // With the proposal: the most rays one batch of the field holds at their samples each.
+  uint32_t proposalRays() const;
   // Where a render gathers the rays [first, first + count): their backgrounds, colours and depths.
   nerf::SegmentAccumulator::Gathered gatheredRays(uint32_t first, uint32_t count);
   // A waited render's round: submitted and waited for, its composited samples counted.

@@ -179,6 +179,23 @@ TEST_F(FastPipelineTest, TheProposalPlacesTheSamplesItIsTrainedFor) {
   expectSameImage(waited, recorded, 0.0);
 }
 
+TEST_F(FastPipelineTest, TheProposalsFieldBatchIsSizedForAStepNotForEveryRay) {
+  // A step with the proposal places N samples on each of about samplesPerBatch / N rays, so the
+  // field's batch needs the step's budget with the march's headroom whatever N is. Sized for every
+  // ray the pipeline holds at N samples, it grew with N (the cup at 32: 848 MiB against 152
+  // without the proposal); here it went from 86 MiB at 16 samples a ray to 249 at 64. Step-sized,
+  // the two are the same but for the proposal's per-ray buffers (offsets: bytes).
+  const Dataset& train = scene("train");
+  auto deviceMiB = [&](uint32_t samples) {
+    TrainConfig cfg = smallFast();
+    cfg.fastModel().proposalSamples = samples;
+    return Trainer(sharedContext(), train, cfg).statistics().deviceMiB;
+  };
+  const double at16 = deviceMiB(16), at64 = deviceMiB(64);
+  std::printf("device buffers: %.1f MiB at 16 samples a ray, %.1f at 64\n", at16, at64);
+  EXPECT_LT(at64, at16 + 1.0);
+}
+
 TEST_F(FastPipelineTest, SubBatchesAndRecordedRendersMatch) {
   // An untrained field with every cell occupied: each ray marches up to 64 samples, no ray turns
   // opaque, and a render marches each in two segments of 32 (SegmentAccumulator); a training-sized

@@ -93,6 +93,10 @@ struct FastModel {
   // The proposal's candidates: with cascades, one stands for up to this many march steps through
   // occupied cells (1: every step), evaluated at its middle.
   uint32_t proposalStride = 1;
+  // The proposal's weights place a training step's samples in full only after this many steps:
+  // from uniform by length at the first step (nerfacto's annealing, over its 1000 steps; 0: from the
+  // first step, where fruit at 16 samples learned near-camera floaters: docs/real_captures.md).
+  uint32_t proposalAnnealSteps = 1000;
   float proposalLoss = 1.0f;
   // What a ray sees behind the field when it leaves the scene box partly transparent. Learned: a
   // colour per direction at infinity (a hash grid on the unit sphere and a small MLP, trained with

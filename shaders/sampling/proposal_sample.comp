@@ -26,8 +26,11 @@ bool uniformMass;  // the weights carry no usable distribution: each candidate's
 float massOf(CandidateWalk w) {
   float len = candidateLength(w.index);
   if (uniformMass) return len;
-  float weight = walkWeight(w);
-  precise float m = (weight > 0.0 ? weight : 0.0) + pc.padding * (len / occupiedLength);
+  float weight = walkWeight(w), share = len / occupiedLength;
+  weight = weight > 0.0 ? weight : 0.0;
+  // Annealed in training's first steps: from uniform by length (a = 0) to the weights (a = 1).
+  if (pc.anneal < 1.0 && weight > 0.0) weight = pow(weight, pc.anneal) * pow(share, 1.0 - pc.anneal);
+  precise float m = weight + pc.padding * share;
   return m;
 }
 

@@ -8,6 +8,7 @@ PUSH_CONSTANTS_BEGIN(ProposalSamplePush)
   uint seed;
   uint jitter;    // 1: one random shift of the edge quantiles a ray (training); 0: none (rendering)
   float padding;  // the uniform share of the sampling mass, spread over the occupied length
+  float anneal;   // a in [0, 1]: a candidate's weight w enters as w^a (its share of the length)^(1 - a)
 PUSH_CONSTANTS_END
 
 #endif

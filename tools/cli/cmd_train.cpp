@@ -170,7 +170,7 @@ int train(const Options& o, const Globals& g) {
       if (o.configFlags->given(flag))
         throw UsageError(std::string("train: ") + flag + " has no effect without --refine-cameras (add it, or drop " + flag + ")");
   if (cfg.isFast() && !cfg.fastModel().proposalSamples)
-    for (const char* flag : {"--proposal-levels", "--proposal-stride"})
+    for (const char* flag : {"--proposal-levels", "--proposal-stride", "--proposal-anneal-steps"})
       if (o.configFlags->given(flag))
         throw UsageError(std::string("train: ") + flag + " has no effect without --proposal-samples (add it, or drop " + flag + ")");
   std::printf("config: %s\n", cfg.describe().c_str());

@@ -249,6 +249,9 @@ std::vector<ConfigField> table() {
           .flag("--proposal-levels", "fast, with --proposal-samples: the proposal's hash-grid levels").flagRange(1, 16),
       fastTop("proposal_stride", &FastModel::proposalStride).addedLater(1u).range(1, 64)
           .flag("--proposal-stride", "fast, with --proposal-samples and cascades: one proposal evaluation stands for up to this many march steps through occupied cells").flagRange(1, 64),
+      // Models saved before it trained their proposal without annealing.
+      fastTop("proposal_anneal_steps", &FastModel::proposalAnnealSteps).addedLater(0u).range(0, 1u << 24)
+          .flag("--proposal-anneal-steps", "fast, with --proposal-samples: the training steps over which the proposal's weights take over its samples' placement from an even spread (nerfacto's annealing; default 1000, 0: from the first step)").flagRange(0, 1u << 24),
       fastTop("proposal_loss", &FastModel::proposalLoss).addedLater(1.0f).range(0.0, 1e3).openLow(),
       // Models saved before it had a constant far field.
       model("far_field", &FastModel::farField).addedLater(std::string("constant"))

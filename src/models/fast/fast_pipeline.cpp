@@ -273,7 +273,8 @@ uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData&
   TrainingData cameras = data;
   for (StepExtension* e : extensions()) cameras.cameras = &e->recordCameras(rec, cameras);
   const uint32_t slot = slotOf(step);
-  const StepBatch batch = stepBatch(recordTrainingBatch(rec, cameras, seed, batch_->rays(slot)));
+  const float anneal = proposal_ ? proposalAnneal(model_, step) : 1.0f;
+  const StepBatch batch = stepBatch(recordTrainingBatch(rec, cameras, {seed, anneal}, batch_->rays(slot)));
   const nerf::CompositeInputs composite = recordTrainingForward(rec, cameras, batch);
   recordTrainingBackward(rec, batch, composite);
   parts().recordOptimizerSteps(rec, at);
@@ -281,7 +282,9 @@ uint32_t FastPipeline::doRecordTrainStep(gpu::Recorder& rec, const TrainingData&
   return batch.rays.count;
 }
 
-nerf::RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R) {
+nerf::RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, StepDraws draws,
+                                                uint32_t R) {
+  const uint32_t seed = draws.seed;
   rays_.recordTraining(rec, data, seed, R, box_, config_);
   if (farField_) farField_->recordForward(rec, R, rays_.rays(), rays_.background(), true);
   const nerf::RaySpan batch = rays_.rays(0, R);
@@ -290,7 +293,7 @@ nerf::RaySpan FastPipeline::recordTrainingBatch(gpu::Recorder& rec, const Traini
   // sample total (the march's totals, rewritten); every later kernel is recorded for the capacity
   // and cut to those counts (shaders/gpu/row_limit.glsl), so the step is one submission.
   estimator_.recordCutToWholeRays(rec, R, kRayAlign, wholeRayCount());
-  if (proposal_) recordProposal(rec, batch, seed, true);
+  if (proposal_) recordProposal(rec, batch, draws);
   return batch;
 }
 
@@ -378,13 +381,16 @@ nerf::PackedSamples FastPipeline::fieldSamples() const {
   return {placedOffsets_, placedSamples_, placedSampleRay_, placedTotals_};
 }
 
-void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t seed, bool training) {
+void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, std::optional<StepDraws> step) {
+  const bool training = step.has_value();
+  const uint32_t seed = training ? step->seed : 0;
   FieldBatch& p = proposal_->batch();
   const nerf::PackedSamples candidates = estimator_.samples();
   points_.record(rec, sampleCapacity_, rays.range, candidates, box_, {p.positions, p.directions}, true);
   proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt}, training);
   // The placement's jitter draws from its own stream: the march's draws are keyed by the same seed.
-  const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding};
+  const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding,
+                                           training ? step->anneal : 1.0f};
   proposalSampler_->record(rec, rays.count, {candidates.offsets, candidates.samples, p.field}, draws, fieldCapacity_,
                            fieldSamples());
 }
@@ -411,7 +417,7 @@ void FastPipeline::recordProposalRender(gpu::Recorder& rec, uint32_t count, bool
     const nerf::SegmentAccumulator::Gathered gathered = gatheredRays(done, n);
     if (mayWait) segments_.recordResetCounts(rec);
     estimator_.recordMarch(rec, rays, most, 0, false, model_.proposalStride);
-    recordProposal(rec, rays, 0, false);
+    recordProposal(rec, rays, std::nullopt);
     recordField(rec, rays, nullptr);
     compositor_.recordForward(rec, nerf::CompositeInputs::packed(n, fieldSamples(), field_.batch().field),
                               {segments_.segmentColor(), segments_.segmentDepth(), weights_});

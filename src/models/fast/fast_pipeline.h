@@ -65,7 +65,13 @@ class FastPipeline final : public FieldPipeline {
   uint32_t doRecordTrainStep(gpu::Recorder& rec, const TrainingData& data, nerf::OptimizerStep at) override;
   StepSize doCollectTrainStep(uint32_t slot) override;
   // R random training rays marched, the batch cut on the device to the rays that fit the sample capacity whole.
-  nerf::RaySpan recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, uint32_t seed, uint32_t R);
+  // A training step's draws: its random stream, and how far the proposal's weights place its
+  // samples (proposalAnneal; 1 without the proposal).
+  struct StepDraws {
+    uint32_t seed;
+    float anneal;
+  };
+  nerf::RaySpan recordTrainingBatch(gpu::Recorder& rec, const TrainingData& data, StepDraws draws, uint32_t R);
   // The batch as the step extensions see it.
   StepBatch stepBatch(const nerf::RaySpan& batch);
   // Field, compositing and photometric loss over the batch; returns what the backward composites again.
@@ -89,8 +95,9 @@ class FastPipeline final : public FieldPipeline {
   // The samples the field evaluates: the march's, or those the proposal placed on them.
   nerf::PackedSamples fieldSamples() const;
   // With the proposal: the proposal field at the march's samples of `rays`, then each ray's field
-  // samples placed by its weights (jittered from `seed` in training, where its activations are kept).
-  void recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t seed, bool training);
+  // samples placed by its weights: in a training step (`step`) jittered by its draws and annealed,
+  // its activations kept; in a render by the weights in full, with no jitter.
+  void recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, std::optional<StepDraws> step);
   // Training with the proposal: the interlevel loss against the field's weights (weights_), and the
   // proposal's backward.
   void recordProposalBackward(gpu::Recorder& rec, uint32_t R);

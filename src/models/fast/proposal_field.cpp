@@ -24,4 +24,11 @@ TrainConfig proposalConfigOf(const TrainConfig& config) {
   return c;
 }
 
+float proposalAnneal(const FastModel& model, uint32_t step) {
+  if (model.proposalAnnealSteps == 0) return 1.0f;
+  const double x = std::min(1.0, double(step) / double(model.proposalAnnealSteps));
+  constexpr double kBias = 10.0;  // nerfacto's proposal_weights_anneal_slope
+  return float(kBias * x / ((kBias - 1.0) * x + 1.0));
+}
+
 }  // namespace vknerf::models

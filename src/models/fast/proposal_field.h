@@ -14,6 +14,12 @@ namespace vknerf::models {
 // of at most 2^17 entries, and a network of one layer 16 wide over first-degree harmonics.
 TrainConfig proposalConfigOf(const TrainConfig& config);
 
+// How far the proposal's weights place a training step's samples (ProposalSampler::Draws::anneal):
+// nerfacto's schedule, a = 10 x / (9 x + 1) of x = step / proposalAnnealSteps (clamped at 1), from
+// uniform by length at the first step (the proposal knows nothing yet) to its weights; 1 with no
+// annealing steps.
+float proposalAnneal(const FastModel& model, uint32_t step);
+
 // What the proposal's checkpoint arrays' names begin with (FastField's stateName).
 inline constexpr const char* kProposalStateName = "proposal.";
 

@@ -31,6 +31,8 @@ void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const Proposa
   if (draws.samplesPerRay == 0) throw Error("proposal_sample: samples per ray must be at least 1");
   if (!(draws.padding >= 0.0f && draws.padding <= 1.0f))
     throw Error("proposal_sample: padding " + std::to_string(draws.padding) + " must be in [0, 1]");
+  if (!(draws.anneal >= 0.0f && draws.anneal <= 1.0f))
+    throw Error("proposal_sample: anneal " + std::to_string(draws.anneal) + " must be in [0, 1]");
   gpu::requireBytes("proposal_sample", "candidate offsets", candidates.offsets, (uint64_t(numRays) + 1) * sizeof(uint32_t));
   PackedLayout::requireOutputs("proposal_sample", numRays, out.offsets, out.totals);
   gpu::requireBytes("proposal_sample", "samples", out.samples, uint64_t(capacity) * kSampleBytes);
@@ -39,7 +41,7 @@ void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const Proposa
   rec.dispatchFlat(count_, {candidates.offsets, layout_.counts()}, glsl::ProposalCountPush{numRays, draws.samplesPerRay},
                    numRays, kLocal, "proposal_count");
   layout_.recordOffsetsAndTotals(rec, numRays, capacity, out.offsets, out.totals);
-  glsl::ProposalSamplePush p{numRays, draws.jitter.seed, draws.jitter.jitter ? 1u : 0u, draws.padding};
+  glsl::ProposalSamplePush p{numRays, draws.jitter.seed, draws.jitter.jitter ? 1u : 0u, draws.padding, draws.anneal};
   rec.dispatchFlat(sample_, {candidates.offsets, candidates.samples, candidates.field, out.offsets, out.samples, out.sampleRay},
                    p, numRays, kLocal, "proposal_sample");
 }

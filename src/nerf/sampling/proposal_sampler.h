@@ -22,14 +22,17 @@ class ProposalSampler {
 
   // How the samples are drawn: samplesPerRay of them, one random shift of the edge quantiles a
   // ray keyed by (seed, ray) (jitter, in training) or none, and the uniform share `padding` in
-  // [0, 1] of the sampling mass, spread over the occupied length.
+  // [0, 1] of the sampling mass, spread over the occupied length; anneal a in [0, 1]: a weight w
+  // enters the mass as w^a (its candidate's share of the occupied length)^(1 - a), uniform by
+  // length at 0 (nerfacto anneals its proposal's weights so over its first steps).
   struct Draws {
     uint32_t samplesPerRay = 0;
     Jitter jitter;
     float padding = 0.01f;
+    float anneal = 1.0f;
   };
   // `capacity`: the samples out.samples and out.sampleRay hold. Throws vknerf::Error for more
-  // than maxRays rays, no samples a ray, a padding outside [0, 1], or buffers too small for the
+  // than maxRays rays, no samples a ray, a padding or anneal outside [0, 1], or buffers too small for the
   // rays or the capacity.
   void record(gpu::Recorder& rec, uint32_t numRays, const ProposalCandidates& candidates, const Draws& draws,
               uint32_t capacity, const PackedSamples& out);

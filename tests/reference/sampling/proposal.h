@@ -53,8 +53,14 @@ template <class T> std::vector<T> proposalWeights(std::span<const T> candidates,
 // Candidate i's share of the sampling mass: its weight (clamped at 0, NaN to 0) plus a uniform
 // share `padding` of the whole spread over the occupied length, so that no stretch the proposal
 // calls empty goes without samples for ever (nerfacto's histogram padding, by length here).
-template <class T> T proposalMass(T weight, T delta, T padding, T occupiedLength) {
-  return (weight > T(0) ? weight : T(0)) + padding * (delta / occupiedLength);
+// Annealed (a in [0, 1), the first steps of training), the weight is w^a (l / U)^(1 - a) of its
+// length l in the occupied length U: from uniform by length at a = 0 to the weights at a = 1
+// (nerfacto's w^a over its bins of equal length, here with candidates of any length).
+template <class T> T proposalMass(T weight, T delta, T padding, T occupiedLength, T anneal = T(1)) {
+  const T share = delta / occupiedLength;
+  T w = weight > T(0) ? weight : T(0);
+  if (anneal < T(1) && w > T(0)) w = std::pow(w, anneal) * std::pow(share, T(1) - anneal);
+  return w + padding * share;
 }
 
 // Edge quantile j of n bins (j = 1 .. n-1): (j + shift) / n, shift in [-1/2, 1/2) from one draw a
@@ -69,7 +75,7 @@ template <class T> T proposalShift(uint32_t seed, uint32_t ray, bool jitter) {
 // nothing usable (below kMinMass, inf or NaN) every candidate's mass is its length (uniform).
 template <class T>
 std::vector<T> proposalSamples(std::span<const T> candidates, std::span<const T> sigma, uint32_t n, T padding,
-                               T shift) {
+                               T shift, T anneal = T(1)) {
   const size_t k = sigma.size();
   std::vector<T> out(2 * n, T(0));
   const std::vector<T> u = occupiedStarts(candidates);
@@ -79,7 +85,7 @@ std::vector<T> proposalSamples(std::span<const T> candidates, std::span<const T>
 
   std::vector<T> w = proposalWeights(candidates, sigma), mass(k);
   T total = 0;
-  for (size_t i = 0; i < k; ++i) total += mass[i] = proposalMass(w[i], len(i), padding, length);
+  for (size_t i = 0; i < k; ++i) total += mass[i] = proposalMass(w[i], len(i), padding, length, anneal);
   if (!(total >= T(kMinMass) && total <= T(3.402823466e38))) {
     total = 0;
     for (size_t i = 0; i < k; ++i) total += mass[i] = len(i);

@@ -87,16 +87,19 @@ TEST(ConfigJson, ProposalRoundTripsAndIsOffForOldModels) {
   c.fastModel().proposalSamples = 24;
   c.fastModel().proposalLevels = 3;
   c.fastModel().proposalLoss = 0.5f;
+  c.fastModel().proposalAnnealSteps = 300;
   auto j = io::toJson(c);
   EXPECT_EQ(j["proposal_samples"], 24);
   const FastModel back = io::trainConfigFromJson(j, "m.vknerf").fastModel();
   EXPECT_EQ(back.proposalSamples, 24u);
   EXPECT_EQ(back.proposalLevels, 3u);
   EXPECT_EQ(back.proposalLoss, 0.5f);
-  for (const char* key : {"proposal_samples", "proposal_levels", "proposal_loss"}) j.erase(key);
+  EXPECT_EQ(back.proposalAnnealSteps, 300u);
+  for (const char* key : {"proposal_samples", "proposal_levels", "proposal_loss", "proposal_anneal_steps"}) j.erase(key);
   const FastModel old = io::trainConfigFromJson(j, "old.vknerf").fastModel();
   EXPECT_EQ(old.proposalSamples, 0u);
   EXPECT_EQ(old.proposalLevels, 5u);
+  EXPECT_EQ(old.proposalAnnealSteps, 0u);
 }
 
 // The far field is part of the model (its parameters are in the checkpoint): written, read back,

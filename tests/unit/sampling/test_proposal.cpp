@@ -235,9 +235,10 @@ TEST_F(Proposal, SamplesMatchReference) {
   hard.sigma[7] = std::numeric_limits<double>::quiet_NaN();
   hard.sigma[9] = -4.0;
   rays.push_back(hard);
+  // Annealed (0.4) the masses pass through pow, a few float ulps more per mass: within the same bound.
   for (uint32_t n : {16u, 5u}) {
-    for (bool jitter : {false, true}) {
-      Sampled got = sample(rays, {n, {9, jitter}, 0.01f});
+    for (auto [jitter, anneal] : {std::pair{false, 1.0f}, {true, 1.0f}, {true, 0.4f}}) {
+      Sampled got = sample(rays, {n, {9, jitter}, 0.01f, anneal});
       // Every ray with candidates gets n samples, the one without none; the totals hold the sum.
       ASSERT_EQ(got.offsets.back(), n * (rays.size() - 1));
       EXPECT_EQ(got.totals[0], got.offsets.back());
@@ -245,7 +246,8 @@ TEST_F(Proposal, SamplesMatchReference) {
         const uint32_t first = got.offsets[r], count = got.offsets[r + 1] - first;
         ASSERT_EQ(count, rays[r].sigma.empty() ? 0u : n) << "ray " << r;
         double shift = ref::proposalShift<double>(9, uint32_t(r), jitter);
-        std::vector<double> want = ref::proposalSamples<double>(rays[r].candidates, rays[r].sigma, count, 0.01, shift);
+        std::vector<double> want =
+            ref::proposalSamples<double>(rays[r].candidates, rays[r].sigma, count, 0.01, shift, anneal);
         double scale = std::max(occupiedLength(rays[r].candidates), 1.0);
         for (uint32_t j = 0; j < count; ++j) {
           const uint32_t at = first + j;
@@ -275,6 +277,23 @@ TEST_F(Proposal, AllZeroWeightsWithoutPaddingSampleByLength) {
     int c = int(mid / 0.1);
     EXPECT_NEAR(got[2 * j], 1.0 + 0.2 * c + (mid - 0.1 * c), 1e-5) << j;
   }
+}
+
+TEST_F(Proposal, AnnealedToZeroTheWeightsAreIgnored) {
+  // At anneal 0 (training's first step) a ray's samples spread by length whatever its proposal
+  // says, as without weights: one opaque candidate among faint ones draws no more than its length.
+  Ray r;
+  for (int i = 0; i < 10; ++i) {
+    r.candidates.insert(r.candidates.end(), {1.0 + 0.2 * i, 0.1});
+    r.sigma.push_back(i == 6 ? 500.0 : 0.5);
+  }
+  std::vector<float> annealed = sample({r}, {4, {0, false}, 0.01f, 0.0f}).samples;
+  std::vector<float> weighted = sample({r}, {4, {0, false}, 0.01f, 1.0f}).samples;
+  ASSERT_EQ(annealed.size(), 8u);
+  for (int j = 0; j < 4; ++j) EXPECT_NEAR(annealed[2 * j + 1], 0.25, 1e-5) << j;
+  // Weighted, the opaque candidate (occupied length [0.6, 0.7]) holds the middle bins.
+  EXPECT_LT(weighted[3], 0.1);
+  EXPECT_LT(weighted[5], 0.1);
 }
 
 TEST_F(Proposal, CapacityCutsTheLastRaysShort) {
@@ -329,6 +348,8 @@ TEST_F(Proposal, BadSettingsAreErrors) {
   EXPECT_THROW(sample({r}, {4, {0, false}, 1.5f}), Error);
   EXPECT_THROW(sample({r}, {4, {0, false}, -0.1f}), Error);
   EXPECT_THROW(sample({r}, {0, {0, false}, 0.01f}), Error);
+  EXPECT_THROW(sample({r}, {4, {0, false}, 0.01f, 1.5f}), Error);
+  EXPECT_THROW(sample({r}, {4, {0, false}, 0.01f, std::nanf("")}), Error);
   std::vector<std::vector<double>> s{{1.0, 0.1}}, w{{0.5}};
   EXPECT_THROW(interlevel({r}, s, w, {-1.0f, 1e-7f}), Error);
   EXPECT_THROW(interlevel({r}, s, w, {1.0f, 0.0f}), Error);

@@ -14,6 +14,12 @@ namespace {
 // over lavapipe's worker threads.
 constexpr uint32_t kLocal = 32;
 
+// A draw's share in [0, 1] (NaN refused), named in the error.
+void requireUnitShare(const char* name, float value) {
+  if (!(value >= 0.0f && value <= 1.0f))
+    throw Error(std::string("proposal_sample: ") + name + " " + std::to_string(value) + " must be in [0, 1]");
+}
+
 }  // namespace
 
 ProposalSampler::ProposalSampler(Context& ctx, uint32_t maxRays)
@@ -29,10 +35,8 @@ void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const Proposa
   if (numRays > maxRays_)
     throw Error("proposal_sample: " + std::to_string(numRays) + " rays over the sampler's " + std::to_string(maxRays_));
   if (draws.samplesPerRay == 0) throw Error("proposal_sample: samples per ray must be at least 1");
-  if (!(draws.padding >= 0.0f && draws.padding <= 1.0f))
-    throw Error("proposal_sample: padding " + std::to_string(draws.padding) + " must be in [0, 1]");
-  if (!(draws.anneal >= 0.0f && draws.anneal <= 1.0f))
-    throw Error("proposal_sample: anneal " + std::to_string(draws.anneal) + " must be in [0, 1]");
+  requireUnitShare("padding", draws.padding);
+  requireUnitShare("anneal", draws.anneal);
   gpu::requireBytes("proposal_sample", "candidate offsets", candidates.offsets, (uint64_t(numRays) + 1) * sizeof(uint32_t));
   PackedLayout::requireOutputs("proposal_sample", numRays, out.offsets, out.totals);
   gpu::requireBytes("proposal_sample", "samples", out.samples, uint64_t(capacity) * kSampleBytes);

@@ -16,8 +16,12 @@ void main() {
   MarchRay m = marchRay(ray);
   if (pc.cascades > 1u) {
     uint n = 0u;
-    float t = coneStart(m), dt;
-    for (; n < pc.maxSamples && coneNextSample(m, t, dt); ++n) t = coneAdvance(t, dt);
+    if (m.tNear >= 0.0) {
+      float t = coneStart(m);
+      vec2 sample_;
+      for (uint i = 0u; i < kMaxMarchSteps && n < pc.maxSamples && t < m.tFar; ++i)
+        if (coneVisit(m, t, sample_)) ++n;
+    }
     counts[ray] = n;
     return;
   }

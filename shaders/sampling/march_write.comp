@@ -19,11 +19,14 @@ void main() {
   if (s >= end) return;
   MarchRay m = marchRay(ray);
   if (pc.cascades > 1u) {
-    float t = coneStart(m), dt;
-    for (; s < end && coneNextSample(m, t, dt); ++s) {
-      samples[s] = vec2(t, min(dt, m.tFar - t));
+    if (!(m.tNear >= 0.0)) return;
+    float t = coneStart(m);
+    vec2 sample_;
+    for (uint i = 0u; i < kMaxMarchSteps && s < end && t < m.tFar; ++i) {
+      if (!coneVisit(m, t, sample_)) continue;
+      samples[s] = vec2(sample_.x, min(sample_.y, m.tFar - sample_.x));
       sampleRay[s] = ray;
-      t = coneAdvance(t, dt);
+      ++s;
     }
     return;
   }

@@ -179,10 +179,13 @@ float coneStart(MarchRay m) {
 // before t_far in an occupied cell, and n dt times the largest running-maximum density of the cells
 // of t, ..., t + (n - 1) dt is at most pc.stepOpacity. Through a faint fog (a half-transparent
 // cloth, haze) one sample then does the work of n, each no more opaque than the bound; a dense cell
-// keeps the plain step, and an empty one ends the stretch, so no sample spans empty space.
+// keeps the plain step, and an empty one ends the stretch, so no sample spans empty space. A bound
+// of the largest float stretches through every occupied cell (the proposal's candidates) and reads
+// no density: on lavapipe each read is a scalar gather per lane.
 float stretchedStep(MarchRay m, float t, float dt, uint index) {
   if (!(pc.stepOpacity > 0.0)) return dt;
-  float sigma = max(gridDensity[index], 0.0);
+  bool bounded = pc.stepOpacity < kMaxFloat;
+  float sigma = bounded ? max(gridDensity[index], 0.0) : 0.0;
   uint n = 1u;
   for (; n < pc.stretch; ++n) {
     precise float tk = t + float(n) * dt;
@@ -191,6 +194,7 @@ float stretchedStep(MarchRay m, float t, float dt, uint index) {
     uint c = cascadeOf(g, m.r);
     uint i = cascadeCellIndex(cascadeCell(m, g, c), c, m.r);
     if (!bitSet(occupancyBits[i >> 5u], i)) break;
+    if (!bounded) continue;
     float s = max(sigma, gridDensity[i]);
     precise float depth = s * (float(n + 1u) * dt);
     if (!(depth <= pc.stepOpacity)) break;

@@ -137,7 +137,8 @@ std::vector<MarchSample<T>> marchRay(const std::array<T, 3>& o, const std::array
 // Opacity-bounded steps (stepOpacity > 0): the sample at t stands for n steps [t, t + n dt(t)), n
 // the largest up to `stretch` for which every point t + k dt (0 < k < n) lies before t_far in an
 // occupied cell and n dt times the largest running-maximum density (negatives as 0) of the cells of
-// t, ..., t + (n - 1) dt is at most stepOpacity; the march goes on from t + n dt.
+// t, ..., t + (n - 1) dt is at most stepOpacity; the march goes on from t + n dt. A stepOpacity of
+// FLT_MAX stretches through every occupied cell without reading a density.
 
 struct ConeMarchParams {
   MarchParams base;       // boxMin, gridScale: the inner cube's; dt: dtMin
@@ -198,7 +199,8 @@ std::vector<MarchSample<T>> marchRayCascaded(const std::array<T, 3>& o, const st
     if (bitSet(bits, index)) {
       uint32_t n = 1;
       if (p.stepOpacity > 0.0f) {
-        T sigma = std::max(T(density[index]), T(0));
+        const bool bounded = p.stepOpacity < FLT_MAX;  // else every occupied cell, no density read
+        T sigma = bounded ? std::max(T(density[index]), T(0)) : T(0);
         for (; n < p.stretch; ++n) {
           const T tk = t + T(n) * dt;
           if (!(tk < tFar)) break;
@@ -208,6 +210,7 @@ std::vector<MarchSample<T>> marchRayCascaded(const std::array<T, 3>& o, const st
           const auto cellK = cascadeCell(gk, r, ck);
           const uint32_t ik = ck * cells + cellIndex(cellK[0], cellK[1], cellK[2], r);
           if (!bitSet(bits, ik)) break;
+          if (!bounded) continue;
           const T s = std::max(sigma, T(density[ik]));
           if (!(s * (T(n + 1) * dt) <= T(p.stepOpacity))) break;
           sigma = s;

@@ -3,6 +3,7 @@
 // rule, and which cascade and cell a world point lands in, checked against plain geometry.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -197,33 +198,42 @@ std::vector<float> randomDensities(uint32_t cells, float dt, uint32_t seed) {
 }
 
 TEST_F(Cascades, StretchedConeMarchMatchesReference) {
+  // A bound of 0.05, and the largest float: the proposal's candidates, stretched through every
+  // occupied cell without a density read.
   nerf::OccupancyGrid grid(ctx(), kRes, kCascades);
   const float dt = diagonal(nerf::RayMarcher::innerCube(kBox, kCascades)) / 64.0f;
-  const nerf::ConeSteps cone{1.0f / 32.0f, diagonal(kBox) / kRes, 0.05f, 16};
   const auto rays = randomRays(2000, kBox, 13);
   const auto bits = randomBits(grid, 0.7, 70);
   const auto density = randomDensities(grid.numCells(), dt, 3);
   grid.bits().upload(bits);
   grid.density().upload(density);
-  uint64_t total = 0, stretched = 0;
-  for (bool jitter : {false, true}) {
-    const auto out = runMarch(ctx(), rays, grid, kBox, dt, cone, 4096, 5, jitter);
-    const auto params = paramsFor(grid, kBox, dt, cone, 4096, 5, jitter);
-    for (uint32_t r = 0; r < rays.size(); ++r) {
-      const auto& ray = rays[r];
-      const auto expected = ref::marchRayCascaded<float>(ray.o, ray.d, ray.tNear, ray.tFar, r, params, bits, density);
-      const uint32_t first = out.offsets[r], count = out.offsets[r + 1] - first;
-      ASSERT_EQ(count, expected.size()) << "ray " << r;
-      for (uint32_t i = 0; i < count; ++i) {
-        EXPECT_EQ(out.samples[2 * (first + i)], expected[i].t) << "ray " << r << " sample " << i;
-        EXPECT_EQ(out.samples[2 * (first + i) + 1], expected[i].delta) << "ray " << r << " sample " << i;
-        stretched += i + 1 < count && expected[i].delta > 1.5f * ref::coneStep(expected[i].t, params);
+  uint64_t samplesAt[2] = {0, 0};
+  for (int bound = 0; bound < 2; ++bound) {
+    const float opacity = bound == 0 ? 0.05f : std::numeric_limits<float>::max();
+    const nerf::ConeSteps cone{1.0f / 32.0f, diagonal(kBox) / kRes, opacity, 16};
+    uint64_t total = 0, stretched = 0;
+    for (bool jitter : {false, true}) {
+      const auto out = runMarch(ctx(), rays, grid, kBox, dt, cone, 4096, 5, jitter);
+      const auto params = paramsFor(grid, kBox, dt, cone, 4096, 5, jitter);
+      for (uint32_t r = 0; r < rays.size(); ++r) {
+        const auto& ray = rays[r];
+        const auto expected = ref::marchRayCascaded<float>(ray.o, ray.d, ray.tNear, ray.tFar, r, params, bits, density);
+        const uint32_t first = out.offsets[r], count = out.offsets[r + 1] - first;
+        ASSERT_EQ(count, expected.size()) << "ray " << r << " bound " << opacity;
+        for (uint32_t i = 0; i < count; ++i) {
+          EXPECT_EQ(out.samples[2 * (first + i)], expected[i].t) << "ray " << r << " sample " << i << " bound " << opacity;
+          EXPECT_EQ(out.samples[2 * (first + i) + 1], expected[i].delta) << "ray " << r << " sample " << i << " bound " << opacity;
+          stretched += i + 1 < count && expected[i].delta > 1.5f * ref::coneStep(expected[i].t, params);
+        }
+        total += count;
       }
-      total += count;
     }
+    EXPECT_GT(total, bound == 0 ? 20000u : 5000u) << "bound " << opacity;  // the comparison saw real work
+    EXPECT_GT(stretched, total / 20) << "bound " << opacity;                // and stretched samples among it
+    samplesAt[bound] = total;
   }
-  EXPECT_GT(total, 20000u);         // the comparison saw real work
-  EXPECT_GT(stretched, total / 20);  // and stretched samples among it
+  // Unbounded, no density stops a stretch: the same rays take fewer, longer samples.
+  EXPECT_LT(samplesAt[1], samplesAt[0]);
 }
 
 TEST(CascadeReference, AStretchedSampleStaysUnderItsOpacityBound) {

@@ -14,6 +14,9 @@ struct RenderSettings {
   // fast, trained with an appearance embedding: the training photo (its index in the training
   // split) whose appearance vector renders use; none: the mean of the photos' vectors.
   std::optional<uint32_t> appearancePhoto;
+  // Time each kernel of Model::render on the device (timestamp queries): RenderedImage::kernelMs
+  // then says where a view's time went. Off by default: the queries cost a little.
+  bool profile = false;
 };
 
 }  // namespace vknerf

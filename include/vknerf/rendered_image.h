@@ -1,6 +1,8 @@
 #pragma once
 // A view rendered on the host (Model::render): colour, depth, opacity and the background behind it.
 #include <cstdint>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace vknerf {
@@ -16,6 +18,10 @@ struct RenderedImage {
   // Field samples shaded to render it (Model::render; 0 in images made by hand): over the pixels,
   // the samples per ray a render spends, where early termination ends most rays short of the cap.
   uint64_t samples = 0;
+  // With RenderSettings::profile: device milliseconds per kernel, summed over the render's
+  // dispatches of it, in the order each was first recorded; empty when not profiled, or on a device
+  // whose compute queue has no timestamps.
+  std::vector<std::pair<std::string, double>> kernelMs;
 };
 
 }  // namespace vknerf

@@ -18,6 +18,20 @@
 
 namespace vknerf {
 
+namespace {
+// Each kernel's device time summed over the submissions' dispatches of it, in first-recorded order.
+std::vector<std::pair<std::string, double>> kernelTotals(const std::vector<gpu::SubmissionTiming>& submissions) {
+  std::vector<std::pair<std::string, double>> totals;
+  for (const gpu::SubmissionTiming& sub : submissions)
+    for (const auto& [name, ms] : sub.kernels) {
+      auto it = std::find_if(totals.begin(), totals.end(), [&](const auto& t) { return t.first == name; });
+      if (it == totals.end()) totals.emplace_back(name, ms);
+      else it->second += ms;
+    }
+  return totals;
+}
+}  // namespace
+
 RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(uint64_t, uint64_t)>& progress) const {
   if (cam.width == 0 || cam.height == 0) throw Error("render: camera has an empty image size");
   if (!(cam.fx > 0) || !(cam.fy > 0)) throw Error("render: camera focal length must be positive");
@@ -32,7 +46,8 @@ RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(ui
   img.depth.resize(total);
   img.opacity.resize(total);
   img.background.resize(size_t(total) * 3);
-  gpu::Recorder rec(c);
+  gpu::Recorder rec(c, profile);
+  if (profile) rec.startLog();
   const uint64_t samplesBefore = pipe->renderedSamples();
   for (uint32_t first = 0; first < total; first += cap) {
     const uint32_t n = std::min(cap, total - first);
@@ -53,6 +68,7 @@ RenderedImage Model::Impl::render(const Camera& cam, const std::function<void(ui
     if (progress) progress(first + n, total);
   }
   img.samples = pipe->renderedSamples() - samplesBefore;
+  if (profile) img.kernelMs = kernelTotals(rec.submissions());
   return img;
 }
 
@@ -158,6 +174,7 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   impl->config = record.config();
   impl->box = record.bounds();
   impl->trainingCameras = [record, path] { return checkedTrainingCameras(record, path); };
+  impl->profile = settings.profile;
   // State kept per training photo (the fast model's appearance vectors) is sized by their count.
   const models::TrainingPhotos photos{record.trainingPhotoCount().value_or(0)};
   impl->own = models::makeFieldPipeline(*ctx, impl->config, impl->box, models::kRenderRays, false, settings, photos);

@@ -38,6 +38,7 @@ struct Model::Impl {
   // Model::trainingCameras: the checkpoint's record, read when asked (a checkpoint written before
   // the cameras were recorded loads, and fails only there), or the trainer's cameras.
   std::function<std::vector<TrainedCamera>()> trainingCameras;
+  bool profile = false;  // RenderSettings::profile: render() times its kernels
   // A trainer's model: waits for the training step in flight before the host reads the state
   // (Trainer::submitStep). Empty for a loaded model.
   std::function<void()> settle;

@@ -1,8 +1,11 @@
 // The vanilla trainer on the shipped sample scene: steps run, checkpoints resume exactly, a loaded
 // model renders what the trainer's model renders.
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <set>
+#include <string>
 
 #include "support/gpu_test.h"
 #include "support/sample_scene.h"
@@ -269,6 +272,43 @@ TEST_F(TrainerTest, ARenderCountsTheSamplesItShaded) {
   EXPECT_GT(a.samples, 0u);
   EXPECT_LT(a.samples, uint64_t(cam.width) * cam.height * fast.model().config().fastModel().maxSamplesPerRay);
   EXPECT_EQ(a.samples, b.samples);  // a render's own count, not the pipeline's running total
+}
+
+// A render asked to profile (RenderSettings::profile) says where its time went, one row per kernel,
+// inside the render's wall time, and draws the image an unprofiled render draws.
+TEST_F(TrainerTest, AProfiledRenderTimesItsKernelsAndDrawsTheSameImage) {
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.raysPerBatch = 1024;
+  Trainer fast(sharedContext(), scene(), c);
+  for (int i = 0; i < 32; ++i) fast.step();
+  const test::TempDir tmp("trainer");
+  const auto path = tmp.file("profiled.vknerf");
+  fast.save(path);
+  RenderSettings profiled;
+  profiled.profile = true;
+  const Model plain = Model::load(sharedContext(), path), timed = Model::load(sharedContext(), path, profiled);
+  const Camera cam = scene().cameras[0];
+  const auto start = std::chrono::steady_clock::now();
+  const RenderedImage b = timed.render(cam);
+  const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const RenderedImage a = plain.render(cam);
+  EXPECT_TRUE(a.kernelMs.empty());
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "value " << i;
+  EXPECT_EQ(a.samples, b.samples);
+  std::set<std::string> names;
+  double sum = 0;
+  for (const auto& [name, ms] : b.kernelMs) {
+    EXPECT_TRUE(names.insert(name).second) << name << " has two rows";
+    EXPECT_GE(ms, 0.0) << name;
+    sum += ms;
+  }
+  if (b.kernelMs.empty()) return;  // a device whose compute queue has no timestamps times no kernel
+  EXPECT_TRUE(names.count("march_count") && names.count("encode_hash")) << "the march and the field are timed";
+  EXPECT_GT(sum, 0.0);
+  EXPECT_LE(sum, wallMs);  // one queue runs the kernels one after another, inside the render
 }
 
 TEST_F(TrainerTest, StepProfileAttributesTheWholeStep) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -12,12 +11,7 @@ namespace {
 // A kernel recorded several times in one submission (chunks, levels) is one row: its total.
 std::vector<std::pair<std::string, double>> merged(const std::vector<std::pair<std::string, double>>& kernels) {
   std::vector<std::pair<std::string, double>> rows;
-  std::map<std::string, size_t> at;
-  for (const auto& [name, ms] : kernels) {
-    auto [it, fresh] = at.emplace(name, rows.size());
-    if (fresh) rows.emplace_back(name, 0.0);
-    rows[it->second].second += ms;
-  }
+  addKernelTimes(rows, kernels);
   return rows;
 }
 
@@ -62,6 +56,17 @@ double medianOf(const std::vector<StepFigures>& steps, Get get) {
 }
 
 }  // namespace
+
+void addKernelTimes(std::vector<std::pair<std::string, double>>& sums,
+                    const std::vector<std::pair<std::string, double>>& add) {
+  for (const auto& [name, ms] : add) {
+    auto it = std::find_if(sums.begin(), sums.end(), [&](const auto& s) { return s.first == name; });
+    if (it == sums.end())
+      sums.emplace_back(name, ms);
+    else
+      it->second += ms;
+  }
+}
 
 void printStepProfile(const std::vector<StepProfile>& profiles) {
   if (profiles.empty()) return;

@@ -231,6 +231,37 @@ bool coneVisit(MarchRay m, inout float t, out vec2 sample_) {
   return occupied;
 }
 
+// ---- A ray's samples stored in order (the includer defines OCCUPANCY_MARCH_STORE and
+// `void storeSample(uint s, vec2 sample_, uint ray)` before including) ----
+#ifdef OCCUPANCY_MARCH_STORE
+
+// Marches ray `ray` and stores its samples (t, delta) at s, s + 1, ... before `end`, delta
+// shortened so that no sample crosses t_far; returns the index past the last one stored.
+uint marchRayInto(MarchRay m, uint ray, uint s, uint end) {
+  if (pc.cascades > 1u) {
+    if (!(m.tNear >= 0.0)) return s;
+    float t = coneStart(m);
+    vec2 sample_;
+    for (uint i = 0u; i < kMaxMarchSteps && s < end && t < m.tFar; ++i) {
+      if (!coneVisit(m, t, sample_)) continue;
+      storeSample(s, vec2(sample_.x, min(sample_.y, m.tFar - sample_.x)), ray);
+      ++s;
+    }
+    return s;
+  }
+  uint kEnd = marchEnd(m);
+  for (uint k = 0u; k < kEnd && s < end;) {
+    bool occupied;
+    uint run = cellRun(m, k, occupied);
+    if (occupied)
+      for (uint j = k, stop = min(k + run, kEnd); j < stop && s < end; ++j, ++s) storeSample(s, marchSample(m, j), ray);
+    k += run;
+  }
+  return s;
+}
+
+#endif  // OCCUPANCY_MARCH_STORE
+
 #endif  // OCCUPANCY_MARCH
 
 #endif

@@ -4,12 +4,19 @@
 // capacity, so a batch over budget loses the samples of its last rays, never memory safety.
 #extension GL_GOOGLE_include_directive : require
 #define OCCUPANCY_MARCH
+#define OCCUPANCY_MARCH_STORE
 layout(std430, binding = 0) readonly buffer Rays { vec4 rays[]; };             // (o, t_near), (d, t_far)
 layout(std430, binding = 1) readonly buffer Bits { uint occupancyBits[]; };
 layout(std430, binding = 2) readonly buffer Offsets { uint offsets[]; };       // numRays + 1
 layout(std430, binding = 3) writeonly buffer Samples { vec2 samples[]; };      // (t, delta)
 layout(std430, binding = 4) writeonly buffer SampleRay { uint sampleRay[]; };
 layout(std430, binding = 5) readonly buffer Density { float gridDensity[]; };  // the grid's running maxima
+
+void storeSample(uint s, vec2 sample_, uint ray) {
+  samples[s] = sample_;
+  sampleRay[s] = ray;
+}
+
 #include "occupancy/occupancy.glsl"
 
 void main() {
@@ -17,29 +24,5 @@ void main() {
   if (ray >= pc.numRays) return;
   uint s = offsets[ray], end = offsets[ray + 1u];
   if (s >= end) return;
-  MarchRay m = marchRay(ray);
-  if (pc.cascades > 1u) {
-    if (!(m.tNear >= 0.0)) return;
-    float t = coneStart(m);
-    vec2 sample_;
-    for (uint i = 0u; i < kMaxMarchSteps && s < end && t < m.tFar; ++i) {
-      if (!coneVisit(m, t, sample_)) continue;
-      samples[s] = vec2(sample_.x, min(sample_.y, m.tFar - sample_.x));
-      sampleRay[s] = ray;
-      ++s;
-    }
-    return;
-  }
-  uint kEnd = marchEnd(m);
-  for (uint k = 0u; k < kEnd && s < end;) {
-    bool occupied;
-    uint run = cellRun(m, k, occupied);
-    if (occupied) {
-      for (uint j = k, stop = min(k + run, kEnd); j < stop && s < end; ++j, ++s) {
-        samples[s] = marchSample(m, j);
-        sampleRay[s] = ray;
-      }
-    }
-    k += run;
-  }
+  marchRayInto(marchRay(ray), ray, s, end);
 }

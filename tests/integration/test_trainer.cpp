@@ -1,5 +1,6 @@
 // The vanilla trainer on the shipped sample scene: steps run, checkpoints resume exactly, a loaded
 // model renders what the trainer's model renders.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -306,7 +307,9 @@ TEST_F(TrainerTest, AProfiledRenderTimesItsKernelsAndDrawsTheSameImage) {
     sum += ms;
   }
   if (b.kernelMs.empty()) return;  // a device whose compute queue has no timestamps times no kernel
-  EXPECT_TRUE(names.count("march_count") && names.count("encode_hash")) << "the march and the field are timed";
+  EXPECT_TRUE(std::any_of(names.begin(), names.end(), [](const std::string& n) { return n.rfind("march_", 0) == 0; }))
+      << "the march is timed";
+  EXPECT_TRUE(names.count("encode_hash")) << "the field is timed";
   EXPECT_GT(sum, 0.0);
   EXPECT_LE(sum, wallMs);  // one queue runs the kernels one after another, inside the render
 }

@@ -44,7 +44,8 @@ OccupancyEstimator::OccupancyEstimator(Context& ctx, const FastModel& model, con
       trainedDt_(stepOf(model, box, model.marchSteps)),
       cone_(coneStepsFor(model, box, dt_)),
       grid_(ctx, model.gridResolution, model.cascades),
-      marcher_(ctx, rayCapacity),
+      // A render's blocks give each ray room for all its samples: they march once, into slots.
+      marcher_(ctx, rayCapacity, training ? 0 : sampleCapacity),
       sampleCapacity_(sampleCapacity),
       offsets_(gpu::Buffer::zeros(ctx, (VkDeviceSize(rayCapacity) + 1) * 4)),
       samples_(gpu::Buffer::zeros(ctx, VkDeviceSize(sampleCapacity) * nerf::kSampleBytes, "the marched samples")),

@@ -7,20 +7,22 @@
 #include "nerf/rays/rays.h"
 #include "nerf/sampling/sample_layout.h"
 #include "vknerf/error.h"
+#include "sampling/march_compact_shared.h"
 #include "sampling/march_shared.h"
 
 namespace vknerf::nerf {
 namespace {
 
+using glsl::MarchCompactPush;
 using glsl::MarchPush;
 
-constexpr uint32_t kMarchLocal = 32;  // march_count.comp, march_write.comp
+constexpr uint32_t kMarchLocal = 32;  // march_count, march_write, march_slots, march_compact
 
 using gpu::requireBytes;
 
 }  // namespace
 
-RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays)
+RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays, uint32_t slotSamples)
     : maxRays_(maxRays),
       layout_(ctx, maxRays),
       count_(ctx, {gpu::shaders::march_count,
@@ -29,7 +31,21 @@ RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays)
       write_(ctx, {gpu::shaders::march_write,
                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
                     gpu::Binding::Storage, gpu::Binding::Storage},
-                   sizeof(MarchPush), {}}) {}
+                   sizeof(MarchPush), {}}),
+      slotSamples_(slotSamples) {
+  if (!slotSamples) return;
+  slots_.emplace(gpu::Buffer::zeros(ctx, VkDeviceSize(slotSamples) * kSampleBytes, "the march's slots"));
+  slotsKernel_ = std::make_unique<gpu::Kernel>(
+      ctx, gpu::KernelDesc{gpu::shaders::march_slots,
+                           {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+                            gpu::Binding::Storage},
+                           sizeof(MarchPush), {}});
+  compact_ = std::make_unique<gpu::Kernel>(
+      ctx, gpu::KernelDesc{gpu::shaders::march_compact,
+                           {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+                            gpu::Binding::Storage},
+                           sizeof(MarchCompactPush), {}});
+}
 
 float RayMarcher::defaultStep(const Aabb& box) {
   double s = 0;
@@ -89,6 +105,17 @@ void RayMarcher::record(gpu::Recorder& rec, const RaySpan& raySpan, const Occupa
               {float(r) / (g.max[0] - g.min[0]), float(r) / (g.max[1] - g.min[1]), float(r) / (g.max[2] - g.min[2]), 0},
               numRays, r, maxSamplesPerRay, steps.seed, steps.jitter ? 1u : 0u, uint32_t(capacity), cascades,
               cone.coneAngle, cone.dtMax, cascades > 1 ? cone.stepOpacity : 0.0f, std::max(cone.stretch, 1u)};
+  const uint64_t slots = uint64_t(numRays) * maxSamplesPerRay;
+  if (slots_ && slots <= slotSamples_) {
+    // One march into each ray's own slots, then packed: the same batch as the two passes below.
+    rec.dispatchFlat(*slotsKernel_, {rays, grid.bits(), layout_.counts(), *slots_, grid.density()}, p, numRays,
+                     kMarchLocal, "march_slots");
+    layout_.recordOffsetsAndTotals(rec, numRays, uint32_t(capacity), offsets, totals);
+    if (capacity > 0)
+      rec.dispatchFlat(*compact_, {layout_.counts(), offsets, *slots_, samples, sampleRay},
+                       MarchCompactPush{numRays, maxSamplesPerRay}, numRays, kMarchLocal, "march_compact");
+    return;
+  }
   rec.dispatchFlat(count_, {rays, grid.bits(), layout_.counts(), grid.density()}, p, numRays, kMarchLocal, "march_count");
   layout_.recordOffsetsAndTotals(rec, numRays, uint32_t(capacity), offsets, totals);
   if (capacity > 0)

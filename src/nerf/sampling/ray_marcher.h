@@ -19,6 +19,8 @@
 // The sample capacity is what the samples and sampleRay buffers hold; a batch over it keeps the
 // samples of its first rays and the offsets are clamped, so off[numRays] <= capacity always.
 #include <cstdint>
+#include <memory>
+#include <optional>
 
 #include "gpu/memory/buffer.h"
 #include "gpu/kernels/kernel.h"
@@ -53,7 +55,10 @@ struct MarchSteps {
 
 class RayMarcher {
  public:
-  RayMarcher(Context& ctx, uint32_t maxRays);
+  // slotSamples > 0: a buffer of that many samples lets a batch whose rays x maxSamplesPerRay fit
+  // it march once (march_slots, then march_compact) instead of twice (march_count, march_write):
+  // a render's block, whose rays have room for all their samples. The batch is the same.
+  RayMarcher(Context& ctx, uint32_t maxRays, uint32_t slotSamples = 0);
 
   // The most cone steps one stretched sample may stand for: each costs the march a cell lookup.
   static constexpr uint32_t kMaxStretch = 64;
@@ -86,6 +91,9 @@ class RayMarcher {
   uint32_t maxRays_;
   PackedLayout layout_;  // counts: the samples each ray marches
   gpu::Kernel count_, write_;
+  uint32_t slotSamples_;
+  std::optional<gpu::Buffer> slots_;            // slotSamples_ samples, each ray's maxSamplesPerRay in a row
+  std::unique_ptr<gpu::Kernel> slotsKernel_, compact_;
 };
 
 }  // namespace vknerf::nerf

@@ -4,8 +4,10 @@
 // No gradients flow through sample positions, so there is no finite-difference check here.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "gpu/memory/buffer.h"
@@ -72,15 +74,17 @@ struct MarchOut {
   std::vector<float> samples;  // 2 per sample
 };
 
+// `slotSamples` > 0: the marcher marches in one pass where the rays' slots fit (RayMarcher's slots).
 MarchOut runMarch(Context& ctx, const std::vector<TestRay>& rays, nerf::OccupancyGrid& grid, const Aabb& box, float dt,
-                  uint32_t maxSamples, uint32_t seed, bool jitter, uint64_t capacity = 0) {
+                  uint32_t maxSamples, uint32_t seed, bool jitter, uint64_t capacity = 0, uint32_t slotSamples = 0,
+                  const nerf::ConeSteps& cone = {}) {
   uint32_t n = uint32_t(rays.size());
   if (capacity == 0) capacity = std::max<uint64_t>(uint64_t(n) * maxSamples, 1);
   auto rayBuf = gpu::Buffer::of(ctx, packRays(rays));
   gpu::Buffer offsets(ctx, (n + 1) * 4), samples(ctx, capacity * 8), sampleRay(ctx, capacity * 4), totals(ctx, 16);
-  nerf::RayMarcher marcher(ctx, std::max(n, 1u));
+  nerf::RayMarcher marcher(ctx, std::max(n, 1u), slotSamples);
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    marcher.record(rec, {rayBuf, n}, grid, box, {dt, maxSamples, seed, jitter},
+    marcher.record(rec, {rayBuf, n}, grid, box, {dt, maxSamples, seed, jitter, cone},
                    {offsets, samples, sampleRay, totals});
   });
   MarchOut out{offsets.download<uint32_t>(n + 1), {}, totals.download<uint32_t>(4), {}};
@@ -369,6 +373,45 @@ TEST_F(Marcher, OverBudgetBatchKeepsItsFirstRays) {
   for (uint32_t s = 0; s < capacity; ++s) {
     ASSERT_EQ(cut.samples[2 * s], all.samples[2 * s]);
     ASSERT_EQ(cut.sampleRay[s], all.sampleRay[s]);
+  }
+}
+
+// A render's block marches once into each ray's slots and is packed after (march_slots,
+// march_compact) where the two passes march every ray twice (march_count, march_write): the batch
+// must be theirs bit for bit (offsets, samples, their rays, totals) on one grid and on cascades,
+// plain and stretched (a bound, and the proposal's unbounded stretch), jittered, and cut by an
+// output capacity that keeps only the first rays.
+TEST_F(Marcher, SlotsMarchTheBatchOfTheTwoPasses) {
+  const Aabb box{{-1.5f, -0.5f, -1.0f}, {1.5f, 1.0f, 2.0f}};
+  const auto rays = randomRays(700, box, 31);
+  const uint32_t n = uint32_t(rays.size()), most = 96;
+  for (uint32_t cascades : {1u, 3u}) {
+    nerf::OccupancyGrid grid(ctx(), 16, cascades);
+    setBits(grid, randomBits(grid, 0.6, 40 + cascades));
+    std::vector<float> density(grid.numCells());
+    std::mt19937 rng(cascades);
+    std::uniform_real_distribution<float> sigma(0.0f, 40.0f);
+    for (float& d : density) d = sigma(rng);
+    grid.density().upload(density);
+    const float dt = nerf::RayMarcher::defaultStep(box) * 4;
+    const std::vector<float> bounds =
+        cascades == 1 ? std::vector<float>{0.0f} : std::vector<float>{0.0f, 0.05f, std::numeric_limits<float>::max()};
+    for (float bound : bounds)
+      for (bool jitter : {false, true}) {
+        const nerf::ConeSteps cone{1.0f / 64.0f, dt * 8, bound, 8};
+        const MarchOut full = runMarch(ctx(), rays, grid, box, dt, most, 7, jitter, 0, 0, cone);
+        ASSERT_GT(full.offsets[n], 5u * n) << "cascades " << cascades << " bound " << bound;  // real work
+        for (uint64_t capacity : {uint64_t(0), uint64_t(full.offsets[n] / 2)}) {
+          const MarchOut two = capacity ? runMarch(ctx(), rays, grid, box, dt, most, 7, jitter, capacity, 0, cone) : full;
+          const MarchOut one = runMarch(ctx(), rays, grid, box, dt, most, 7, jitter, capacity, n * most, cone);
+          const std::string where = "cascades " + std::to_string(cascades) + " bound " + std::to_string(bound) +
+                                    " jitter " + std::to_string(jitter) + " capacity " + std::to_string(capacity);
+          EXPECT_EQ(one.offsets, two.offsets) << where;
+          EXPECT_EQ(one.totals, two.totals) << where;
+          EXPECT_EQ(one.samples, two.samples) << where;
+          EXPECT_EQ(one.sampleRay, two.sampleRay) << where;
+        }
+      }
   }
 }
 

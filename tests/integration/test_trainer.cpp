@@ -37,6 +37,16 @@ using test::sharedContext;
 
 class TrainerTest : public test::GpuTest {};
 
+// The fast model at a size the sample scene trains in a few dozen steps: a 16^3 occupancy grid,
+// 4096 samples and 1024 rays a step.
+TrainConfig smallFast() {
+  TrainConfig c = TrainConfig::fast(*sharedContext());
+  c.fastModel().gridResolution = 16;
+  c.fastModel().samplesPerBatch = 4096;
+  c.raysPerBatch = 1024;
+  return c;
+}
+
 }  // namespace
 
 TEST_F(TrainerTest, LossDecreasesOverSteps) {
@@ -157,10 +167,7 @@ TEST_F(TrainerTest, EmptyDatasetIsAnError) {
 TEST_F(TrainerTest, FastModelNestsCascadesForAabbScale) {
   // aabb_scale 8: 1 + log2(8) = 4 cascades, resolved by the trainer and kept in the checkpoint;
   // a scene without one keeps one grid.
-  TrainConfig c = TrainConfig::fast(*sharedContext());
-  c.fastModel().gridResolution = 16;
-  c.fastModel().samplesPerBatch = 4096;
-  c.raysPerBatch = 1024;
+  TrainConfig c = smallFast();
   Dataset unbounded = scene();
   unbounded.aabbScale = 8;
   Trainer t(sharedContext(), unbounded, c);
@@ -179,11 +186,8 @@ TEST_F(TrainerTest, FastModelNestsCascadesForAabbScale) {
 // A contracted grid (FastModel::contraction) trains, and the checkpoint keeps it: the loaded model
 // renders what the trainer's does (a grid spanning the box uncontracted would draw another image).
 TEST_F(TrainerTest, AContractedGridTrainsAndItsCheckpointRendersTheSame) {
-  TrainConfig c = TrainConfig::fast(*sharedContext());
-  c.fastModel().gridResolution = 16;
-  c.fastModel().samplesPerBatch = 4096;
+  TrainConfig c = smallFast();
   c.fastModel().contraction = true;
-  c.raysPerBatch = 1024;
   Dataset unbounded = scene();
   unbounded.aabbScale = 4;
   Trainer t(sharedContext(), unbounded, c);
@@ -208,11 +212,8 @@ TEST_F(TrainerTest, AContractedGridTrainsAndItsCheckpointRendersTheSame) {
 // higher threshold leaves fewer cells occupied and marches fewer samples per ray.
 TEST_F(TrainerTest, AHigherOccupancyThresholdSkipsMoreOfTheBox) {
   auto run = [](float threshold) {
-    TrainConfig c = TrainConfig::fast(*sharedContext());
-    c.fastModel().gridResolution = 16;
-    c.fastModel().samplesPerBatch = 4096;
+    TrainConfig c = smallFast();
     c.fastModel().occupancyThreshold = threshold;
-    c.raysPerBatch = 1024;
     Trainer t(sharedContext(), scene(), c);
     for (int i = 0; i < 48; ++i) t.step();
     return t.statistics();
@@ -232,11 +233,8 @@ TEST_F(TrainerTest, StretchedStepsMarchFewerSamplesAndTheCheckpointKeepsThem) {
   Dataset unbounded = scene();
   unbounded.aabbScale = 4;
   auto run = [&](float stepOpacity) {
-    TrainConfig c = TrainConfig::fast(*sharedContext());
-    c.fastModel().gridResolution = 16;
-    c.fastModel().samplesPerBatch = 4096;
+    TrainConfig c = smallFast();
     c.fastModel().stepOpacity = stepOpacity;
-    c.raysPerBatch = 1024;
     auto t = std::make_unique<Trainer>(sharedContext(), unbounded, c);
     double first = 0, last = 0;
     for (int i = 0; i < 48; ++i) (i == 0 ? first : last) = t->step(true).loss;
@@ -263,10 +261,7 @@ TEST_F(TrainerTest, ARenderCountsTheSamplesItShaded) {
   const Camera cam = scene().cameras[0];
   const VanillaModel v = tinyConfig().vanillaModel();
   EXPECT_EQ(vanilla.model().render(cam).samples, uint64_t(cam.width) * cam.height * (2 * v.coarseSamples + v.fineSamples));
-  TrainConfig c = TrainConfig::fast(*sharedContext());
-  c.fastModel().gridResolution = 16;
-  c.fastModel().samplesPerBatch = 4096;
-  c.raysPerBatch = 1024;
+  TrainConfig c = smallFast();
   Trainer fast(sharedContext(), scene(), c);
   for (int i = 0; i < 64; ++i) fast.step();
   const RenderedImage a = fast.model().render(cam), b = fast.model().render(cam);
@@ -278,10 +273,7 @@ TEST_F(TrainerTest, ARenderCountsTheSamplesItShaded) {
 // A render asked to profile (RenderSettings::profile) says where its time went, one row per kernel,
 // inside the render's wall time, and draws the image an unprofiled render draws.
 TEST_F(TrainerTest, AProfiledRenderTimesItsKernelsAndDrawsTheSameImage) {
-  TrainConfig c = TrainConfig::fast(*sharedContext());
-  c.fastModel().gridResolution = 16;
-  c.fastModel().samplesPerBatch = 4096;
-  c.raysPerBatch = 1024;
+  TrainConfig c = smallFast();
   Trainer fast(sharedContext(), scene(), c);
   for (int i = 0; i < 32; ++i) fast.step();
   const test::TempDir tmp("trainer");
@@ -348,13 +340,6 @@ Dataset opaqueScene() {
   return d;
 }
 
-TrainConfig smallFastConfig() {
-  TrainConfig c = TrainConfig::fast(*sharedContext());
-  c.fastModel().gridResolution = 16;
-  c.fastModel().samplesPerBatch = 4096;
-  c.raysPerBatch = 1024;
-  return c;
-}
 }  // namespace
 
 // Photos without alpha get the learned far field, photos with alpha the constant (random in
@@ -362,7 +347,7 @@ TrainConfig smallFastConfig() {
 TEST_F(TrainerTest, FastModelLearnsTheFarFieldOfOpaquePhotos) {
   const test::TempDir tmp("trainer");
   const Dataset opaque = opaqueScene();
-  Trainer t(sharedContext(), opaque, smallFastConfig());
+  Trainer t(sharedContext(), opaque, smallFast());
   EXPECT_NE(t.capacityNote().find("far field: learned"), std::string::npos) << t.capacityNote();
   for (int i = 0; i < 8; ++i) t.step();
   t.save(tmp.file("learned.vknerf"));
@@ -385,9 +370,9 @@ TEST_F(TrainerTest, FastModelLearnsTheFarFieldOfOpaquePhotos) {
   ASSERT_GT(transparent, 0u);
   EXPECT_GT(moved, 1e-3);
 
-  Trainer withAlpha(sharedContext(), scene(), smallFastConfig());
+  Trainer withAlpha(sharedContext(), scene(), smallFast());
   EXPECT_NE(withAlpha.capacityNote().find("far field: constant"), std::string::npos) << withAlpha.capacityNote();
-  TrainConfig forced = smallFastConfig();
+  TrainConfig forced = smallFast();
   forced.fastModel().farField = FarField::Learned;
   try {
     Trainer bad(sharedContext(), scene(), forced);

@@ -23,10 +23,12 @@ namespace {
 std::vector<std::pair<std::string, double>> kernelTotals(const std::vector<gpu::SubmissionTiming>& submissions) {
   std::vector<std::pair<std::string, double>> totals;
   for (const gpu::SubmissionTiming& sub : submissions)
-    for (const auto& [name, ms] : sub.kernels) {
-      auto it = std::find_if(totals.begin(), totals.end(), [&](const auto& t) { return t.first == name; });
-      if (it == totals.end()) totals.emplace_back(name, ms);
-      else it->second += ms;
+    for (const auto& kernel : sub.kernels) {
+      auto it = std::find_if(totals.begin(), totals.end(), [&](const auto& t) { return t.first == kernel.first; });
+      if (it == totals.end())
+        totals.push_back(kernel);
+      else
+        it->second += kernel.second;
     }
   return totals;
 }

@@ -59,12 +59,12 @@ double medianOf(const std::vector<StepFigures>& steps, Get get) {
 
 void addKernelTimes(std::vector<std::pair<std::string, double>>& sums,
                     const std::vector<std::pair<std::string, double>>& add) {
-  for (const auto& [name, ms] : add) {
-    auto it = std::find_if(sums.begin(), sums.end(), [&](const auto& s) { return s.first == name; });
+  for (const auto& kernel : add) {
+    auto it = std::find_if(sums.begin(), sums.end(), [&](const auto& s) { return s.first == kernel.first; });
     if (it == sums.end())
-      sums.emplace_back(name, ms);
+      sums.push_back(kernel);
     else
-      it->second += ms;
+      it->second += kernel.second;
   }
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // A view rendered on the host (Model::render): colour, depth, opacity and the background behind it.
 #include <cstdint>
-#include <string>
-#include <utility>
 #include <vector>
+
+#include "vknerf/kernel_times.h"
 
 namespace vknerf {
 
@@ -21,7 +21,7 @@ struct RenderedImage {
   // With RenderSettings::profile: device milliseconds per kernel, summed over the render's
   // dispatches of it, in the order each was first recorded; empty when not profiled, or on a device
   // whose compute queue has no timestamps.
-  std::vector<std::pair<std::string, double>> kernelMs;
+  KernelTimes kernelMs;
 };
 
 }  // namespace vknerf

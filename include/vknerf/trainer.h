@@ -16,6 +16,7 @@
 
 #include "vknerf/config.h"
 #include "vknerf/dataset.h"
+#include "vknerf/kernel_times.h"
 #include "vknerf/model.h"
 #include "vknerf/model_statistics.h"
 
@@ -41,7 +42,7 @@ struct StepProfile {
   struct Submission {
     double hostBeforeMs = 0;  // host work before it: recording, reading back counts
     double waitMs = 0;        // from submission until the host saw it finish
-    std::vector<std::pair<std::string, double>> kernels;  // milliseconds per kernel, in recording order
+    KernelTimes kernels;  // milliseconds per kernel, in recording order
   };
   std::vector<Submission> submissions;
   double hostAfterMs = 0;  // after the last wait: reading the loss, bookkeeping

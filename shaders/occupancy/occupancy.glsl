@@ -10,14 +10,11 @@
 
 #include "common/float_limits.glsl"
 #include "common/rng.glsl"
+#include "common/flat_index.glsl"
 
 // Lattice points per ray are counted in a uint and converted to float: stay where that is exact.
 const uint kMaxMarchSteps = 16777216u;
 
-// Flat invocation index of a dispatch split over x and y (x is capped by maxComputeWorkGroupCount).
-uint flatIndex(uint localSize) {
-  return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * localSize + gl_LocalInvocationID.x;
-}
 
 uint cellIndex(uvec3 c, uint r) { return c.x + r * (c.y + r * c.z); }
 

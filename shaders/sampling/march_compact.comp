@@ -5,6 +5,7 @@
 // per slot tested every empty slot too, and a ray's slots are mostly empty (its cap is the most
 // samples any ray may take).
 #extension GL_GOOGLE_include_directive : require
+#include "common/flat_index.glsl"
 layout(local_size_x = 32) in;
 
 layout(std430, binding = 0) readonly buffer Counts { uint counts[]; };
@@ -16,7 +17,7 @@ layout(std430, binding = 4) writeonly buffer SampleRay { uint sampleRay[]; };
 #include "sampling/march_compact_shared.h"
 
 void main() {
-  uint ray = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 32u + gl_LocalInvocationID.x;
+  uint ray = flatIndex(32u);
   if (ray >= pc.numRays) return;
   uint s = offsets[ray], n = min(counts[ray], offsets[ray + 1u] - s), from = ray * pc.maxSamples;
   for (uint k = 0u; k < n; ++k) {

@@ -6,6 +6,7 @@
 
 #include "common/float_limits.glsl"
 #include "common/rng.glsl"
+#include "common/flat_index.glsl"
 
 // Masses below this count as none and it bounds every denominator (ref::kMinMass).
 const float kMinMass = 1e-30;
@@ -29,9 +30,7 @@ float fineDraw(uint seed, uint ray, uint j, uint n, bool jitter) {
 // gl_WorkGroupSize read that precedes the local_size_x_id declaration to the constant 1.
 #include "sampling/sampling_shared.h"
 
-// Flat invocation index of a dispatch split over x and y (x is capped by maxComputeWorkGroupCount).
-uint flatInvocation() {
-  return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kLocalSize + gl_LocalInvocationID.x;
-}
+// The flat invocation index at the host's local size.
+uint flatInvocation() { return flatIndex(kLocalSize); }
 
 #endif

@@ -20,16 +20,9 @@ namespace vknerf {
 
 namespace {
 // Each kernel's device time summed over the submissions' dispatches of it, in first-recorded order.
-std::vector<std::pair<std::string, double>> kernelTotals(const std::vector<gpu::SubmissionTiming>& submissions) {
-  std::vector<std::pair<std::string, double>> totals;
-  for (const gpu::SubmissionTiming& sub : submissions)
-    for (const auto& kernel : sub.kernels) {
-      auto it = std::find_if(totals.begin(), totals.end(), [&](const auto& t) { return t.first == kernel.first; });
-      if (it == totals.end())
-        totals.push_back(kernel);
-      else
-        it->second += kernel.second;
-    }
+KernelTimes kernelTotals(const std::vector<gpu::SubmissionTiming>& submissions) {
+  KernelTimes totals;
+  for (const gpu::SubmissionTiming& sub : submissions) addKernelTimes(totals, sub.kernels);
   return totals;
 }
 }  // namespace

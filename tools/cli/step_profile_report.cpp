@@ -57,17 +57,6 @@ double medianOf(const std::vector<StepFigures>& steps, Get get) {
 
 }  // namespace
 
-void addKernelTimes(std::vector<std::pair<std::string, double>>& sums,
-                    const std::vector<std::pair<std::string, double>>& add) {
-  for (const auto& kernel : add) {
-    auto it = std::find_if(sums.begin(), sums.end(), [&](const auto& s) { return s.first == kernel.first; });
-    if (it == sums.end())
-      sums.push_back(kernel);
-    else
-      it->second += kernel.second;
-  }
-}
-
 void printStepProfile(const std::vector<StepProfile>& profiles) {
   if (profiles.empty()) return;
   // The submissions are reported one by one over the steps shaped as the last one (a step that

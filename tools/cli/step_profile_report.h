@@ -3,8 +3,6 @@
 // millisecond is attributed to a kernel, to the host or to the gaps inside a submission. Over the
 // last K steps (--profile-steps), each figure is its median over them: one step's figures move by
 // tens of per cent on a shared machine, their medians much less.
-#include <string>
-#include <utility>
 #include <vector>
 
 #include "vknerf/trainer.h"
@@ -13,10 +11,5 @@ namespace vknerf::cli {
 
 // `steps`: the profiles of the last steps, oldest first (at least one).
 void printStepProfile(const std::vector<StepProfile>& steps);
-
-// Kernel times (name, ms) added into `sums` by name: a kernel's rows become one, in the order each
-// name first came (a step's chunks and levels; eval --profile's views).
-void addKernelTimes(std::vector<std::pair<std::string, double>>& sums,
-                    const std::vector<std::pair<std::string, double>>& add);
 
 }  // namespace vknerf::cli

@@ -31,8 +31,7 @@ RayMarcher::RayMarcher(Context& ctx, uint32_t maxRays, uint32_t slotSamples)
       write_(ctx, {gpu::shaders::march_write,
                    {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
                     gpu::Binding::Storage, gpu::Binding::Storage},
-                   sizeof(MarchPush), {}}),
-      slotSamples_(slotSamples) {
+                   sizeof(MarchPush), {}}) {
   if (!slotSamples) return;
   slots_.emplace(gpu::Buffer::zeros(ctx, VkDeviceSize(slotSamples) * kSampleBytes, "the march's slots"));
   slotsKernel_ = std::make_unique<gpu::Kernel>(
@@ -106,7 +105,7 @@ void RayMarcher::record(gpu::Recorder& rec, const RaySpan& raySpan, const Occupa
               numRays, r, maxSamplesPerRay, steps.seed, steps.jitter ? 1u : 0u, uint32_t(capacity), cascades,
               cone.coneAngle, cone.dtMax, cascades > 1 ? cone.stepOpacity : 0.0f, std::max(cone.stretch, 1u)};
   const uint64_t slots = uint64_t(numRays) * maxSamplesPerRay;
-  if (slots_ && slots <= slotSamples_) {
+  if (slots_ && slots * kSampleBytes <= slots_->size()) {
     // One march into each ray's own slots, then packed: the same batch as the two passes below.
     rec.dispatchFlat(*slotsKernel_, {rays, grid.bits(), layout_.counts(), *slots_, grid.density()}, p, numRays,
                      kMarchLocal, "march_slots");

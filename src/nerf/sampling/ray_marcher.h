@@ -91,8 +91,7 @@ class RayMarcher {
   uint32_t maxRays_;
   PackedLayout layout_;  // counts: the samples each ray marches
   gpu::Kernel count_, write_;
-  uint32_t slotSamples_;
-  std::optional<gpu::Buffer> slots_;            // slotSamples_ samples, each ray's maxSamplesPerRay in a row
+  std::optional<gpu::Buffer> slots_;            // slotSamples samples, each ray's maxSamplesPerRay in a row
   std::unique_ptr<gpu::Kernel> slotsKernel_, compact_;
 };
 

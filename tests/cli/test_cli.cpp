@@ -81,6 +81,23 @@ TEST(Cli, ProfileOverTheLastStepsNamesWhatSomeStepsRan) {
   EXPECT_EQ(runCli("train " + scene() + " -o " + model + " --steps 2 --profile --profile-steps 0").code, 2);
 }
 
+// render --profile prints where a view's time went, kernel by kernel (eval --profile's table), or
+// says in one line that the device's queue has no timestamps; without the flag, neither.
+TEST(Cli, RenderProfileSaysWhereAViewsTimeWent) {
+  const vknerf::test::TempDir tmp("cli_render_profile");
+  const std::string model = tmp.file("m.vknerf");
+  ASSERT_EQ(runCli("train " + scene() + " -o " + model + " --downscale 4 --steps 2").code, 0);
+  auto r = runCli("render " + model + " --orbit 2 --size 16 --profile -o " + tmp.file("views"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const bool table = r.output.find("where a view's time goes (device ms a view, the mean over 2)") != std::string::npos;
+  const bool untimed = r.output.find("--profile: this device's compute queue has no timestamps") != std::string::npos;
+  EXPECT_NE(table, untimed) << r.output;
+  if (table) EXPECT_NE(r.output.find("  composite_forward "), std::string::npos) << r.output;
+  auto plain = runCli("render " + model + " --orbit 1 --size 16 -o " + tmp.file("plain"));
+  ASSERT_EQ(plain.code, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("where a view's time goes"), std::string::npos) << plain.output;
+}
+
 // `train` without --config trains the fast model; vanilla is asked for by name, and a resumed run
 // takes the checkpoint's model whatever the default, so a vanilla checkpoint resumes as vanilla.
 TEST(Cli, TrainsTheFastModelUnlessTheConfigOrTheResumedCheckpointSaysVanilla) {

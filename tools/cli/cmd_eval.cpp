@@ -14,7 +14,7 @@
 #include "command_files.h"
 #include "command.h"
 #include "progress.h"
-#include "step_profile_report.h"
+#include "render_profile_report.h"
 #include "vknerf/image_io.h"
 #include "lib/contact_sheet.h"
 #include "lib/csv.h"
@@ -35,29 +35,6 @@ struct Options {
   RenderSettings settings;  // --appearance, --min-transmittance, --profile
   bool minTransmittanceGiven = false;
 };
-
-// --profile: each kernel's device time a view (the mean over the views), largest first, and its
-// share of the views' wall time. Returns the rows for the JSON.
-nlohmann::json printKernelProfile(const std::vector<std::pair<std::string, double>>& summed, size_t views, double seconds) {
-  nlohmann::json out = nlohmann::json::object();
-  if (summed.empty()) {
-    std::printf("--profile: this device's compute queue has no timestamps; no kernel was timed\n");
-    return out;
-  }
-  std::vector<std::pair<std::string, double>> rows = summed;
-  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-  double kernels = 0;
-  for (auto& [name, ms] : rows) kernels += (ms /= double(views));
-  const double wallMs = 1000.0 * seconds / double(views);
-  std::printf("where a view's time goes (device ms a view, the mean over %zu): kernels %.1f of %.1f ms wall\n", views,
-              kernels, wallMs);
-  for (const auto& [name, ms] : rows) {
-    std::printf("  %-36s %9.1f ms  %5.1f%%\n", name.c_str(), ms, 100.0 * ms / std::max(wallMs, 1e-9));
-    out[name] = ms;
-  }
-  return out;
-}
-
 
 // The error tiles' full scale: a mean |render - truth| of 0.25 over RGB (PSNR ~12 dB on its own) and
 // above is yellow. Fixed, so that sheets of two builds or scenes compare by eye.
@@ -124,7 +101,7 @@ int run(const Options& o, const Globals& g) {
   double sumPsnr = 0, sumSsim = 0, sumSeconds = 0, sumSamples = 0, sumPixels = 0;
   const std::vector<bool> onSheet = sheetViews(n, o.sheetViews);
   std::vector<SheetView> sheetViewsKept;  // drawn once their depths' range is known
-  std::vector<std::pair<std::string, double>> kernelSums;  // --profile
+  KernelTimes kernelSums;  // --profile
   for (size_t i = 0; i < n; ++i) {
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = model.render(data.cameras[i], progressPrinter("rendering " + data.names[i] + ": pixels", true));
@@ -174,9 +151,7 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   addAppearanceOption(app, o->settings.appearancePhoto);
   addMinTransmittanceOption(app, o->settings.minTransmittance);
   app.add_option("--limit", o->limit, "Evaluate at most this many views (default 0: all)");
-  app.add_flag("--profile", o->settings.profile,
-               "Time each kernel of the renders on the device and print where a view's time goes (device ms a view "
-               "per kernel; in --json as kernel_ms_per_image)");
+  addRenderProfileOption(app, o->settings.profile, "; in --json as kernel_ms_per_image");
   app.add_option("--sheet", o->sheet,
                  "Write a contact sheet PNG: a row per view (name, PSNR, SSIM), ground truth | render | depth "
                  "(colour-mapped as render writes it) | error (mean |render - truth| over RGB, 0 to 0.25)");

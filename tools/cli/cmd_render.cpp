@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "render_options.h"
+#include "render_profile_report.h"
 #include "checks.h"
 #include "command_files.h"
 #include "command.h"
@@ -31,7 +32,7 @@ struct Options {
   // instant-ngp paths only (nerfstudio's state their own); unset: run.py's defaults.
   std::optional<double> seconds;
   std::optional<uint32_t> width, height;
-  RenderSettings settings;  // --appearance, --min-transmittance
+  RenderSettings settings;  // --appearance, --min-transmittance, --profile
   bool minTransmittanceGiven = false;
 };
 
@@ -110,10 +111,14 @@ int run(const Options& o, const Globals& g) {
   }
   const nerf::DepthRange depthRange = nerf::depthRangeFor(radius, model.bounds());
   const auto start = std::chrono::steady_clock::now();
+  KernelTimes kernelSums;  // --profile
+  double renderSeconds = 0;
   for (size_t i = 0; i < cams.size(); ++i) {
     auto t0 = std::chrono::steady_clock::now();
     RenderedImage img = model.render(cams[i], progressPrinter("rendering view " + std::to_string(i) + ": pixels", true));
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    renderSeconds += s;
+    addKernelTimes(kernelSums, img.kernelMs);
     char name[64];
     std::snprintf(name, sizeof name, "%04zu", i);
     if (!o.outDir.empty()) {
@@ -130,6 +135,7 @@ int run(const Options& o, const Globals& g) {
                 img.width, img.height, s, rate, double(cams.size() - i - 1) / rate);
     std::fflush(stdout);
   }
+  if (o.settings.profile && !cams.empty()) printKernelProfile(kernelSums, cams.size(), renderSeconds);
   if (video) {
     video->finish();
     std::printf("wrote %s: %zu frames at %g frames/s\n", o.video.c_str(), cams.size(), fps);
@@ -164,6 +170,7 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   app.add_option("--downscale", o->downscale, "Downscale SCENE's images by this factor")->check(CLI::Range(1u, 64u));
   addAppearanceOption(app, o->settings.appearancePhoto);
   addMinTransmittanceOption(app, o->settings.minTransmittance);
+  addRenderProfileOption(app, o->settings.profile);
   app.add_option("--limit", o->limit, "Render at most this many views (default 0: all)");
   return [o, &g, &app] {
     // A flag that changes nothing in this run is refused, as every flag without effect is: the

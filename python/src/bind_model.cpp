@@ -31,6 +31,9 @@ py::dict renderLocked(const PyModel& m, const Camera& camera) {
   out["depth"] = toArray(std::move(img.depth), {h, w});
   out["opacity"] = toArray(std::move(img.opacity), {h, w});
   out["samples"] = img.samples;  // field samples the render shaded
+  py::dict kernels;  // Model.load(profile=True): device ms per kernel of this render
+  for (const auto& [name, ms] : img.kernelMs) kernels[py::str(name)] = ms;
+  out["kernel_ms"] = kernels;
   return out;
 }
 
@@ -97,15 +100,16 @@ py::dict evaluate(const PyModel& m, const PyDataset& d) {
 void bindModel(py::module_& m) {
   py::class_<PyModel>(m, "Model", "A trained field: renders views, extracts meshes.")
       .def_static("load", [](const std::string& path, const PyContext& ctx, uint32_t marchSteps, uint32_t coarse,
-                             uint32_t fine, std::optional<uint32_t> appearance) {
+                             uint32_t fine, std::optional<uint32_t> appearance, bool profile) {
              RenderSettings s;
              s.marchSteps = marchSteps, s.coarseSamples = coarse, s.fineSamples = fine, s.appearancePhoto = appearance;
+             s.profile = profile;
              py::gil_scoped_release release;
              auto model = std::make_shared<const Model>(aboutFile(path, [&] { return Model::load(ctx.ctx, path, s); }));
              return PyModel{ctx.ctx, model, std::make_shared<std::mutex>()};
            },
            py::arg("path"), py::arg("context"), py::arg("march_steps") = 0, py::arg("coarse_samples") = 0,
-           py::arg("fine_samples") = 0, py::arg("appearance") = py::none())
+           py::arg("fine_samples") = 0, py::arg("appearance") = py::none(), py::arg("profile") = false)
       .def_static("of_trainer", [](const PyTrainer& t) {
              // The trainer's live model: it keeps the trainer's state (and so the trainer) alive.
              std::shared_ptr<const Model> model(t.state, &t.state->trainer->model());
@@ -119,7 +123,7 @@ void bindModel(py::module_& m) {
            py::arg("camera") = py::none(), py::kw_only(), py::arg("pose") = py::none(), py::arg("intrinsics") = py::none(),
            py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("distortion") = py::none(),
            py::arg("lens") = "opencv",
-           "A view as a dict of arrays: rgb (H, W, 3), depth (H, W), opacity (H, W), float32.")
+           "A view as a dict of arrays: rgb (H, W, 3), depth (H, W), opacity (H, W), float32; samples; kernel_ms.")
       .def("mesh", [](const PyModel& self, uint32_t resolution, float threshold, bool occupiedOnly) {
              Mesh mesh;
              {

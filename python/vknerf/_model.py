@@ -4,14 +4,16 @@ from . import _vknerf
 _load = _vknerf.Model.load
 
 
-def load(path, context=None, march_steps=0, coarse_samples=0, fine_samples=0, appearance=None):
+def load(path, context=None, march_steps=0, coarse_samples=0, fine_samples=0, appearance=None, profile=False):
     """A checkpoint written by Trainer.save or `vknerf train`; context None: vknerf.default_context().
-    march_steps / coarse_samples / fine_samples: render settings (0: as trained)."""
+    march_steps / coarse_samples / fine_samples: render settings (0: as trained). profile: each
+    render's kernels timed on the device, in its dict's kernel_ms ({name: ms}; empty where the
+    device's queue has no timestamps)."""
     if context is None:
         from . import default_context
 
         context = default_context()
-    return _load(path, context, march_steps, coarse_samples, fine_samples, appearance)
+    return _load(path, context, march_steps, coarse_samples, fine_samples, appearance, profile)
 
 
 def render_dataset(self, dataset):

@@ -64,6 +64,18 @@ def test_a_rendered_view_is_the_clis_bit_for_bit(ctx, quarter_test_scene, cli_ru
     assert view["opacity"].max() > 0.5  # a scene, not an empty box
 
 
+def test_a_profiled_render_is_the_same_view_with_its_kernels_timed(ctx, quarter_test_scene, cli_run):
+    camera = quarter_test_scene.cameras[0]
+    plain = vknerf.Model.load(cli_run["model"], ctx).render(camera)
+    profiled = vknerf.Model.load(cli_run["model"], ctx, profile=True).render(camera)
+    assert plain["kernel_ms"] == {}
+    assert profiled["rgb"].tobytes() == plain["rgb"].tobytes()
+    # lavapipe's compute queue has timestamps: every kernel of the render has a row (the model is
+    # the vanilla one: its MLP and the composite among them), none negative.
+    assert any("composite" in name for name in profiled["kernel_ms"]), profiled["kernel_ms"]
+    assert all(ms >= 0 for ms in profiled["kernel_ms"].values())
+
+
 def test_evaluate_is_the_clis(ctx, quarter_test_scene, cli_run):
     model = vknerf.Model.load(cli_run["model"])
     first = vknerf.Dataset.from_arrays(np.stack([quarter_test_scene.image(i) for i in range(3)]),

@@ -6,6 +6,7 @@
 PUSH_CONSTANTS_BEGIN(ProposalCountPush)
   uint numRays;
   uint samplesPerRay;
+  uint candidateSpan;  // the most march steps one candidate stands for (>= 1)
 PUSH_CONSTANTS_END
 
 #endif

@@ -390,7 +390,8 @@ void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays,
   proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt}, training);
   // The placement's jitter draws from its own stream: the march's draws are keyed by the same seed.
   const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding,
-                                           training ? step->anneal : 1.0f};
+                                           training ? step->anneal : 1.0f,
+                                           estimator_.candidateSpan(model_.proposalStride)};
   proposalSampler_->record(rec, rays.count, {candidates.offsets, candidates.samples, p.field}, draws, fieldCapacity_,
                            fieldSamples());
 }

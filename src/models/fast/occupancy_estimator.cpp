@@ -68,11 +68,15 @@ OccupancyEstimator::OccupancyEstimator(Context& ctx, const FastModel& model, con
 void OccupancyEstimator::recordMarch(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t maxSamples, uint32_t seed,
                                      bool jitter, uint32_t group) {
   nerf::ConeSteps cone = cone_;
-  if (group > 1 && grid_.cascades() > 1) {
+  if (candidateSpan(group) > 1) {
     cone.stepOpacity = std::numeric_limits<float>::max();  // stretch through every occupied cell
-    cone.stretch = std::min(group, nerf::RayMarcher::kMaxStretch);
+    cone.stretch = candidateSpan(group);
   }
   marcher_.record(rec, rays, grid_, box_, {dt_, maxSamples, seed, jitter, cone}, samples());
+}
+
+uint32_t OccupancyEstimator::candidateSpan(uint32_t group) const {
+  return group > 1 && grid_.cascades() > 1 ? std::min(group, nerf::RayMarcher::kMaxStretch) : 1;
 }
 
 void OccupancyEstimator::recordCutToWholeRays(gpu::Recorder& rec, uint32_t rays, uint32_t rayAlign,

@@ -46,6 +46,9 @@ class OccupancyEstimator final : public StatePart {
   // skips exactly the empty cells the plain march skips).
   void recordMarch(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t maxSamples, uint32_t seed, bool jitter,
                    uint32_t group = 1);
+  // The most march steps one sample of recordMarch(..., group) stands for: group, capped at the
+  // march's stretch, with cascades; 1 on one grid, which marches plain steps.
+  uint32_t candidateSpan(uint32_t group) const;
   // After a march at the sample capacity: the batch cut on the device to the rays that fit it
   // whole (multiples of rayAlign), their count written to `wholeRays`.
   void recordCutToWholeRays(gpu::Recorder& rec, uint32_t rays, uint32_t rayAlign, const gpu::BufferRange& wholeRays);

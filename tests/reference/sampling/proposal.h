@@ -63,6 +63,12 @@ template <class T> T proposalMass(T weight, T delta, T padding, T occupiedLength
   return w + padding * share;
 }
 
+// The samples a ray of k candidates gets (proposal_count.comp): n, but at most the march steps the
+// candidates stand for (each up to `span`), and none without candidates.
+inline uint32_t proposalCount(uint64_t k, uint32_t n, uint32_t span) {
+  return uint32_t(std::min<uint64_t>(n, k * span));
+}
+
 // Edge quantile j of n bins (j = 1 .. n-1): (j + shift) / n, shift in [-1/2, 1/2) from one draw a
 // ray in training (0 when rendering), so the edges stay in order and every bin keeps 1/n of the mass.
 template <class T> T edgeQuantile(uint32_t j, uint32_t n, T shift) { return (T(j) + shift) / T(n); }

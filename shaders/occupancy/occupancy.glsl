@@ -15,7 +15,6 @@
 // Lattice points per ray are counted in a uint and converted to float: stay where that is exact.
 const uint kMaxMarchSteps = 16777216u;
 
-
 uint cellIndex(uvec3 c, uint r) { return c.x + r * (c.y + r * c.z); }
 
 bool bitSet(uint word, uint index) { return ((word >> (index & 31u)) & 1u) != 0u; }

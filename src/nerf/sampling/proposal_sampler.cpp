@@ -35,7 +35,8 @@ void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const Proposa
   if (numRays > maxRays_)
     throw Error("proposal_sample: " + std::to_string(numRays) + " rays over the sampler's " + std::to_string(maxRays_));
   if (draws.samplesPerRay == 0) throw Error("proposal_sample: samples per ray must be at least 1");
-  if (draws.candidateSpan == 0) throw Error("proposal_sample: a candidate must stand for at least 1 march step");
+  if (draws.candidateSpan == 0)
+    throw Error("proposal_sample: a candidate must stand for at least 1 march step");
   requireUnitShare("padding", draws.padding);
   requireUnitShare("anneal", draws.anneal);
   gpu::requireBytes("proposal_sample", "candidate offsets", candidates.offsets, (uint64_t(numRays) + 1) * sizeof(uint32_t));
@@ -43,8 +44,8 @@ void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const Proposa
   gpu::requireBytes("proposal_sample", "samples", out.samples, uint64_t(capacity) * kSampleBytes);
   gpu::requireBytes("proposal_sample", "sample rays", out.sampleRay, uint64_t(capacity) * sizeof(uint32_t));
   if (numRays == 0) return;
-  rec.dispatchFlat(count_, {candidates.offsets, layout_.counts()}, glsl::ProposalCountPush{numRays, draws.samplesPerRay, draws.candidateSpan},
-                   numRays, kLocal, "proposal_count");
+  const glsl::ProposalCountPush count{numRays, draws.samplesPerRay, draws.candidateSpan};
+  rec.dispatchFlat(count_, {candidates.offsets, layout_.counts()}, count, numRays, kLocal, "proposal_count");
   layout_.recordOffsetsAndTotals(rec, numRays, capacity, out.offsets, out.totals);
   glsl::ProposalSamplePush p{numRays, draws.jitter.seed, draws.jitter.jitter ? 1u : 0u, draws.padding, draws.anneal};
   rec.dispatchFlat(sample_, {candidates.offsets, candidates.samples, candidates.field, out.offsets, out.samples, out.sampleRay},

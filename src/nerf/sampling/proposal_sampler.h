@@ -36,8 +36,8 @@ class ProposalSampler {
     uint32_t candidateSpan = 1;
   };
   // `capacity`: the samples out.samples and out.sampleRay hold. Throws vknerf::Error for more
-  // than maxRays rays, no samples a ray, a candidate span of 0, a padding or anneal outside [0, 1], or buffers too small for the
-  // rays or the capacity.
+  // than maxRays rays, no samples a ray, a candidate span of 0, a padding or anneal outside
+  // [0, 1], or buffers too small for the rays or the capacity.
   void record(gpu::Recorder& rec, uint32_t numRays, const ProposalCandidates& candidates, const Draws& draws,
               uint32_t capacity, const PackedSamples& out);
 

@@ -68,8 +68,11 @@ struct FastModel {
   uint32_t gridUpdateInterval = 16;      // steps between occupancy updates
   uint32_t gridWarmupSteps = 256;        // until then every cell is re-measured at each update
   // A cell is empty where one march step (the trained, smallest) through it is less opaque than
-  // this: instant-ngp's 1%; higher skips more of a young field's fog (fewer samples per ray).
-  float occupancyThreshold = 0.01f;
+  // this; higher skips more of a young field's fog (fewer samples per ray). 0: instant-ngp's 1%
+  // for the march, 0.1% with the proposal estimator, whose candidates are the march's samples and
+  // which does not pay a field sample for each (at 1% the far end of a faint table got none and the
+  // far field painted it: docs/real_captures.md). The Trainer sets it (src/models/fast/fast_choices.h).
+  float occupancyThreshold = 0;
   // With cascades: a march sample through faint occupied cells stands for several steps, as many
   // as keep it at most this opaque by the grid's densities (fewer samples per ray through a fog);
   // 0: one sample a step, as instant-ngp marches.

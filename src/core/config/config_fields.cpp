@@ -223,8 +223,8 @@ std::vector<ConfigField> table() {
       fastTop("grid_update_interval", &FastModel::gridUpdateInterval).addedLater().range(1, UINT32_MAX),
       fastTop("grid_warmup_steps", &FastModel::gridWarmupSteps).addedLater(),
       // Models saved before it trained with instant-ngp's 1%.
-      fastTop("occupancy_threshold", &FastModel::occupancyThreshold).addedLater(0.01f).range(0.0, 1.0).openLow()
-          .flag("--occupancy-threshold", "fast: a cell is skipped where one march step through it is less opaque than this (instant-ngp: 0.01)")
+      fastTop("occupancy_threshold", &FastModel::occupancyThreshold).addedLater(0.01f).range(0.0, 1.0).openLow().zeroIsAuto()
+          .flag("--occupancy-threshold", "fast: a cell is skipped where one march step through it is less opaque than this (default: instant-ngp's 0.01, 0.001 with --proposal-samples)")
           .flagRange(1e-6, 0.5),
       // Models saved before it marched one sample a step.
       fastTop("step_opacity", &FastModel::stepOpacity).addedLater(0.0f).range(0.0, 1.0)

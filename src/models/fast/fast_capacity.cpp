@@ -42,6 +42,10 @@ constexpr uint32_t kMinMarchSteps = 128, kMaxMarchSteps = 1024, kMaxMarchStepsCp
 // at 150 s, the sample scene marched at 256 +2.1 dB at 60 s (docs/real_captures.md, "A short budget
 // on flower").
 constexpr uint32_t kSamplesPerStep = 1u << 14;
+// With the proposal a step's rays each take its samples, not the march's dozens: at 2^14 a step held
+// five times the march's rays and cost half as much again; 2^13 won on cup, fruit and flower at
+// 150 s (docs/real_captures.md, "The proposal at equal time").
+constexpr uint32_t kSamplesPerProposalStep = 1u << 13;
 constexpr uint32_t kSeenGrid = 32;  // cells per axis of the box for the seen share
 // The occupancy grid's cells per axis, where the configuration leaves them open (a CPU device's
 // default): half the march steps per diagonal, so that a cell spans about one step (1.15: an axis is
@@ -162,8 +166,14 @@ std::string resolveGridResolution(FastModel& m, bool cpuDevice) {
 
 std::string resolveSamplesPerStep(FastModel& m) {
   if (m.samplesPerBatch != 0) return "";
+  char why[200];
+  if (m.proposalSamples) {
+    m.samplesPerBatch = kSamplesPerProposalStep;
+    std::snprintf(why, sizeof why, "training step: about %u field samples, %u rays at the proposal's %u (more, cheaper steps)",
+                  m.samplesPerBatch, m.samplesPerBatch / m.proposalSamples, m.proposalSamples);
+    return why;
+  }
   m.samplesPerBatch = kSamplesPerStep;
-  char why[160];
   std::snprintf(why, sizeof why, "training step: about %u marched samples (whatever the %u march steps: more, cheaper steps)",
                 m.samplesPerBatch, m.marchSteps);
   return why;

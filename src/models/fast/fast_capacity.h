@@ -16,7 +16,8 @@
 //     over 4 x distance / focal, the power of two nearest it, within [128, 1024], [128, 512] on a
 //     CPU; at most as many samples per ray (maxSamplesPerRay), where that is open too.
 //   - a training step's samples (FastModel::samplesPerBatch): 2^14, whatever the march steps (at
-//     short budgets more, cheaper steps beat larger ones at 128 and 256 march steps alike).
+//     short budgets more, cheaper steps beat larger ones at 128 and 256 march steps alike); 2^13
+//     with the proposal estimator (its rays take its few samples each, so a step holds more rays).
 //   - the occupancy grid (FastModel::gridResolution): half the march steps cells per axis, so that
 //     a cell spans about one step, within [64, 256], [64, 128] on a CPU.
 //   - where rays start (FastModel::nearDistance): 5% of the inner cascade's side, so that it means

@@ -14,9 +14,18 @@ uint32_t cascadesFor(float aabbScale) {
   return c;
 }
 
+float occupancyThresholdOf(const FastModel& model) {
+  if (model.occupancyThreshold > 0) return model.occupancyThreshold;
+  return model.proposalSamples ? 0.001f : 0.01f;
+}
+
 std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevice, bool transparentPixels) {
   if (model.cascades == 0) model.cascades = cascadesFor(train.aabbScale);
   std::string note = resolveFastCapacity(model, train, cpuDevice);
+  if (model.occupancyThreshold == 0 && model.proposalSamples) {
+    note += std::string(note.empty() ? "" : "\n") + "occupancy threshold: 0.001 (the proposal's candidates reach faint cells)";
+  }
+  model.occupancyThreshold = occupancyThresholdOf(model);
   // Photos without alpha leave what lies behind the scene box to the model: a learned far field.
   if (model.farField == FarField::Auto) {
     model.farField = transparentPixels ? FarField::Constant : FarField::Learned;

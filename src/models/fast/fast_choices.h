@@ -1,7 +1,7 @@
 #pragma once
 // What the fast model decides for itself from the training set, where its configuration leaves a
 // choice open: the occupancy cascades from the scene's aabb_scale, the capacity (fast_capacity.h),
-// and the far field from whether the photos have alpha. The Trainer calls it once, before the
+// the occupancy threshold from the sampler, and the far field from whether the photos have alpha. The Trainer calls it once, before the
 // model is built; the model's configuration then holds every choice, so a checkpoint records them.
 #include <string>
 
@@ -12,6 +12,10 @@ namespace vknerf::models {
 
 // instant-ngp's cascades for an aabb_scale: enough doublings of the inner cube to reach the box.
 uint32_t cascadesFor(float aabbScale);
+
+// The occupancy threshold (FastModel::occupancyThreshold) a model trains with: its own, or where
+// it is open (0) instant-ngp's 0.01 for the march and 0.001 with the proposal estimator.
+float occupancyThresholdOf(const FastModel& model);
 
 // Fills what `model` leaves open; `transparentPixels`: some training pixel has alpha < 255.
 // Returns the lines that say what was chosen and why (empty when nothing was open). Throws

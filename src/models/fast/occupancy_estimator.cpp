@@ -1,14 +1,13 @@
 #include "models/fast/occupancy_estimator.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
-#include <algorithm>
-#include <cmath>
-
+#include "core/math/rng.h"
+#include "models/fast/fast_choices.h"
 #include "nerf/sampling/points.h"
 #include "nerf/sampling/sample_layout.h"
-#include "core/math/rng.h"
 #include "vknerf/error.h"
 
 namespace vknerf::models {
@@ -39,7 +38,7 @@ OccupancyEstimator::OccupancyEstimator(Context& ctx, const FastModel& model, con
     : box_(box),
       updateInterval_(model.gridUpdateInterval),
       warmupSteps_(model.gridWarmupSteps),
-      emptyOpacity_(model.occupancyThreshold),
+      emptyOpacity_(occupancyThresholdOf(model)),
       dt_(stepOf(model, box, renderMarchSteps ? renderMarchSteps : model.marchSteps)),
       trainedDt_(stepOf(model, box, model.marchSteps)),
       cone_(coneStepsFor(model, box, dt_)),
@@ -68,9 +67,9 @@ OccupancyEstimator::OccupancyEstimator(Context& ctx, const FastModel& model, con
 void OccupancyEstimator::recordMarch(gpu::Recorder& rec, const nerf::RaySpan& rays, uint32_t maxSamples, uint32_t seed,
                                      bool jitter, uint32_t group) {
   nerf::ConeSteps cone = cone_;
-  if (candidateSpan(group) > 1) {
+  if (const uint32_t span = candidateSpan(group); span > 1) {
     cone.stepOpacity = std::numeric_limits<float>::max();  // stretch through every occupied cell
-    cone.stretch = candidateSpan(group);
+    cone.stretch = span;
   }
   marcher_.record(rec, rays, grid_, box_, {dt_, maxSamples, seed, jitter, cone}, samples());
 }

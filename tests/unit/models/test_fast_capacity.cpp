@@ -1,6 +1,7 @@
 // The fast model's capacity from the data (src/models/fast/fast_capacity.h): the finest hash resolution from
 // the cameras' pixel footprint over the inner cube, the table from the training pixels and the box
-// in view, where rays start, the caps of a CPU device, and explicit settings kept.
+// in view, where rays start, the caps of a CPU device, and explicit settings kept; and the occupancy
+// threshold from the sampler (src/models/fast/fast_choices.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <utility>
 
 #include "models/fast/fast_capacity.h"
+#include "models/fast/fast_choices.h"
 #include "models/fast/fast_field.h"
 #include "vknerf/camera.h"
 #include "vknerf/dataset.h"
@@ -231,6 +233,36 @@ TEST(FastCapacity, SamplesPerStepAreTheSameAtEveryMarch) {
   EXPECT_EQ(samplesFor(0, 4.6f), std::pair(512u, 1u << 14));   // the CPU's finest march
   EXPECT_EQ(samplesFor(100, 60), std::pair(100u, 1u << 14));   // under 128 steps
   EXPECT_EQ(samplesFor(0, 17.5f, 5000), std::pair(256u, 5000u));
+}
+
+// With the proposal estimator a step's samples, left open, are 2^13 (its rays take its few samples
+// each), and the note says how many rays that is; a set value is kept.
+TEST(FastCapacity, TheProposalTakesSmallerSteps) {
+  const Resolved open = resolvedAt(0, 60, true, [](FastModel& m) { m.proposalSamples = 24, m.samplesPerBatch = 0; });
+  EXPECT_EQ(open.m.samplesPerBatch, 1u << 13);
+  EXPECT_NE(open.note.find("about 8192 field samples, 341 rays at the proposal's 24"), std::string::npos) << open.note;
+  const Resolved set = resolvedAt(0, 60, true, [](FastModel& m) { m.proposalSamples = 24, m.samplesPerBatch = 1u << 14; });
+  EXPECT_EQ(set.m.samplesPerBatch, 1u << 14);
+  EXPECT_EQ(set.note.find("field samples"), std::string::npos) << set.note;
+}
+
+// The occupancy threshold, left open (0): instant-ngp's 1% for the march, 0.1% with the proposal
+// (whose candidates must reach faint cells), written into the model so that a checkpoint records
+// it, and said in the note with the proposal; a set value is kept either way.
+TEST(FastChoices, OccupancyThresholdFollowsTheSampler) {
+  auto chosen = [](uint32_t proposalSamples, float threshold) {
+    FastModel m = openModel();
+    m.proposalSamples = proposalSamples;
+    m.occupancyThreshold = threshold;
+    EXPECT_EQ(models::occupancyThresholdOf(m), threshold > 0 ? threshold : proposalSamples ? 0.001f : 0.01f);
+    const std::string note = models::chooseFastModel(m, ring(4, 100, 100, 60, 4), true, false);
+    EXPECT_EQ(note.find("occupancy threshold") != std::string::npos, proposalSamples && threshold == 0) << note;
+    return m.occupancyThreshold;
+  };
+  EXPECT_FLOAT_EQ(chosen(0, 0), 0.01f);
+  EXPECT_FLOAT_EQ(chosen(24, 0), 0.001f);
+  EXPECT_FLOAT_EQ(chosen(0, 0.05f), 0.05f);
+  EXPECT_FLOAT_EQ(chosen(24, 0.05f), 0.05f);
 }
 
 // The occupancy grid, left open: half the march steps per axis (the steps resolved first, or as

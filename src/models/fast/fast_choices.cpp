@@ -1,6 +1,7 @@
 #include "models/fast/fast_choices.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "models/fast/fast_capacity.h"
 #include "vknerf/error.h"
@@ -16,16 +17,21 @@ uint32_t cascadesFor(float aabbScale) {
 
 float occupancyThresholdOf(const FastModel& model) {
   if (model.occupancyThreshold > 0) return model.occupancyThreshold;
-  return model.proposalSamples ? 0.001f : 0.01f;
+  return model.proposalSamples ? 0.001f : 0.01f;  // docs/real_captures.md, "The proposal at equal time"
 }
 
 std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevice, bool transparentPixels) {
   if (model.cascades == 0) model.cascades = cascadesFor(train.aabbScale);
   std::string note = resolveFastCapacity(model, train, cpuDevice);
-  if (model.occupancyThreshold == 0 && model.proposalSamples) {
-    note += std::string(note.empty() ? "" : "\n") + "occupancy threshold: 0.001 (the proposal's candidates reach faint cells)";
+  if (model.occupancyThreshold == 0) {
+    model.occupancyThreshold = occupancyThresholdOf(model);
+    if (model.proposalSamples) {
+      char why[96];
+      std::snprintf(why, sizeof why, "occupancy threshold: %g (the proposal's candidates reach faint cells)",
+                    double(model.occupancyThreshold));
+      note += std::string(note.empty() ? "" : "\n") + why;
+    }
   }
-  model.occupancyThreshold = occupancyThresholdOf(model);
   // Photos without alpha leave what lies behind the scene box to the model: a learned far field.
   if (model.farField == FarField::Auto) {
     model.farField = transparentPixels ? FarField::Constant : FarField::Learned;

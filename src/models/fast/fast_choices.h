@@ -1,8 +1,9 @@
 #pragma once
 // What the fast model decides for itself from the training set, where its configuration leaves a
 // choice open: the occupancy cascades from the scene's aabb_scale, the capacity (fast_capacity.h),
-// the occupancy threshold from the sampler, and the far field from whether the photos have alpha. The Trainer calls it once, before the
-// model is built; the model's configuration then holds every choice, so a checkpoint records them.
+// the occupancy threshold from the sampler, and the far field from whether the photos have alpha.
+// The Trainer calls it once, before the model is built; the model's configuration then holds every
+// choice, so a checkpoint records them.
 #include <string>
 
 #include "vknerf/config.h"

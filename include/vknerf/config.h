@@ -29,6 +29,15 @@ enum class FarField : uint32_t { Auto = 0, Constant = 1, Learned = 2 };
 // "auto", "constant", "learned": the names a checkpoint and `--far-field` use.
 const char* farFieldName(FarField f);
 
+// Where a ray's field samples come from. March: every sample the occupancy march finds (front to
+// back, until the ray is opaque). Proposal: FastModel::proposalSamples a ray, placed by a small
+// proposal density field (nerfacto's estimator). Auto: the Trainer picks the proposal for photos
+// without alpha and the march for photos with alpha (docs/real_captures.md, "The proposal by
+// default"); a pipeline built from a configuration left open marches.
+enum class Sampler : uint32_t { Auto = 0, March = 1, Proposal = 2 };
+// "auto", "march", "proposal": the names a checkpoint uses.
+const char* samplerName(Sampler s);
+
 struct FastModel {
   // hashLog2Size (table entries per level) and hashGrowth (per-level resolution factor b, which sets
   // the finest resolution N b^(L-1)): 0 = from the dataset, as the Trainer sizes them (TrainConfig::fast).
@@ -86,16 +95,18 @@ struct FastModel {
   // as one more interval at its far end, so that a half-transparent surface costs the loss instead
   // of lowering it.
   bool distortionFarField = false;
-  // The proposal estimator (nerfacto's; 0: off): a small density field, the proposal, is evaluated
-  // at every sample the march finds, and each ray's field samples, this many, are placed by inverse
-  // CDF of the proposal's weights, where the ray's weight lies however thick the fog in front of it.
-  // The proposal learns from mip-NeRF 360's interlevel loss (its weights bound the field's), of
-  // weight proposalLoss; it is a hash grid of proposalLevels levels and a network 16 wide.
-  uint32_t proposalSamples = 0;
+  // The proposal estimator (nerfacto's), where `sampler` is Proposal: a small density field, the
+  // proposal, is evaluated at every sample the march finds, and each ray's field samples, this
+  // many, are placed by inverse CDF of the proposal's weights, where the ray's weight lies however
+  // thick the fog in front of it. The proposal learns from mip-NeRF 360's interlevel loss (its
+  // weights bound the field's), of weight proposalLoss; it is a hash grid of proposalLevels levels
+  // and a network 16 wide.
+  Sampler sampler = Sampler::Auto;
+  uint32_t proposalSamples = 24;
   uint32_t proposalLevels = 5;
   // The proposal's candidates: with cascades, one stands for up to this many march steps through
   // occupied cells (1: every step), evaluated at its middle.
-  uint32_t proposalStride = 1;
+  uint32_t proposalStride = 8;
   // The proposal's weights place a training step's samples in full only after this many steps:
   // from uniform by length at the first step (nerfacto's annealing, over its 1000 steps; 0: from the
   // first step, where fruit at 16 samples learned near-camera floaters: docs/real_captures.md).
@@ -115,6 +126,9 @@ struct FastModel {
   bool refineCameras = false;
   float cameraLearningRate = 1e-4f;
   float cameraPenalty = 1e-4f;
+
+  // Whether the field's samples are the proposal's (an open sampler marches).
+  bool usesProposal() const { return sampler == Sampler::Proposal; }
 };
 
 using ModelConfig = std::variant<VanillaModel, FastModel>;

@@ -51,6 +51,7 @@ enum class MissingKey {
   Error,    // a key of the first checkpoint format
   Default,  // added later: the field's default
   Legacy,   // added later: `legacy`, what models saved before the key had
+  Derived,  // added later: `derivedLegacy` of the fields read before it
 };
 
 struct ConfigField {
@@ -64,6 +65,7 @@ struct ConfigField {
   std::vector<std::string> choices;                           // a name's values
   MissingKey missing = MissingKey::Error;
   ConfigValue legacy;
+  std::function<ConfigValue(const TrainConfig&)> derivedLegacy;
   std::optional<ConfigRange> range;                // none: every value is valid
   std::function<void(const TrainConfig&)> check;   // what a range cannot say (a bound from another field)
   ConfigFlag flag;

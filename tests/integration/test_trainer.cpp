@@ -342,6 +342,28 @@ Dataset opaqueScene() {
 
 }  // namespace
 
+// Left open, the sampler follows the photos: the proposal for photos without alpha (its samples a
+// ray, at most, in every step), the march for photos with alpha; the model records the choice, so
+// its checkpoint (and a run resumed from it) keeps it.
+TEST_F(TrainerTest, FastModelSamplesOpaquePhotosWithTheProposal) {
+  const test::TempDir tmp("trainer");
+  Trainer opaque(sharedContext(), opaqueScene(), smallFast());
+  EXPECT_NE(opaque.capacityNote().find("sampler: 24 samples a ray placed by a proposal"), std::string::npos)
+      << opaque.capacityNote();
+  for (int i = 0; i < 4; ++i) {
+    const StepStats st = opaque.step(true);
+    if (st.hasLoss) EXPECT_LE(st.samples, 24ull * st.rays);
+  }
+  opaque.save(tmp.file("opaque.vknerf"));
+  const FastModel saved = Trainer::configOf(tmp.file("opaque.vknerf")).fastModel();
+  EXPECT_EQ(saved.sampler, Sampler::Proposal);
+  EXPECT_EQ(saved.proposalSamples, 24u);
+
+  Trainer withAlpha(sharedContext(), scene(), smallFast());
+  EXPECT_NE(withAlpha.capacityNote().find("sampler: the march"), std::string::npos) << withAlpha.capacityNote();
+  EXPECT_EQ(withAlpha.model().config().fastModel().sampler, Sampler::March);
+}
+
 // Photos without alpha get the learned far field, photos with alpha the constant (random in
 // training) background; the learned one is saved with the model and renders the same after loading.
 TEST_F(TrainerTest, FastModelLearnsTheFarFieldOfOpaquePhotos) {

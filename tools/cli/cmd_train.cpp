@@ -169,10 +169,11 @@ int train(const Options& o, const Globals& g) {
     for (const char* flag : {"--camera-lr", "--camera-penalty"})
       if (o.configFlags->given(flag))
         throw UsageError(std::string("train: ") + flag + " has no effect without --refine-cameras (add it, or drop " + flag + ")");
-  if (cfg.isFast() && !cfg.fastModel().proposalSamples)
+  // The proposal's flags tune it where it is chosen (asked for, or left to the photos).
+  if (cfg.isFast() && cfg.fastModel().sampler == Sampler::March)
     for (const char* flag : {"--proposal-levels", "--proposal-stride", "--proposal-anneal-steps"})
       if (o.configFlags->given(flag))
-        throw UsageError(std::string("train: ") + flag + " has no effect without --proposal-samples (add it, or drop " + flag + ")");
+        throw UsageError(std::string("train: ") + flag + " has no effect with --proposal-samples 0 (the march; drop " + flag + ")");
   std::printf("config: %s\n", cfg.describe().c_str());
   std::optional<Trainer> built;
   try {

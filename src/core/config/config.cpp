@@ -22,6 +22,15 @@ const char* farFieldName(FarField f) {
   return "invalid";
 }
 
+const char* samplerName(Sampler s) {
+  switch (s) {
+    case Sampler::Auto: return "auto";
+    case Sampler::March: return "march";
+    case Sampler::Proposal: return "proposal";
+  }
+  return "invalid";
+}
+
 namespace {
 template <class M, class Variant>  // Variant: ModelConfig or const ModelConfig
 auto& modelOf(Variant& model) {
@@ -52,7 +61,10 @@ std::string TrainConfig::describe() const {
     if (m->samplesPerBatch) os << "~" << m->samplesPerBatch; else os << "auto";
     os << " samples/step";
     if (m->distortionLoss > 0) os << ", distortion loss " << m->distortionLoss << (m->distortionFarField ? " (far field counted)" : "");
-    if (m->proposalSamples > 0) os << ", " << m->proposalSamples << " samples a ray placed by a proposal of " << m->proposalLevels << " levels";
+    if (m->usesProposal())
+      os << ", " << m->proposalSamples << " samples a ray placed by a proposal of " << m->proposalLevels << " levels";
+    else if (m->sampler == Sampler::Auto)
+      os << ", sampler auto";
     os << ", far field " << farFieldName(m->farField);
   } else {
     const VanillaModel& v = std::get<VanillaModel>(model);

@@ -23,23 +23,34 @@ ConfigValue valueOf(float v) { return v; }
 ConfigValue valueOf(bool v) { return v; }
 ConfigValue valueOf(DensityActivation v) { return uint32_t(v); }
 ConfigValue valueOf(FarField v) { return std::string(farFieldName(v)); }
+ConfigValue valueOf(Sampler v) { return std::string(samplerName(v)); }
 ConfigValue valueOf(const std::array<float, 3>& v) { return v; }
 
 void assign(uint32_t& m, const ConfigValue& v) { m = std::get<uint32_t>(v); }
 void assign(float& m, const ConfigValue& v) { m = std::get<float>(v); }
 void assign(bool& m, const ConfigValue& v) { m = std::get<bool>(v); }
 void assign(DensityActivation& m, const ConfigValue& v) { m = DensityActivation(std::get<uint32_t>(v)); }
-void assign(FarField& m, const ConfigValue& v) {
-  for (FarField f : {FarField::Auto, FarField::Constant, FarField::Learned})
-    if (std::get<std::string>(v) == farFieldName(f)) m = f;
-}
 void assign(std::array<float, 3>& m, const ConfigValue& v) { m = std::get<std::array<float, 3>>(v); }
 
-std::vector<std::string> choicesOf(FarField) {
-  return {farFieldName(FarField::Auto), farFieldName(FarField::Constant), farFieldName(FarField::Learned)};
+// The enumerations a configuration names: every value, and each one's name.
+constexpr std::array kFarFields{FarField::Auto, FarField::Constant, FarField::Learned};
+constexpr std::array kSamplers{Sampler::Auto, Sampler::March, Sampler::Proposal};
+const auto& valuesOf(FarField) { return kFarFields; }
+const auto& valuesOf(Sampler) { return kSamplers; }
+
+template <class E, class = decltype(valuesOf(E{}))>
+void assign(E& m, const ConfigValue& v) {
+  for (E e : valuesOf(E{}))
+    if (std::get<std::string>(v) == std::get<std::string>(valueOf(e))) m = e;
 }
-template <class T>
-std::vector<std::string> choicesOf(T) { return {}; }
+
+template <class E, class = decltype(valuesOf(E{}))>
+std::vector<std::string> choicesOf(E) {
+  std::vector<std::string> names;
+  for (E e : valuesOf(E{})) names.push_back(std::get<std::string>(valueOf(e)));
+  return names;
+}
+std::vector<std::string> choicesOf(...) { return {}; }
 
 // The struct a member belongs to, inside a configuration.
 TrainConfig& ownerOf(TrainConfig& c, TrainConfig*) { return c; }
@@ -69,6 +80,11 @@ struct Row {
   // `legacy` when models saved before it had something else.
   Row& addedLater() { return f.missing = MissingKey::Default, *this; }
   Row& addedLater(ConfigValue legacy) { return f.missing = MissingKey::Legacy, f.legacy = std::move(legacy), *this; }
+  // Added later, where what models saved before it had follows from their other keys (those of the
+  // rows above it).
+  Row& addedLaterFrom(std::function<ConfigValue(const TrainConfig&)> legacy) {
+    return f.missing = MissingKey::Derived, f.derivedLegacy = std::move(legacy), *this;
+  }
 
   Row& flag(const char* name, const char* help) {
     f.flag.name = name, f.flag.help = help, f.flag.type = f.type;
@@ -224,7 +240,7 @@ std::vector<ConfigField> table() {
       fastTop("grid_warmup_steps", &FastModel::gridWarmupSteps).addedLater(),
       // Models saved before it trained with instant-ngp's 1%.
       fastTop("occupancy_threshold", &FastModel::occupancyThreshold).addedLater(0.01f).range(0.0, 1.0).openLow().zeroIsAuto()
-          .flag("--occupancy-threshold", "fast: a cell is skipped where one march step through it is less opaque than this (default: instant-ngp's 0.01, 0.001 with --proposal-samples)")
+          .flag("--occupancy-threshold", "fast: a cell is skipped where one march step through it is less opaque than this (default: instant-ngp's 0.01, 0.001 with the proposal sampler)")
           .flagRange(1e-6, 0.5),
       // Models saved before it marched one sample a step.
       fastTop("step_opacity", &FastModel::stepOpacity).addedLater(0.0f).range(0.0, 1.0)
@@ -242,16 +258,32 @@ std::vector<ConfigField> table() {
       fastTop("distortion_far_field", &FastModel::distortionFarField).addedLater(false)
           .flag("--distortion-far-field", "fast, with --distortion-loss: the weight a ray leaves to the far field counts in the loss, as an interval at its far end"),
       // Models saved before it had none.
+      // Models saved before it had none: 0, read as the march.
       fastTop("proposal_samples", &FastModel::proposalSamples).addedLater(0u).range(0, 1024)
-          .flag("--proposal-samples", "fast: each ray's field samples, placed by a small proposal density field trained to bound the field's weights (nerfacto's proposal estimator; default 0: off, every marched sample)")
-          .flagRange(0, 1024),
+          .flag("--proposal-samples", "fast: each ray's field samples, placed by a small proposal density field trained to bound the field's weights (nerfacto's proposal estimator; 0: the march's, every marched sample; default: 24 where the photos have no alpha, the march where they have)")
+          .flagRange(0, 1024)
+          .flagApplies([](TrainConfig& c, const ConfigValue& v) {
+            FastModel& m = c.fastModel();
+            m.proposalSamples = std::get<uint32_t>(v);
+            m.sampler = m.proposalSamples ? Sampler::Proposal : Sampler::March;
+          }),
+      // Models saved before it sampled with the proposal where they had its samples (0: none).
+      fastTop("sampler", &FastModel::sampler)
+          .addedLaterFrom([](const TrainConfig& c) {
+            return valueOf(c.fastModel().proposalSamples ? Sampler::Proposal : Sampler::March);
+          })
+          .check([](const TrainConfig& c) {
+            const FastModel& m = c.fastModel();
+            if (m.sampler == Sampler::Proposal && m.proposalSamples == 0)
+              throw Error("sampler proposal needs proposal_samples >= 1, got 0");
+          }),
       fastTop("proposal_levels", &FastModel::proposalLevels).addedLater(5u).range(1, 16)
-          .flag("--proposal-levels", "fast, with --proposal-samples: the proposal's hash-grid levels").flagRange(1, 16),
+          .flag("--proposal-levels", "fast, with the proposal sampler: the proposal's hash-grid levels").flagRange(1, 16),
       fastTop("proposal_stride", &FastModel::proposalStride).addedLater(1u).range(1, 64)
-          .flag("--proposal-stride", "fast, with --proposal-samples and cascades: one proposal evaluation stands for up to this many march steps through occupied cells").flagRange(1, 64),
+          .flag("--proposal-stride", "fast, with the proposal sampler and cascades: one proposal evaluation stands for up to this many march steps through occupied cells (default 8)").flagRange(1, 64),
       // Models saved before it trained their proposal without annealing.
       fastTop("proposal_anneal_steps", &FastModel::proposalAnnealSteps).addedLater(0u).range(0, 1u << 24)
-          .flag("--proposal-anneal-steps", "fast, with --proposal-samples: the training steps over which the proposal's weights take over its samples' placement from an even spread (nerfacto's annealing; default 1000, 0: from the first step)").flagRange(0, 1u << 24),
+          .flag("--proposal-anneal-steps", "fast, with the proposal sampler: the training steps over which the proposal's weights take over its samples' placement from an even spread (nerfacto's annealing; default 1000, 0: from the first step)").flagRange(0, 1u << 24),
       fastTop("proposal_loss", &FastModel::proposalLoss).addedLater(1.0f).range(0.0, 1e3).openLow(),
       // Models saved before it had a constant far field.
       model("far_field", &FastModel::farField).addedLater(std::string("constant"))

@@ -57,6 +57,8 @@ TrainConfig trainConfigFromJson(const json& j, const std::string& file) {
         (void)section.at(f.key);  // throws json's "key 'width' not found"
       else if (f.missing == MissingKey::Legacy)
         f.set(c, f.legacy);
+      else if (f.missing == MissingKey::Derived)
+        f.set(c, f.derivedLegacy(c));
     }
     c.validate();
     return c;

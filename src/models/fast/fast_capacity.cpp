@@ -167,7 +167,7 @@ std::string resolveGridResolution(FastModel& m, bool cpuDevice) {
 std::string resolveSamplesPerStep(FastModel& m) {
   if (m.samplesPerBatch != 0) return "";
   char why[200];
-  if (m.proposalSamples) {
+  if (m.usesProposal()) {
     m.samplesPerBatch = kSamplesPerProposalStep;
     std::snprintf(why, sizeof why, "training step: about %u field samples, %u rays at the proposal's %u (more, cheaper steps)",
                   m.samplesPerBatch, m.samplesPerBatch / m.proposalSamples, m.proposalSamples);

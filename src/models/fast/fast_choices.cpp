@@ -17,15 +17,27 @@ uint32_t cascadesFor(float aabbScale) {
 
 float occupancyThresholdOf(const FastModel& model) {
   if (model.occupancyThreshold > 0) return model.occupancyThreshold;
-  return model.proposalSamples ? 0.001f : 0.01f;  // docs/real_captures.md, "The proposal at equal time"
+  return model.usesProposal() ? 0.001f : 0.01f;  // docs/real_captures.md, "The proposal at equal time"
 }
+
+Sampler samplerFor(bool transparentPixels) { return transparentPixels ? Sampler::March : Sampler::Proposal; }
 
 std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevice, bool transparentPixels) {
   if (model.cascades == 0) model.cascades = cascadesFor(train.aabbScale);
+  // First: the capacity and the occupancy threshold follow the sampler.
+  std::string samplerNote;
+  if (model.sampler == Sampler::Auto) {
+    model.sampler = samplerFor(transparentPixels);
+    samplerNote = transparentPixels
+                      ? "sampler: the march (the photos have alpha: short rays, nothing for a proposal to save)"
+                      : "sampler: " + std::to_string(model.proposalSamples) +
+                            " samples a ray placed by a proposal (the photos have no alpha)";
+  }
   std::string note = resolveFastCapacity(model, train, cpuDevice);
+  if (!samplerNote.empty()) note = samplerNote + (note.empty() ? "" : "\n") + note;
   if (model.occupancyThreshold == 0) {
     model.occupancyThreshold = occupancyThresholdOf(model);
-    if (model.proposalSamples) {
+    if (model.usesProposal()) {
       char why[96];
       std::snprintf(why, sizeof why, "occupancy threshold: %g (the proposal's candidates reach faint cells)",
                     double(model.occupancyThreshold));

@@ -64,7 +64,7 @@ uint32_t proposalRaysFor(const FastModel& m, uint32_t rayCapacity, uint32_t samp
 
 // The samples the field evaluates at once: the march's, or with the proposal its rays' samples.
 uint32_t fieldCapacityFor(const FastModel& m, uint32_t rayCapacity, uint32_t sampleCapacity, bool training) {
-  if (m.proposalSamples == 0) return sampleCapacity;
+  if (!m.usesProposal()) return sampleCapacity;
   const uint64_t rays = proposalRaysFor(m, rayCapacity, sampleCapacity, training);
   return uint32_t(std::min<uint64_t>(rays * m.proposalSamples, 1ull << 28));
 }
@@ -104,7 +104,7 @@ FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& 
     farField_.emplace(ctx, this->rayCapacity(), config.seed, config.background,
                       training ? std::optional(tableAdamOf(config)) : std::nullopt,
                       training ? std::optional(adamConfigOf(config)) : std::nullopt);
-  if (model_.proposalSamples) {
+  if (model_.usesProposal()) {
     const TrainConfig proposalConfig = proposalConfigOf(config);
     proposal_.emplace(ctx, proposalConfig, training, sampleCapacity_, 0, hashGridPosition(ctx, proposalConfig, training),
                       kProposalStateName);

@@ -5,8 +5,8 @@
 //        -> composite (packed)
 // and, when training, photometric loss -> composite backward -> field backward -> every registered
 // part's optimizer step, with the occupancy grid re-measured on the estimator's schedule.
-// With FastModel::proposalSamples the march's samples are candidates: a small proposal field is
-// evaluated at them, and each ray's field samples are placed by inverse CDF of its weights
+// With the proposal sampler (FastModel::sampler) the march's samples are candidates: a small
+// proposal field is evaluated at them, and each ray's field samples are placed by inverse CDF of its weights
 // (nerf::ProposalSampler); in training the proposal learns from the interlevel loss against the
 // field's weights (nerf::InterlevelLoss), and a render marches each ray whole in one round.
 // With FarField::Learned each ray's background is the learned far field in its direction
@@ -133,7 +133,7 @@ class FastPipeline final : public FieldPipeline {
   std::optional<LearnedFarField> farField_;  // FarField::Learned: writes the rays' backgrounds
   std::optional<CameraRefinement> cameras_;  // FastModel::refineCameras, training
   std::optional<Appearance> appearance_;     // FastModel::appearanceDims, once the photos are known
-  // The proposal estimator (FastModel::proposalSamples): its field at the march's samples, the
+  // The proposal estimator (Sampler::Proposal): its field at the march's samples, the
   // sampler and the samples it places (packed), and in training the interlevel loss, its gradient
   // for the proposal's weights and each ray's value of it.
   std::optional<FastField> proposal_;

@@ -1,5 +1,5 @@
 #pragma once
-// The proposal estimator's density field (FastModel::proposalSamples): the fast field's parts at a
+// The proposal estimator's density field (Sampler::Proposal): the fast field's parts at a
 // small size, evaluated at every sample the march finds, its density alone read (nerfacto's
 // proposal network: a hash grid of a few levels and one layer 16 wide). Its checkpoint arrays are
 // "proposal.encoding.*" and "proposal.mlp.*".

@@ -84,22 +84,46 @@ TEST(ConfigJson, DistortionFarFieldRoundTripsAndIsOffForOldModels) {
 // (every marched sample through the field, no proposal arrays in its checkpoint).
 TEST(ConfigJson, ProposalRoundTripsAndIsOffForOldModels) {
   TrainConfig c = fastConfig(16);
+  c.fastModel().sampler = Sampler::Proposal;
   c.fastModel().proposalSamples = 24;
   c.fastModel().proposalLevels = 3;
   c.fastModel().proposalLoss = 0.5f;
   c.fastModel().proposalAnnealSteps = 300;
   auto j = io::toJson(c);
   EXPECT_EQ(j["proposal_samples"], 24);
+  EXPECT_EQ(j["sampler"], "proposal");
   const FastModel back = io::trainConfigFromJson(j, "m.vknerf").fastModel();
+  EXPECT_TRUE(back.usesProposal());
   EXPECT_EQ(back.proposalSamples, 24u);
   EXPECT_EQ(back.proposalLevels, 3u);
   EXPECT_EQ(back.proposalLoss, 0.5f);
   EXPECT_EQ(back.proposalAnnealSteps, 300u);
-  for (const char* key : {"proposal_samples", "proposal_levels", "proposal_loss", "proposal_anneal_steps"}) j.erase(key);
+  // A model saved before the sampler's key sampled with the proposal where it had its samples.
+  j.erase("sampler");
+  EXPECT_EQ(io::trainConfigFromJson(j, "older.vknerf").fastModel().sampler, Sampler::Proposal);
+  for (const char* key : {"proposal_samples", "proposal_levels", "proposal_loss", "proposal_anneal_steps", "proposal_stride"})
+    j.erase(key);
   const FastModel old = io::trainConfigFromJson(j, "old.vknerf").fastModel();
-  EXPECT_EQ(old.proposalSamples, 0u);
+  EXPECT_EQ(old.sampler, Sampler::March);
+  EXPECT_FALSE(old.usesProposal());
   EXPECT_EQ(old.proposalLevels, 5u);
+  EXPECT_EQ(old.proposalStride, 1u);
   EXPECT_EQ(old.proposalAnnealSteps, 0u);
+}
+
+// The sampler is a name: another is refused naming the key, and the proposal without its samples
+// is refused (a checkpoint edited by hand).
+TEST(ConfigJson, SamplerIsCheckedOnLoad) {
+  TrainConfig c = fastConfig(16);
+  c.fastModel().sampler = Sampler::Proposal;
+  auto j = io::toJson(c);
+  j["sampler"] = "importance";
+  EXPECT_MESSAGE_HAS(test::errorOf([&] { io::trainConfigFromJson(j, "m.vknerf"); }),
+                     "m.vknerf: checkpoint config: sampler must be auto, march or proposal, got \"importance\"");
+  j["sampler"] = "proposal";
+  j["proposal_samples"] = 0;
+  EXPECT_MESSAGE_HAS(test::errorOf([&] { io::trainConfigFromJson(j, "m.vknerf"); }),
+                     "sampler proposal needs proposal_samples >= 1, got 0");
 }
 
 // The far field is part of the model (its parameters are in the checkpoint): written, read back,

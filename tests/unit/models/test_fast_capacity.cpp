@@ -238,10 +238,10 @@ TEST(FastCapacity, SamplesPerStepAreTheSameAtEveryMarch) {
 // With the proposal estimator a step's samples, left open, are 2^13 (its rays take its few samples
 // each), and the note says how many rays that is; a set value is kept.
 TEST(FastCapacity, TheProposalTakesSmallerSteps) {
-  const Resolved open = resolvedAt(0, 60, true, [](FastModel& m) { m.proposalSamples = 24, m.samplesPerBatch = 0; });
+  const Resolved open = resolvedAt(0, 60, true, [](FastModel& m) { m.sampler = Sampler::Proposal, m.samplesPerBatch = 0; });
   EXPECT_EQ(open.m.samplesPerBatch, 1u << 13);
   EXPECT_NE(open.note.find("about 8192 field samples, 341 rays at the proposal's 24"), std::string::npos) << open.note;
-  const Resolved set = resolvedAt(0, 60, true, [](FastModel& m) { m.proposalSamples = 24, m.samplesPerBatch = 1u << 14; });
+  const Resolved set = resolvedAt(0, 60, true, [](FastModel& m) { m.sampler = Sampler::Proposal, m.samplesPerBatch = 1u << 14; });
   EXPECT_EQ(set.m.samplesPerBatch, 1u << 14);
   EXPECT_EQ(set.note.find("field samples"), std::string::npos) << set.note;
 }
@@ -250,19 +250,42 @@ TEST(FastCapacity, TheProposalTakesSmallerSteps) {
 // (whose candidates must reach faint cells), written into the model so that a checkpoint records
 // it, and said in the note with the proposal; a set value is kept either way.
 TEST(FastChoices, OccupancyThresholdFollowsTheSampler) {
-  auto chosen = [](uint32_t proposalSamples, float threshold) {
+  auto chosen = [](Sampler sampler, float threshold) {
     FastModel m = openModel();
-    m.proposalSamples = proposalSamples;
+    m.sampler = sampler;
     m.occupancyThreshold = threshold;
-    EXPECT_EQ(models::occupancyThresholdOf(m), threshold > 0 ? threshold : proposalSamples ? 0.001f : 0.01f);
+    const bool proposal = sampler == Sampler::Proposal;
+    EXPECT_EQ(models::occupancyThresholdOf(m), threshold > 0 ? threshold : proposal ? 0.001f : 0.01f);
     const std::string note = models::chooseFastModel(m, ring(4, 100, 100, 60, 4), true, false);
-    EXPECT_EQ(note.find("occupancy threshold") != std::string::npos, proposalSamples && threshold == 0) << note;
+    EXPECT_EQ(note.find("occupancy threshold") != std::string::npos, proposal && threshold == 0) << note;
     return m.occupancyThreshold;
   };
-  EXPECT_FLOAT_EQ(chosen(0, 0), 0.01f);
-  EXPECT_FLOAT_EQ(chosen(24, 0), 0.001f);
-  EXPECT_FLOAT_EQ(chosen(0, 0.05f), 0.05f);
-  EXPECT_FLOAT_EQ(chosen(24, 0.05f), 0.05f);
+  EXPECT_FLOAT_EQ(chosen(Sampler::March, 0), 0.01f);
+  EXPECT_FLOAT_EQ(chosen(Sampler::Proposal, 0), 0.001f);
+  EXPECT_FLOAT_EQ(chosen(Sampler::March, 0.05f), 0.05f);
+  EXPECT_FLOAT_EQ(chosen(Sampler::Proposal, 0.05f), 0.05f);
+}
+
+// The sampler, left open: the proposal for opaque photos, the march where some pixel has alpha;
+// written into the model (a checkpoint records it, so a resumed model keeps it), said in the note,
+// and the choices that follow it (the step's samples, the threshold) follow the one made. A set
+// sampler is kept whatever the photos.
+TEST(FastChoices, TheSamplerFollowsThePhotosAlpha) {
+  auto chosen = [](Sampler sampler, bool transparentPixels) {
+    FastModel m = openModel();
+    m.sampler = sampler;
+    m.samplesPerBatch = 0;
+    const std::string note = models::chooseFastModel(m, ring(4, 100, 100, 60, 4), true, transparentPixels);
+    EXPECT_EQ(note.find("sampler:") != std::string::npos, sampler == Sampler::Auto) << note;
+    EXPECT_EQ(m.samplesPerBatch, m.usesProposal() ? 1u << 13 : 1u << 14);
+    EXPECT_FLOAT_EQ(m.occupancyThreshold, m.usesProposal() ? 0.001f : 0.01f);
+    return m.sampler;
+  };
+  EXPECT_EQ(chosen(Sampler::Auto, false), Sampler::Proposal);
+  EXPECT_EQ(chosen(Sampler::Auto, true), Sampler::March);
+  EXPECT_EQ(chosen(Sampler::March, false), Sampler::March);
+  EXPECT_EQ(chosen(Sampler::Proposal, true), Sampler::Proposal);
+  EXPECT_EQ(models::samplerFor(false), Sampler::Proposal);
 }
 
 // The occupancy grid, left open: half the march steps per axis (the steps resolved first, or as

@@ -133,6 +133,7 @@ TEST_F(FastPipelineTest, TheProposalPlacesTheSamplesItIsTrainedFor) {
   const Dataset& train = scene("train");
   const Dataset& test = scene("test");
   TrainConfig cfg = smallFast();
+  cfg.fastModel().sampler = Sampler::Proposal;
   cfg.fastModel().proposalSamples = 16;
   auto trainer = std::make_unique<Trainer>(sharedContext(), train, cfg);
   const test::TempDir tmp("proposal");
@@ -164,6 +165,7 @@ TEST_F(FastPipelineTest, TheProposalPlacesTheSamplesItIsTrainedFor) {
 
   EXPECT_FALSE(io::Checkpoint::load(path).get<float>("proposal.encoding.params").empty());
   Model loaded = Model::load(sharedContext(), path);
+  EXPECT_TRUE(loaded.config().fastModel().usesProposal());
   EXPECT_EQ(loaded.config().fastModel().proposalSamples, 16u);
   RenderedImage a = trainer->model().render(test.cameras[0]);
   RenderedImage b = loaded.render(test.cameras[0]);
@@ -188,6 +190,7 @@ TEST_F(FastPipelineTest, TheProposalsFieldBatchIsSizedForAStepNotForEveryRay) {
   const Dataset& train = scene("train");
   auto deviceMiB = [&](uint32_t samples) {
     TrainConfig cfg = smallFast();
+    cfg.fastModel().sampler = Sampler::Proposal;
     cfg.fastModel().proposalSamples = samples;
     return Trainer(sharedContext(), train, cfg).statistics().deviceMiB;
   };

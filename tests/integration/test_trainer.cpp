@@ -362,6 +362,9 @@ TEST_F(TrainerTest, FastModelSamplesOpaquePhotosWithTheProposal) {
   Trainer withAlpha(sharedContext(), scene(), smallFast());
   EXPECT_NE(withAlpha.capacityNote().find("sampler: the march"), std::string::npos) << withAlpha.capacityNote();
   EXPECT_EQ(withAlpha.model().config().fastModel().sampler, Sampler::March);
+  // Its checkpoint holds no proposal samples: a build from before the sampler's key reads the march.
+  withAlpha.save(tmp.file("alpha.vknerf"));
+  EXPECT_EQ(Trainer::configOf(tmp.file("alpha.vknerf")).fastModel().proposalSamples, 0u);
 }
 
 // Photos without alpha get the learned far field, photos with alpha the constant (random in

@@ -27,12 +27,15 @@ std::string chooseFastModel(FastModel& model, const Dataset& train, bool cpuDevi
   // First: the capacity and the occupancy threshold follow the sampler.
   std::string samplerNote;
   if (model.sampler == Sampler::Auto) {
-    model.sampler = samplerFor(transparentPixels);
-    samplerNote = transparentPixels
-                      ? "sampler: the march (the photos have alpha: short rays, nothing for a proposal to save)"
-                      : "sampler: " + std::to_string(model.proposalSamples) +
-                            " samples a ray placed by a proposal (the photos have no alpha)";
+    model.sampler = model.proposalSamples ? samplerFor(transparentPixels) : Sampler::March;
+    samplerNote = model.usesProposal() ? "sampler: " + std::to_string(model.proposalSamples) +
+                                             " samples a ray placed by a proposal (the photos have no alpha)"
+                  : transparentPixels ? "sampler: the march (the photos have alpha: short rays, nothing for a proposal to save)"
+                                      : "sampler: the march (no proposal samples asked for)";
   }
+  // A march's model holds no proposal samples, so that its checkpoint reads as the march also to a
+  // build from before the sampler's key (which took proposal_samples > 0 for the proposal).
+  if (model.sampler == Sampler::March) model.proposalSamples = 0;
   std::string note = resolveFastCapacity(model, train, cpuDevice);
   if (!samplerNote.empty()) note = samplerNote + (note.empty() ? "" : "\n") + note;
   if (model.occupancyThreshold == 0) {

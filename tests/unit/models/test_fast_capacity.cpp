@@ -279,6 +279,8 @@ TEST(FastChoices, TheSamplerFollowsThePhotosAlpha) {
     EXPECT_EQ(note.find("sampler:") != std::string::npos, sampler == Sampler::Auto) << note;
     EXPECT_EQ(m.samplesPerBatch, m.usesProposal() ? 1u << 13 : 1u << 14);
     EXPECT_FLOAT_EQ(m.occupancyThreshold, m.usesProposal() ? 0.001f : 0.01f);
+    // A march's model holds no proposal samples (a build from before the sampler's key reads it right).
+    EXPECT_EQ(m.proposalSamples, m.usesProposal() ? 24u : 0u);
     return m.sampler;
   };
   EXPECT_EQ(chosen(Sampler::Auto, false), Sampler::Proposal);
@@ -286,6 +288,12 @@ TEST(FastChoices, TheSamplerFollowsThePhotosAlpha) {
   EXPECT_EQ(chosen(Sampler::March, false), Sampler::March);
   EXPECT_EQ(chosen(Sampler::Proposal, true), Sampler::Proposal);
   EXPECT_EQ(models::samplerFor(false), Sampler::Proposal);
+  // Left open with no proposal samples: the march, whatever the photos.
+  FastModel none = openModel();
+  none.proposalSamples = 0;
+  const std::string note = models::chooseFastModel(none, ring(4, 100, 100, 60, 4), true, false);
+  EXPECT_EQ(none.sampler, Sampler::March);
+  EXPECT_NE(note.find("sampler: the march (no proposal samples asked for)"), std::string::npos) << note;
 }
 
 // The occupancy grid, left open: half the march steps per axis (the steps resolved first, or as

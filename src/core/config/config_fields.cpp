@@ -273,6 +273,7 @@ std::vector<ConfigField> table() {
           })
           .check([](const TrainConfig& c) {
             const FastModel& m = c.fastModel();
+            checkCount("sampler", uint32_t(m.sampler), 0, uint32_t(Sampler::Proposal));
             if (m.sampler == Sampler::Proposal && m.proposalSamples == 0)
               throw Error("sampler proposal needs proposal_samples >= 1, got 0");
           }),

@@ -124,6 +124,9 @@ TEST(ConfigJson, SamplerIsCheckedOnLoad) {
   j["proposal_samples"] = 0;
   EXPECT_MESSAGE_HAS(test::errorOf([&] { io::trainConfigFromJson(j, "m.vknerf"); }),
                      "sampler proposal needs proposal_samples >= 1, got 0");
+  // A value outside the enumeration, as only the API can set, is refused by validate().
+  c.fastModel().sampler = Sampler(7);
+  EXPECT_MESSAGE_HAS(test::errorOf([&] { c.validate(); }), "sampler must be in [0, 2], got 7");
 }
 
 // The far field is part of the model (its parameters are in the checkpoint): written, read back,

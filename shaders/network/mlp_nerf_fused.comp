@@ -87,6 +87,17 @@ void main() {
     FUSED_KEEP(h1Kept, h2, W)
     [[unroll]] for (uint r = 0; r < R; r++) [[unroll]] for (uint k = 0; k < W; k++) h[r][k] = h2[r][k];
   }
+  if (COLOUR == 0u) {
+    // The density alone: the feature layer's block of 4 columns from V (sigma and 3 zero padding
+    // columns), the same sums in the same order as the whole layer's; the colour is not computed.
+    float s[R][4];
+    DENSE_ACCUMULATE(s, 4u, V, h, W, h, 0u, FOFF4, V4)
+    [[unroll]] for (uint r = 0; r < R; r++) {
+      uint row = row0 + r * G;
+      if (row < count) out4[row * pc.strideOut4] = vec4(0.0, 0.0, 0.0, mlpDensity(DENSITY, s[r][0]));
+    }
+    return;
+  }
   // The feature layer: V + 4 columns, of which V + 1 are real; the padding weights and biases are
   // zero, so the 3 padding columns come out exactly 0, as the layered path stores them.
   float f[R][V4];

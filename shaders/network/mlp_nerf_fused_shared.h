@@ -23,6 +23,7 @@ SPEC_CONSTANTS_BEGIN(MlpFusedSpec)
   SPEC_CONSTANT(14, uint, HOFF4, 0)
   SPEC_CONSTANT(15, uint, UNROLL, 1)     // 1: unroll the output blocks (FUSED_LAYER)
   SPEC_CONSTANT(16, uint, ROW_BIAS, 0)   // the colour layer's bias per row: ROW_BIAS_* (network/row_bias.glsl)
+  SPEC_CONSTANT(17, uint, COLOUR, 1)     // 0: the density alone (sigma's column of the feature layer; rgb = 0)
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpFusedPush)

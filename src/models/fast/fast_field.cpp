@@ -94,11 +94,14 @@ void FastField::recordForward(gpu::Recorder& rec, const FieldRows& rows, bool ke
   FieldBatch& f = batch_;
   position_->recordForward(rec, {rows.count, f.positions, f.posFeatures, mlp_.posStride(), 0, rows.limit, rows.gather},
                            encoding_.params());
-  sh_.recordForward(rec, {rows.count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, rows.limit, rows.gather});
   nerf::NerfRows mlpRows = f.mlpRows(rows.count);
   mlpRows.rowLimit = rows.limit;
   mlpRows.colourBias = rows.colourBias;
   mlpRows.rowGather = rows.gather;
+  mlpRows.densityOnly = rows.densityOnly;
+  // The direction's encoding only where the network reads it: all but a fused density alone.
+  if (!(rows.densityOnly && !keep && !rows.gather && mlp_.fusedForward(false)))
+    sh_.recordForward(rec, {rows.count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, rows.limit, rows.gather});
   mlp_.recordForward(rec, mlpRows, network_.params(), keep ? f.workspace.get() : nullptr);
 }
 

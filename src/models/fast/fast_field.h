@@ -38,11 +38,13 @@ PositionEncoding hashGridPosition(Context& ctx, const TrainConfig& config, bool 
 
 // The rows a forward runs over: `count` rows of the batch, cut on the device to `limit` (a uint)
 // or gathered through `gather` (uint per row, the rows a training segment computes); colourBias:
-// added to the colour layer's pre-activation.
+// added to the colour layer's pre-activation; densityOnly: only the density of batch().field is
+// read (nerf::NerfRows::densityOnly), so the colour may be skipped.
 struct FieldRows {
   uint32_t count = 0;
   std::optional<gpu::BufferRange> limit, gather;
   std::optional<nerf::RowBias> colourBias;
+  bool densityOnly = false;
 };
 
 // The rows a backward runs over: `count` rows below `limit`, their positions (vec4 per row) and,

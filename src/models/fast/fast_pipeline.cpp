@@ -387,7 +387,8 @@ void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays,
   FieldBatch& p = proposal_->batch();
   const nerf::PackedSamples candidates = estimator_.samples();
   points_.record(rec, sampleCapacity_, rays.range, candidates, box_, {p.positions, p.directions}, true);
-  proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt}, training);
+  // A render reads the proposal's densities alone; a training step keeps its activations whole.
+  proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt, !training}, training);
   // The placement's jitter draws from its own stream: the march's draws are keyed by the same seed.
   const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding,
                                            training ? step->anneal : 1.0f,

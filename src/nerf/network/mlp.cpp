@@ -208,8 +208,9 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
   const gpu::BufferRange &pos = rows.pos, &dir = rows.dir, &out = rows.out;
   const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
-  const uint32_t mode = rowBiasMode(rows.colourBias ? &*rows.colourBias : nullptr);
-  auto& kernel = fused_[keep ? 1 : 0][mode];
+  const bool densityOnly = rows.densityOnly && !keep;  // kept activations include the colour's
+  const uint32_t mode = rowBiasMode(rows.colourBias && !densityOnly ? &*rows.colourBias : nullptr);
+  auto& kernel = densityOnly ? fusedDensity_ : fused_[keep ? 1 : 0][mode];
   if (!kernel) {
     auto off4 = [&](const core::DenseShape& l) { return uint32_t(l.offset / 4); };
     std::vector<gpu::Binding> b(3, gpu::Binding::TexelRgba32f);
@@ -233,7 +234,8 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
                                {FusedSpec::COFF4, off4(shape_.colour())},
                                {FusedSpec::HOFF4, off4(shape_.head())},
                                {FusedSpec::UNROLL, variantBit(tuning_.fusedUnroll, keep)},
-                               {FusedSpec::ROW_BIAS, mode}}});
+                               {FusedSpec::ROW_BIAS, mode},
+                               {FusedSpec::COLOUR, densityOnly ? 0u : 1u}}});
   }
   // The rows of one chunk bind within the device's limits; nothing lives between layers, so a batch
   // without a workspace needs no scratch rows either.
@@ -247,7 +249,7 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
     const gpu::BufferRange none = o.range;
     FusedPush push{n, p.stride / 4, d.stride / 4, 1, 0};
     const std::optional<RowBias> chunkBias =
-        rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
+        rows.colourBias && !densityOnly ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
     const auto bias = rowBiasBindings(chunkBias ? &*chunkBias : nullptr, params);
     gpu::dispatchLimited(rec, *kernel,
                          {p.range, d.range, params, o.range, keep ? kept(keep->h_[0], W) : none,

@@ -49,6 +49,10 @@ struct NerfRows {
   // The forward alone, with kept activations, in one chunk: row i of the batch is row rowGather[i]
   // of pos, dir, out, the activations and the colour bias (a uint per row); the other rows are left.
   std::optional<gpu::BufferRange> rowGather;
+  // Only the density is read (a proposal's weights): out's rgb may be left 0 and the colour branch
+  // skipped, as the fused forward without kept activations does; dir and colourBias are then unread
+  // there.
+  bool densityOnly = false;
 };
 
 // What a NeRF MLP's backward reads and writes besides the forward's rows: dOut (vec4 per row), the
@@ -143,6 +147,7 @@ class NerfMlp {
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
   std::unique_ptr<gpu::Kernel> head_, headBackward_, density_;
   std::unique_ptr<gpu::Kernel> fused_[2][3];  // the fused forward without / with the activations kept, by ROW_BIAS_*
+  std::unique_ptr<gpu::Kernel> fusedDensity_;  // the fused forward of the density alone (NerfRows::densityOnly)
   gpu::LimitedDispatch limited_;          // the forward's workgroup counts under a row limit
   gpu::LimitedDispatch limitedBackward_;  // the backward's
   std::unique_ptr<Workspace> scratch_;

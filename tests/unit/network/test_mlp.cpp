@@ -406,6 +406,63 @@ TEST_F(MlpNerf, DensityAloneMatchesTheForward) {
   }
 }
 
+// A forward that reads the density alone (NerfRows::densityOnly, the proposal's at render time):
+// the fused kernel computes the trunk and sigma's column only, so its density is the full fused
+// forward's to the rounding of one operation (the same sums, another specialization; as in
+// FusedForwardMatchesTheLayeredOne) and against the reference within the forward tolerance; its
+// rgb is exactly 0, and it reads neither the direction (NaN there changes nothing) nor the colour
+// bias. Rows past the batch keep their sentinel. Shapes: the fast model's (64 wide, a 16-wide
+// feature) and the proposal's (16 wide, the whole layer as its feature, one direction coefficient),
+// under the device's tuning (fused on lavapipe) and with the fused kernel off, where the layered
+// forward computes the whole network and the density must come out the same.
+TEST_F(MlpNerf, DensityOnlyForwardMatchesTheFullOne) {
+  nerf::MlpConfig fast;
+  fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
+  fast.density = DensityActivation::TruncExp, fast.seed = 9;
+  nerf::MlpConfig proposal = fast;
+  proposal.width = 16, proposal.posDims = 10, proposal.dirDims = 1, proposal.featureWidth = 0;
+  for (const nerf::MlpConfig& cfg : {fast, proposal})
+    for (const bool fusedOn : {true, false}) {
+      SCOPED_TRACE(testing::Message() << "width " << cfg.width << (fusedOn ? ", fused" : ", layered"));
+      auto tuning = nerf::MlpTuning::forDevice(ctx());
+      if (fusedOn) {
+        tuning.fused = 3, tuning.fusedUnroll = 0;  // the block loop (the unrolled variant compiles for ~45 s)
+      } else {
+        tuning.fused = 0;
+      }
+      nerf::NerfMlp mlp(ctx(), cfg, tuning);
+      ASSERT_EQ(mlp.fusedForward(false), fusedOn);
+      mlp.setChunkRows(128);
+      NerfCase c{cfg, 301, 1.0f, 1.0f, 0, false};
+      const NerfData data = makeData(mlp, c);
+      const std::vector<float> full = inferNerf(ctx(), mlp, c.count, data);
+      NerfData noDirection = data;
+      if (fusedOn) std::fill(noDirection.dir.begin(), noDirection.dir.end(), std::nanf(""));
+      auto params = gpu::Buffer::of(ctx(), noDirection.params);
+      auto pos = gpu::Buffer::of(ctx(), noDirection.pos), dir = gpu::Buffer::of(ctx(), noDirection.dir);
+      auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(c.count + 2) * 4, -7.0f));
+      auto bias = gpu::Buffer::of(ctx(), std::vector<float>(cfg.width / 2, std::nanf("")));  // every row's
+      nerf::NerfRows rows{c.count, pos, dir, out};
+      rows.densityOnly = true;
+      rows.colourBias = nerf::RowBias{bias};
+      test::submitOnce(ctx(), [&](gpu::Recorder& rec) { mlp.recordForward(rec, rows, params, nullptr); });
+      const std::vector<float> got = out.download<float>(size_t(c.count + 2) * 4);
+      const NerfRef ref = referenceNerf(mlp, c, data);
+      std::vector<float> gotSigma(c.count);
+      std::vector<double> refSigma(c.count), fullSigma(c.count);
+      for (uint32_t i = 0; i < c.count; ++i)
+        gotSigma[i] = got[4 * i + 3], refSigma[i] = ref.out[4 * i + 3], fullSigma[i] = full[4 * i + 3];
+      constexpr double kRounding = 1e-6;
+      expectNear(gotSigma, fullSigma, kRounding, kRounding * maxAbs(fullSigma), "density against the full forward");
+      expectNear(gotSigma, refSigma, kFwdRel, kFwdAbs, "density against the reference");
+      EXPECT_GT(maxAbs(refSigma), 0.0);  // not a field of zeros
+      if (fusedOn)
+        for (uint32_t i = 0; i < c.count; ++i)
+          for (int k = 0; k < 3; ++k) ASSERT_EQ(got[4 * i + k], 0.0f) << "row " << i << ", channel " << k;
+      for (size_t i = size_t(c.count) * 4; i < got.size(); ++i) EXPECT_EQ(got[i], -7.0f) << i;
+    }
+}
+
 // The fused forward (mlp_nerf_fused.comp) sums each layer in the layered kernels' order
 // (network/dense_block.glsl), so it agrees with the layered path to the rounding of a single
 // operation: the driver may contract a multiply and an add into one fused multiply-add in one

@@ -12,6 +12,7 @@ layout(std430, binding = 0) writeonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 1) readonly buffer Blocks { uint blocks[]; };
 
 #include "mesh/grid_points_shared.h"
+#include "sampling/box_position.glsl"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -21,5 +22,5 @@ void main() {
   blockSample(blocks[s / (kBlockSide * kBlockSide * kBlockSide)], s, pc.n.xyz, pc.blockCount.xyz, idx);
   idx = min(idx, pc.n.xyz - 1u);
   vec3 x = pc.origin.xyz + pc.spacing.xyz * vec3(idx);
-  positions[i] = vec4(2.0 * (x - pc.boxMin.xyz) / (pc.boxMax.xyz - pc.boxMin.xyz) - 1.0, 0.0);
+  positions[i] = boxPosition(x, pc.boxMin.xyz, pc.boxMax.xyz);
 }

@@ -19,6 +19,7 @@ layout(std430, binding = 3) writeonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 4) writeonly buffer Directions { vec4 directions[]; };
 
 #include "sampling/march_points_shared.h"
+#include "sampling/box_position.glsl"
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -26,11 +27,8 @@ void main() {
   uint s = pc.limitBase + i;
   uint r = sampleRay[s];
   vec3 o = rays[2u * r].xyz, d = rays[2u * r + 1u].xyz;
-  // Same operation order as ref::samplePosition: 2 (x - min) / (max - min) - 1.
   vec2 ts = samples[s];
   precise float t = pc.midpoints != 0u ? ts.x + 0.5 * ts.y : ts.x;
-  vec3 x = o + t * d;
-  vec3 p = 2.0 * (x - pc.boxMin.xyz) / (pc.boxMax.xyz - pc.boxMin.xyz) - 1.0;
-  positions[s] = vec4(p, 0.0);
+  positions[s] = boxPosition(o + t * d, pc.boxMin.xyz, pc.boxMax.xyz);
   directions[s] = vec4(d, 0.0);
 }

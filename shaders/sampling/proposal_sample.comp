@@ -5,7 +5,8 @@
 // those weights (plus a uniform padding), measured in occupied length so that the march's skipped
 // gaps cost nothing, each evaluated at its midpoint with delta = its length. One invocation per
 // ray walks its candidates three times (the length, the mass, then the edges with a second pointer mapping each
-// midpoint back to t): O(candidates + samples), whatever the weights.
+// midpoint back to t): O(candidates + samples), whatever the weights. With pc.points it also writes
+// each sample's field inputs, as march_points.comp would from them (one pass less over the batch).
 #extension GL_GOOGLE_include_directive : require
 #include "sampling/sampling.glsl"
 
@@ -15,13 +16,28 @@ layout(std430, binding = 2) readonly buffer ProposalField { vec4 proposalField[]
 layout(std430, binding = 3) readonly buffer SampleOffsets { uint sampleOffsets[]; };        // numRays + 1
 layout(std430, binding = 4) writeonly buffer Samples { vec2 samples[]; };                   // (t, delta)
 layout(std430, binding = 5) writeonly buffer SampleRay { uint sampleRay[]; };               // per sample
+layout(std430, binding = 6) readonly buffer Rays { vec4 rays[]; };                          // (o, t_near), (d, t_far)
+layout(std430, binding = 7) writeonly buffer Positions { vec4 positions[]; };               // per sample, with points
+layout(std430, binding = 8) writeonly buffer Directions { vec4 directions[]; };
 
 #include "sampling/proposal_sample_shared.h"
 #include "sampling/proposal.glsl"
+#include "sampling/box_position.glsl"
 
 uint candidateEnd;
 float occupiedLength;
 bool uniformMass;  // the weights carry no usable distribution: each candidate's mass is its length
+
+// Sample s at t of `ray`, and with pc.points its field inputs (march_points.comp's, bit for bit).
+void store(uint s, vec2 sample_, uint ray) {
+  samples[s] = sample_;
+  sampleRay[s] = ray;
+  if (pc.points == 0u) return;
+  vec3 o = rays[2u * ray].xyz, d = rays[2u * ray + 1u].xyz;
+  precise float t = sample_.x;
+  positions[s] = boxPosition(o + t * d, pc.boxMin.xyz, pc.boxMax.xyz);
+  directions[s] = vec4(d, 0.0);
+}
 
 float massOf(CandidateWalk w) {
   float len = candidateLength(w.index);
@@ -46,10 +62,7 @@ void main() {
   for (uint i = c0; i < candidateEnd; ++i) occupied += candidateLength(i);
   occupiedLength = occupied;
   if (!(occupied > 0.0)) {
-    for (uint j = 0u; j < n; ++j) {
-      samples[s0 + j] = vec2(0.0);
-      sampleRay[s0 + j] = ray;
-    }
+    for (uint j = 0u; j < n; ++j) store(s0 + j, vec2(0.0), ray);
     return;
   }
   uniformMass = false;
@@ -88,8 +101,7 @@ void main() {
       ++c;
     }
     precise float t = candidates[c].x + clamp(mid - cStart, 0.0, candidateLength(c));
-    samples[s0 + j] = vec2(t, nextEdge - prevEdge);
-    sampleRay[s0 + j] = ray;
+    store(s0 + j, vec2(t, nextEdge - prevEdge), ray);
     prevEdge = nextEdge;
   }
 }

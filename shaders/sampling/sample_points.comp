@@ -11,6 +11,7 @@ layout(std430, binding = 2) writeonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 3) writeonly buffer Directions { vec4 directions[]; };
 
 #include "sampling/sample_points_shared.h"
+#include "sampling/box_position.glsl"
 
 void main() {
   uint s = gl_GlobalInvocationID.x;
@@ -18,9 +19,6 @@ void main() {
   uint r = s / pc.samplesPerRay;
   vec3 o = rays[2 * r].xyz;
   vec3 d = rays[2 * r + 1].xyz;
-  vec3 x = o + samples[s].x * d;
-  // Same operation order as ref::samplePosition: 2 (x - min) / (max - min) - 1.
-  vec3 p = 2.0 * (x - pc.boxMin.xyz) / (pc.boxMax.xyz - pc.boxMin.xyz) - 1.0;
-  positions[s] = vec4(p, 0.0);
+  positions[s] = boxPosition(o + samples[s].x * d, pc.boxMin.xyz, pc.boxMax.xyz);
   directions[s] = vec4(d, 0.0);
 }

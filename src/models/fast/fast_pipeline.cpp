@@ -175,7 +175,8 @@ void FastPipeline::allocateTraining(Context& ctx) {
 void FastPipeline::recordField(gpu::Recorder& rec, const nerf::RaySpan& rays, const StepBatch* batch) {
   FieldBatch& f = field_.batch();
   const nerf::PackedSamples samples = fieldSamples();
-  points_.record(rec, fieldCapacity_, rays.range, samples, box_, {f.positions, f.directions});
+  // The proposal's sampler wrote its samples' field inputs with them.
+  if (!proposal_) points_.record(rec, fieldCapacity_, rays.range, samples, box_, {f.positions, f.directions});
   const std::optional<nerf::RowBias> colourBias = recordColourBias(rec, batch);
   const bool keep = batch != nullptr;
   // A training step runs in segments, the field over the rows the compositor will read, once the
@@ -393,8 +394,9 @@ void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays,
   const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding,
                                            training ? step->anneal : 1.0f,
                                            estimator_.candidateSpan(model_.proposalStride)};
+  FieldBatch& f = field_.batch();
   proposalSampler_->record(rec, rays.count, {candidates.offsets, candidates.samples, p.field}, draws, fieldCapacity_,
-                           fieldSamples());
+                           fieldSamples(), nerf::ProposalSampler::FieldInputs{rays.range, box_, {f.positions, f.directions}});
 }
 
 void FastPipeline::recordProposalBackward(gpu::Recorder& rec, uint32_t R) {

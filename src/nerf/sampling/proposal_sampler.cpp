@@ -27,11 +27,12 @@ ProposalSampler::ProposalSampler(Context& ctx, uint32_t maxRays)
       layout_(ctx, maxRays),
       count_(ctx, {gpu::shaders::proposal_count, {gpu::Binding::Storage, gpu::Binding::Storage},
                    sizeof(glsl::ProposalCountPush), {{glsl::SamplingSpec::LOCAL_SIZE_X, kLocal}}}),
-      sample_(ctx, {gpu::shaders::proposal_sample, std::vector<gpu::Binding>(6, gpu::Binding::Storage),
+      sample_(ctx, {gpu::shaders::proposal_sample, std::vector<gpu::Binding>(9, gpu::Binding::Storage),
                     sizeof(glsl::ProposalSamplePush), {{glsl::SamplingSpec::LOCAL_SIZE_X, kLocal}}}) {}
 
 void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const ProposalCandidates& candidates,
-                             const Draws& draws, uint32_t capacity, const PackedSamples& out) {
+                             const Draws& draws, uint32_t capacity, const PackedSamples& out,
+                             const std::optional<FieldInputs>& points) {
   if (numRays > maxRays_)
     throw Error("proposal_sample: " + std::to_string(numRays) + " rays over the sampler's " + std::to_string(maxRays_));
   if (draws.samplesPerRay == 0) throw Error("proposal_sample: samples per ray must be at least 1");
@@ -43,12 +44,29 @@ void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const Proposa
   PackedLayout::requireOutputs("proposal_sample", numRays, out.offsets, out.totals);
   gpu::requireBytes("proposal_sample", "samples", out.samples, uint64_t(capacity) * kSampleBytes);
   gpu::requireBytes("proposal_sample", "sample rays", out.sampleRay, uint64_t(capacity) * sizeof(uint32_t));
+  if (points) {
+    for (int k = 0; k < 3; ++k)
+      if (!(points->box.max[k] > points->box.min[k]))
+        throw Error("proposal_sample: scene box is empty along axis " + std::to_string(k));
+    gpu::requireBytes("proposal_sample", "rays", points->rays, uint64_t(numRays) * 32);
+    gpu::requireBytes("proposal_sample", "positions", points->out.positions, uint64_t(capacity) * 16);
+    gpu::requireBytes("proposal_sample", "directions", points->out.directions, uint64_t(capacity) * 16);
+  }
   if (numRays == 0) return;
   const glsl::ProposalCountPush count{numRays, draws.samplesPerRay, draws.candidateSpan};
   rec.dispatchFlat(count_, {candidates.offsets, layout_.counts()}, count, numRays, kLocal, "proposal_count");
   layout_.recordOffsetsAndTotals(rec, numRays, capacity, out.offsets, out.totals);
-  glsl::ProposalSamplePush p{numRays, draws.jitter.seed, draws.jitter.jitter ? 1u : 0u, draws.padding, draws.anneal};
-  rec.dispatchFlat(sample_, {candidates.offsets, candidates.samples, candidates.field, out.offsets, out.samples, out.sampleRay},
+  glsl::ProposalSamplePush p{{0, 0, 0, 0}, {1, 1, 1, 0}, numRays, draws.jitter.seed, draws.jitter.jitter ? 1u : 0u,
+                             draws.padding, draws.anneal, points ? 1u : 0u};
+  if (points)
+    for (int k = 0; k < 3; ++k) p.boxMin[k] = points->box.min[k], p.boxMax[k] = points->box.max[k];
+  // Without points their bindings are never touched: the samples stand in for them.
+  const gpu::BufferRange &rays = points ? points->rays : out.samples,
+                         &positions = points ? points->out.positions : out.samples,
+                         &directions = points ? points->out.directions : out.samples;
+  rec.dispatchFlat(sample_,
+                   {candidates.offsets, candidates.samples, candidates.field, out.offsets, out.samples, out.sampleRay,
+                    rays, positions, directions},
                    p, numRays, kLocal, "proposal_sample");
 }
 

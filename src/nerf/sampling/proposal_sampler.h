@@ -7,13 +7,16 @@
 // the offsets clamped at the output's capacity as a march's are (a ray cut there gets fewer
 // samples, spread over its whole occupied length). A sample is (t, delta), delta its bin's length.
 #include <cstdint>
+#include <optional>
 
 #include "nerf/sampling/packed_layout.h"
 #include "nerf/sampling/packed_samples.h"
+#include "nerf/sampling/point_buffers.h"
 #include "nerf/sampling/proposal_batch.h"
 #include "nerf/sampling/samplers.h"
 #include "gpu/kernels/kernel.h"
 #include "gpu/dispatch/recorder.h"
+#include "vknerf/camera.h"
 
 namespace vknerf::nerf {
 
@@ -35,11 +38,19 @@ class ProposalSampler {
     float anneal = 1.0f;
     uint32_t candidateSpan = 1;
   };
-  // `capacity`: the samples out.samples and out.sampleRay hold. Throws vknerf::Error for more
-  // than maxRays rays, no samples a ray, a candidate span of 0, a padding or anneal outside
-  // [0, 1], or buffers too small for the rays or the capacity.
+  // The samples' field inputs, written by the same pass (what PackedSamplePoints would make of
+  // them, bit for bit, without another pass over the batch): `rays` the rays sampled (sampleRay
+  // indexes them), `box` the scene box the positions are mapped from, `out` vec4 per sample.
+  struct FieldInputs {
+    gpu::BufferRange rays;
+    Aabb box;
+    PointBuffers out;
+  };
+  // `capacity`: the samples out.samples and out.sampleRay (and points' outputs) hold. Throws
+  // vknerf::Error for more than maxRays rays, no samples a ray, a candidate span of 0, a padding
+  // or anneal outside [0, 1], an empty box, or buffers too small for the rays or the capacity.
   void record(gpu::Recorder& rec, uint32_t numRays, const ProposalCandidates& candidates, const Draws& draws,
-              uint32_t capacity, const PackedSamples& out);
+              uint32_t capacity, const PackedSamples& out, const std::optional<FieldInputs>& points = std::nullopt);
 
  private:
   uint32_t maxRays_;

@@ -12,6 +12,7 @@
 #include "gpu/dispatch/recorder.h"
 #include "gpu/memory/buffer.h"
 #include "nerf/sampling/interlevel_loss.h"
+#include "nerf/sampling/packed_points.h"
 #include "nerf/sampling/proposal_sampler.h"
 #include "reference/sampling/proposal.h"
 #include "support/gpu_test.h"
@@ -340,6 +341,60 @@ TEST_F(Proposal, InterlevelMatchesReference) {
       EXPECT_NEAR(got.dSigma[at], want.dSigma[k], 1e-6 + 1e-4 * std::abs(want.dSigma[k])) << r << "/" << k;
       EXPECT_TRUE(std::isfinite(got.dSigma[at]));
     }
+  }
+}
+
+// With FieldInputs the sampler writes each sample's position and direction as it places it, in place
+// of a pass of PackedSamplePoints over its batch: the same bits as that pass makes from the same
+// samples (both map through sampling/box_position.glsl), for rays with candidates, without any
+// (no samples, nothing written) and with no occupied length (every sample at t = 0); the rows past
+// the batch keep their sentinel. The points themselves are PackedSamplePoints' (tested against the
+// reference in its own tests); bit equality is what lets the render drop that pass unchanged.
+TEST_F(Proposal, FieldInputsAreTheMarchPointsOfItsSamples) {
+  std::mt19937 rng(11);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 5; ++i) rays.push_back(randomRay(rng, 6 + 9 * i));
+  rays.push_back({});
+  Ray flat = randomRay(rng, 4);
+  for (size_t i = 1; i < flat.candidates.size(); i += 2) flat.candidates[i] = 0.0;  // no occupied length
+  rays.push_back(flat);
+  const uint32_t numRays = uint32_t(rays.size()), capacity = 512, n = 12;
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> rayData;
+  for (uint32_t r = 0; r < numRays; ++r) {
+    float d[3] = {u(rng), u(rng), 0.5f + u(rng) * 0.2f};
+    const float len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    rayData.insert(rayData.end(), {u(rng), u(rng), -3.0f + u(rng), 0.0f, d[0] / len, d[1] / len, d[2] / len, 10.0f});
+  }
+  const Aabb box{{-1.5f, -2.0f, -0.5f}, {1.0f, 2.5f, 3.0f}};
+  Packed c;
+  for (const Ray& r : rays) c.add(r.candidates, r.sigma);
+  auto candOff = gpu::Buffer::of(ctx(), c.offsets), cand = gpu::Buffer::of(ctx(), padded(c.pairs)),
+       field = gpu::Buffer::of(ctx(), padded(c.fieldRows)), rayBuf = gpu::Buffer::of(ctx(), rayData);
+  gpu::Buffer offsets(ctx(), (numRays + 1) * 4), totals(ctx(), nerf::PackedLayout::kTotalsBytes),
+      samples(ctx(), capacity * nerf::kSampleBytes), sampleRay(ctx(), capacity * 4);
+  const std::vector<float> sentinel(size_t(capacity) * 4, -7.0f);
+  auto positions = gpu::Buffer::of(ctx(), sentinel), directions = gpu::Buffer::of(ctx(), sentinel),
+       wantPositions = gpu::Buffer::of(ctx(), sentinel), wantDirections = gpu::Buffer::of(ctx(), sentinel);
+  nerf::ProposalSampler sampler(ctx(), numRays);
+  nerf::PackedSamplePoints points(ctx());
+  const nerf::PackedSamples batch{offsets, samples, sampleRay, totals};
+  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+    sampler.record(rec, numRays, {candOff, cand, field}, {n, {3, true}}, capacity, batch,
+                   nerf::ProposalSampler::FieldInputs{rayBuf, box, {positions, directions}});
+    points.record(rec, capacity, rayBuf, batch, box, {wantPositions, wantDirections});
+  });
+  const uint32_t total = offsets.download<uint32_t>(numRays + 1).back();
+  ASSERT_GT(total, 0u);
+  ASSERT_LT(total, capacity);
+  const std::vector<float> gotP = positions.download<float>(size_t(capacity) * 4),
+                           gotD = directions.download<float>(size_t(capacity) * 4),
+                           wantP = wantPositions.download<float>(size_t(capacity) * 4),
+                           wantD = wantDirections.download<float>(size_t(capacity) * 4);
+  for (size_t i = 0; i < size_t(capacity) * 4; ++i) {
+    ASSERT_EQ(gotP[i], wantP[i]) << "position float " << i;
+    ASSERT_EQ(gotD[i], wantD[i]) << "direction float " << i;
+    if (i >= size_t(total) * 4) ASSERT_EQ(gotP[i], -7.0f) << "past the batch, float " << i;
   }
 }
 

@@ -99,8 +99,8 @@ void FastField::recordForward(gpu::Recorder& rec, const FieldRows& rows, bool ke
   mlpRows.colourBias = rows.colourBias;
   mlpRows.rowGather = rows.gather;
   mlpRows.densityOnly = rows.densityOnly;
-  // The direction's encoding only where the network reads it: all but a fused density alone.
-  if (!(rows.densityOnly && !keep && !rows.gather && mlp_.fusedForward(false)))
+  // The direction's encoding only where the network reads it.
+  if (!mlp_.computesDensityAlone(mlpRows, keep))
     sh_.recordForward(rec, {rows.count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, rows.limit, rows.gather});
   mlp_.recordForward(rec, mlpRows, network_.params(), keep ? f.workspace.get() : nullptr);
 }

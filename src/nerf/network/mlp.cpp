@@ -208,7 +208,7 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
   const gpu::BufferRange &pos = rows.pos, &dir = rows.dir, &out = rows.out;
   const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
-  const bool densityOnly = rows.densityOnly && !keep;  // kept activations include the colour's
+  const bool densityOnly = computesDensityAlone(rows, keep != nullptr);
   const uint32_t mode = rowBiasMode(rows.colourBias && !densityOnly ? &*rows.colourBias : nullptr);
   auto& kernel = densityOnly ? fusedDensity_ : fused_[keep ? 1 : 0][mode];
   if (!kernel) {

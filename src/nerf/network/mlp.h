@@ -131,6 +131,11 @@ class NerfMlp {
   // Larger networks run layer by layer.
   static constexpr uint32_t kMaxFusedDepth = 2, kMaxFusedWidth = 64, kMaxFusedMultiplyAdds = 32768;
   bool fusedForward(bool keep) const;
+  // Whether a forward of `rows` computes the density alone (rows.densityOnly without kept
+  // activations or a gather, where the fused kernel runs): it then reads no direction.
+  bool computesDensityAlone(const NerfRows& rows, bool keep) const {
+    return rows.densityOnly && !keep && !rows.rowGather && fusedForward(false);
+  }
 
  private:
   Workspace& inferenceScratch();  // the activations of a forward without a workspace

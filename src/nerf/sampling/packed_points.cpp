@@ -33,8 +33,7 @@ void PackedSamplePoints::record(gpu::Recorder& rec, uint32_t capacity, const gpu
                                 const PackedSamples& batch, const Aabb& box, const PointBuffers& out, bool midpoints) {
   const gpu::BufferRange &samples = batch.samples, &sampleRay = batch.sampleRay, &totals = batch.totals;
   const gpu::BufferRange &positions = out.positions, &directions = out.directions;
-  for (int k = 0; k < 3; ++k)
-    if (!(box.max[k] > box.min[k])) throw Error("PackedSamplePoints: scene box is empty along axis " + std::to_string(k));
+  requireBoxNotEmpty("PackedSamplePoints", box);
   requireBytes("PackedSamplePoints", "samples", samples, uint64_t(capacity) * kSampleBytes);
   requireBytes("PackedSamplePoints", "sampleRay", sampleRay, uint64_t(capacity) * 4);
   requireBytes("PackedSamplePoints", "totals", totals, PackedLayout::kTotalsBytes);

@@ -21,8 +21,7 @@ void SamplePoints::record(gpu::Recorder& rec, const RaySpan& rays, const gpu::Bu
                           uint32_t samplesPerRay, const Aabb& box, const PointBuffers& out) {
   uint64_t count = uint64_t(rays.count) * samplesPerRay;
   if (count > UINT32_MAX) throw Error("SamplePoints: " + std::to_string(count) + " samples exceed 2^32");
-  for (int k = 0; k < 3; ++k)
-    if (!(box.max[k] > box.min[k])) throw Error("SamplePoints: scene box is empty along axis " + std::to_string(k));
+  requireBoxNotEmpty("SamplePoints", box);
   Push p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}, uint32_t(count), samplesPerRay};
   rec.dispatch(kernel_, {rays.range, samples, out.positions, out.directions}, p, gpu::groupsFor(count, kLocal), 1, 1,
                "sample_points");

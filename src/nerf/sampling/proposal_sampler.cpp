@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "nerf/rays/rays.h"
 #include "vknerf/error.h"
 #include "sampling/proposal_count_shared.h"
 #include "sampling/proposal_sample_shared.h"
@@ -45,10 +46,8 @@ void ProposalSampler::record(gpu::Recorder& rec, uint32_t numRays, const Proposa
   gpu::requireBytes("proposal_sample", "samples", out.samples, uint64_t(capacity) * kSampleBytes);
   gpu::requireBytes("proposal_sample", "sample rays", out.sampleRay, uint64_t(capacity) * sizeof(uint32_t));
   if (points) {
-    for (int k = 0; k < 3; ++k)
-      if (!(points->box.max[k] > points->box.min[k]))
-        throw Error("proposal_sample: scene box is empty along axis " + std::to_string(k));
-    gpu::requireBytes("proposal_sample", "rays", points->rays, uint64_t(numRays) * 32);
+    requireBoxNotEmpty("proposal_sample", points->box);
+    gpu::requireBytes("proposal_sample", "rays", points->rays, uint64_t(numRays) * kRayBytes);
     gpu::requireBytes("proposal_sample", "positions", points->out.positions, uint64_t(capacity) * 16);
     gpu::requireBytes("proposal_sample", "directions", points->out.directions, uint64_t(capacity) * 16);
   }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "nerf/rays/rays.h"
+#include "nerf/sampling/point_buffers.h"
 #include "nerf/sampling/sample_layout.h"
 #include "vknerf/error.h"
 #include "sampling/march_compact_shared.h"
@@ -84,8 +85,7 @@ void RayMarcher::record(gpu::Recorder& rec, const RaySpan& raySpan, const Occupa
   if (uint64_t(numRays) * maxSamplesPerRay > 0xffffffffull)
     throw Error("RayMarcher: " + std::to_string(numRays) + " rays x " + std::to_string(maxSamplesPerRay) +
                 " samples overflow 32-bit offsets; lower the cap or split the batch");
-  for (int k = 0; k < 3; ++k)
-    if (!(box.max[k] > box.min[k])) throw Error("RayMarcher: scene box is empty along axis " + std::to_string(k));
+  requireBoxNotEmpty("RayMarcher", box);
   requireBytes("RayMarcher", "rays", rays, uint64_t(numRays) * kRayBytes);
   PackedLayout::requireOutputs("RayMarcher", numRays, offsets, totals);
   uint64_t capacity = std::min<uint64_t>({gpu::boundBytes(samples) / kSampleBytes, gpu::boundBytes(sampleRay) / 4, 0xffffffffull});

@@ -77,7 +77,6 @@ constexpr float kProposalPadding = 0.01f;
 FastPipeline::FastPipeline(Context& ctx, const TrainConfig& config, const Aabb& box, uint32_t rayCapacity,
                            bool training, const RenderSettings& overrides, const TrainingPhotos& photos)
     : FieldPipeline(ctx, std::max(rayCapacity, kRayAlign), training),
-      ctx_(ctx),
       config_(config),
       model_(withOverrides(checked(config.fastModel(), training), overrides)),
       box_(box),

@@ -116,7 +116,6 @@ class FastPipeline final : public FieldPipeline {
   // there and each ray's background from rays_ (`background` where a ray has none of its own).
   nerf::CompositeInputs compositeInputs(uint32_t first, uint32_t count, const std::array<float, 3>& background);
 
-  Context& ctx_;
   TrainConfig config_;
   FastModel model_;
   Aabb box_;

@@ -8,6 +8,9 @@ namespace vknerf {
 struct RenderSettings {
   uint32_t coarseSamples = 0, fineSamples = 0;  // vanilla: stratified + importance samples per ray
   uint32_t marchSteps = 0;                      // fast: march steps per scene-box diagonal
+  // fast, sampled by a proposal: the samples a ray the proposal places for the field (its weights
+  // spread over them by inverse CDF); fewer render faster, each standing for more of the ray's weight.
+  uint32_t proposalSamples = 0;
   // fast: a ray stops once its transmittance is below this (what lies behind adds less than that
   // times its colour); 0 shades every sample the march finds. In [0, 1).
   float minTransmittance = 1e-4f;

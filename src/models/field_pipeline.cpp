@@ -20,6 +20,9 @@ std::unique_ptr<FieldPipeline> makeFieldPipeline(Context& ctx, const TrainConfig
   if (overrides.appearancePhoto && !(config.isFast() && config.fastModel().appearanceDims))
     throw Error("render settings: an appearance photo was chosen, but the model has no appearance embedding "
                 "(model.appearance_dims is 0)");
+  if (overrides.proposalSamples && !(config.isFast() && config.fastModel().usesProposal()))
+    throw Error("render settings: proposal samples were chosen (" + std::to_string(overrides.proposalSamples) +
+                "), but no proposal places the model's samples (its sampler is not the proposal)");
   if (config.isFast()) return std::make_unique<FastPipeline>(ctx, config, box, rayCapacity, training, overrides, photos);
   return std::make_unique<VanillaPipeline>(ctx, config, box, rayCapacity, training, overrides);
 }

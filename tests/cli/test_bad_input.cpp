@@ -160,6 +160,11 @@ TEST(BadInput, FlagsAreUsageErrors) {
        temp("r_vanilla"), 2, "render: --min-transmittance has no effect on " + tinyModel() + ", a vanilla model"},
       {"min transmittance on a vanilla eval", "eval " + tinyModel() + " " + scene() + " --min-transmittance 0.01", 2,
        "eval: --min-transmittance has no effect on " + tinyModel() + ", a vanilla model"},
+      // Only a proposal places a chosen count of samples: a vanilla model's rays have their own.
+      {"proposal samples on a vanilla render", "render " + tinyModel() + " --orbit 1 --size 8 --proposal-samples 8 -o " +
+       temp("r_vanilla_samples"), 2, "render: --proposal-samples has no effect on " + tinyModel() +
+       ", whose rays are not sampled by a proposal"},
+      {"zero proposal samples", "eval no.vknerf " + scene() + " --proposal-samples 0", 2, "--proposal-samples: "},
       {"fit-image width", "fit-image " + scene() + "/train/r_0.png --width 6 --steps 1", 2, "multiple of 4"},
   });
 }

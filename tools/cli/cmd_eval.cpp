@@ -32,8 +32,8 @@ namespace {
 struct Options {
   std::string model, scene, split = "test", json, csv, sheet;
   uint32_t downscale = 1, limit = 0, sheetViews = 8, sheetSize = 100;
-  RenderSettings settings;  // --appearance, --min-transmittance, --profile
-  bool minTransmittanceGiven = false;
+  RenderSettings settings;  // --appearance, --min-transmittance, --proposal-samples, --profile
+  GivenRenderFlags given;
 };
 
 // The error tiles' full scale: a mean |render - truth| of 0.25 over RGB (PSNR ~12 dB on its own) and
@@ -82,7 +82,7 @@ int run(const Options& o, const Globals& g) {
   files.input(o.model, "model").scene(o.scene).output(o.json, "--json").output(o.csv, "--csv").output(o.sheet, "--sheet");
   files.check();
   auto ctx = g.context();
-  Model model = loadWithRenderSettings(ctx, o.model, o.settings, o.minTransmittanceGiven, "eval");
+  Model model = loadWithRenderSettings(ctx, o.model, o.settings, o.given, "eval");
   DatasetOptions dopt;
   dopt.split = o.split;
   dopt.downscale = o.downscale;
@@ -150,6 +150,7 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
   app.add_option("--downscale", o->downscale, "Downscale images by this factor")->check(CLI::Range(1u, 64u));
   addAppearanceOption(app, o->settings.appearancePhoto);
   addMinTransmittanceOption(app, o->settings.minTransmittance);
+  addProposalSamplesOption(app, o->settings.proposalSamples);
   app.add_option("--limit", o->limit, "Evaluate at most this many views (default 0: all)");
   addRenderProfileOption(app, o->settings.profile, "; in --json as kernel_ms_per_image");
   app.add_option("--sheet", o->sheet,
@@ -163,7 +164,7 @@ Registration eval("eval", "Measure PSNR and SSIM of a model on a scene's held-ou
     for (const char* flag : {"--sheet-views", "--sheet-size"})
       if (app.count(flag) && o->sheet.empty())
         throw UsageError(std::string("eval: ") + flag + " has no effect without --sheet (add it, or drop " + flag + ")");
-    o->minTransmittanceGiven = app.count("--min-transmittance") > 0;
+    o->given = GivenRenderFlags::of(app);
     return run(*o, g);
   };
 });

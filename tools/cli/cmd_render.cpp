@@ -32,8 +32,8 @@ struct Options {
   // instant-ngp paths only (nerfstudio's state their own); unset: run.py's defaults.
   std::optional<double> seconds;
   std::optional<uint32_t> width, height;
-  RenderSettings settings;  // --appearance, --min-transmittance, --profile
-  bool minTransmittanceGiven = false;
+  RenderSettings settings;  // --appearance, --min-transmittance, --proposal-samples, --profile
+  GivenRenderFlags given;
 };
 
 // n cameras on a circle around the box centre, looking at it, +Z up (nerf_synthetic's world).
@@ -82,7 +82,7 @@ int run(const Options& o, const Globals& g) {
     if (o.fps <= 0) fps = path.fps;
   }
   auto ctx = g.context();
-  Model model = loadWithRenderSettings(ctx, o.model, o.settings, o.minTransmittanceGiven, "render");
+  Model model = loadWithRenderSettings(ctx, o.model, o.settings, o.given, "render");
   std::vector<Camera> cams;
   Camera like = pinholeFromFocal(o.size, o.size, 1.2f * float(o.size));  // ~45 degree field of view
   float radius = o.radius;
@@ -170,6 +170,7 @@ Registration render("render", "Render RGB, depth and opacity images from a train
   app.add_option("--downscale", o->downscale, "Downscale SCENE's images by this factor")->check(CLI::Range(1u, 64u));
   addAppearanceOption(app, o->settings.appearancePhoto);
   addMinTransmittanceOption(app, o->settings.minTransmittance);
+  addProposalSamplesOption(app, o->settings.proposalSamples);
   addRenderProfileOption(app, o->settings.profile);
   app.add_option("--limit", o->limit, "Render at most this many views (default 0: all)");
   return [o, &g, &app] {
@@ -187,7 +188,7 @@ Registration render("render", "Render RGB, depth and opacity images from a train
     if (app.count("--fps") && o->video.empty() && !path) refuse("--fps", "without --video or an instant-ngp --path");
     for (const char* flag : {"--seconds", "--width", "--height"})
       if (app.count(flag) && !path) refuse(flag, "without an instant-ngp --path");
-    o->minTransmittanceGiven = app.count("--min-transmittance") > 0;
+    o->given = GivenRenderFlags::of(app);
     return run(*o, g);
   };
 });

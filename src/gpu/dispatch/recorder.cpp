@@ -87,7 +87,7 @@ void Recorder::recordKernel(const BoundKernel& bound, bool indirect, const std::
   issue();
   if (timed) {
     vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q + 1);
-    labels_.emplace_back(label);
+    labels_.emplace_back(labelPrefix_ + label);
   }
   pending_ = true;
 }

@@ -97,6 +97,21 @@ class Recorder {
   // Milliseconds per labelled dispatch of the last submission, in recording order.
   std::vector<std::pair<std::string, double>> timings() const;
 
+  // While one lives, the labels of the dispatches recorded get `prefix` in front, so that a profile
+  // tells apart two users of the same kernels (the proposal's network from the field's). Scopes
+  // nest; each restores the prefix it found.
+  class LabelScope {
+   public:
+    LabelScope(Recorder& rec, const std::string& prefix) : rec_(rec), saved_(rec.labelPrefix_) { rec.labelPrefix_ += prefix; }
+    ~LabelScope() { rec_.labelPrefix_ = saved_; }
+    LabelScope(const LabelScope&) = delete;
+    LabelScope& operator=(const LabelScope&) = delete;
+
+   private:
+    Recorder& rec_;
+    std::string saved_;
+  };
+
   // The submissions since startLog(), so that a whole step (several submissions and the host work
   // between them) can be attributed; kernels are timed when timestamps are enabled. Nothing is
   // logged before the first startLog(); each call clears the log.
@@ -127,6 +142,7 @@ class Recorder {
   bool pending_ = false;  // a command was recorded since the last barrier
   uint32_t maxTimestamps_ = 0;
   std::vector<std::string> labels_;
+  std::string labelPrefix_;  // LabelScope's
   std::vector<SubmissionTiming> log_;
   bool logging_ = false;
   bool inFlight_ = false;  // submitted, not yet waited for

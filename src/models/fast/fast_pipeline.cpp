@@ -27,9 +27,11 @@ constexpr uint32_t kFirstSegment = 32;
 constexpr std::array<uint32_t, 5> kTrainingSegments{0, 4, 8, 16, UINT32_MAX};
 constexpr double kSegmentsBelowKept = 0.5;
 
-// A render may march finer than training did; the per-ray sample cap follows.
+// A render may march finer than training did (the per-ray sample cap follows) and place another
+// count of samples by the proposal.
 FastModel withOverrides(FastModel m, const RenderSettings& overrides) {
   if (overrides.marchSteps) m.maxSamplesPerRay = std::max(m.maxSamplesPerRay, overrides.marchSteps);
+  if (overrides.proposalSamples) m.proposalSamples = overrides.proposalSamples;  // makeFieldPipeline checked it
   return m;
 }
 
@@ -71,6 +73,10 @@ uint32_t fieldCapacityFor(const FastModel& m, uint32_t rayCapacity, uint32_t sam
 
 // The uniform share of a proposal's sampling mass (nerfacto's histogram padding, 0.01).
 constexpr float kProposalPadding = 0.01f;
+
+// The proposal's kernels in a profile, apart from the field's (they share the network's and the
+// encoding's kernels).
+constexpr const char* kProposalLabel = "proposal: ";
 
 }  // namespace
 
@@ -382,6 +388,7 @@ nerf::PackedSamples FastPipeline::fieldSamples() const {
 }
 
 void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays, std::optional<StepDraws> step) {
+  const gpu::Recorder::LabelScope label(rec, kProposalLabel);
   const bool training = step.has_value();
   const uint32_t seed = training ? step->seed : 0;
   FieldBatch& p = proposal_->batch();
@@ -399,6 +406,7 @@ void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays,
 }
 
 void FastPipeline::recordProposalBackward(gpu::Recorder& rec, uint32_t R) {
+  const gpu::Recorder::LabelScope label(rec, kProposalLabel);
   FieldBatch& p = proposal_->batch();
   const nerf::PackedSamples candidates = estimator_.samples();
   // A mean over the batch's rays, as the photometric loss.

@@ -2,6 +2,7 @@
 // scene, skips empty space once the grid has measured it, keeps its sample budget, and renders the
 // same image whichever way its work is sized (host-sized sub-batches, recorded at full capacity,
 // reloaded from a checkpoint), stopping each ray of a host render where it has turned opaque.
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <map>
@@ -172,6 +173,37 @@ TEST_F(FastPipelineTest, TheProposalPlacesTheSamplesItIsTrainedFor) {
   // Same kernels on the same inputs, up to the MLP's chunking (a few ulps), as above.
   expectSameImage(a.rgb, b.rgb, 1e-5);
   expectSameImage(a.opacity, b.opacity, 1e-5);
+
+  // A render may place another count of samples a ray (RenderSettings::proposalSamples): the
+  // trained count draws the very same image, half of it half the samples at most; a profile names
+  // the proposal's kernels apart from the field's.
+  RenderSettings asTrained, half;
+  asTrained.proposalSamples = 16;
+  half.proposalSamples = 8;
+  half.profile = true;
+  const RenderedImage same = Model::load(sharedContext(), path, asTrained).render(test.cameras[0]);
+  expectSameImage(b.rgb, same.rgb, 0.0);
+  EXPECT_EQ(same.samples, b.samples);
+  const RenderedImage fewer = Model::load(sharedContext(), path, half).render(test.cameras[0]);
+  const uint64_t pixels = uint64_t(test.cameras[0].width) * test.cameras[0].height;
+  EXPECT_GT(fewer.samples, 0u);
+  EXPECT_LE(fewer.samples, 8 * pixels);
+  EXPECT_LT(fewer.samples, b.samples);
+  for (float v : fewer.rgb) ASSERT_TRUE(std::isfinite(v));
+  if (!fewer.kernelMs.empty()) {  // a device whose compute queue has no timestamps times no kernel
+    const auto timed = [&](const std::string& name) {
+      return std::any_of(fewer.kernelMs.begin(), fewer.kernelMs.end(), [&](const auto& k) { return k.first == name; });
+    };
+    EXPECT_TRUE(timed("encode_hash")) << "the field's hash grid";
+    EXPECT_TRUE(timed("proposal: encode_hash")) << "the proposal's hash grid, apart";
+    EXPECT_TRUE(timed("proposal: proposal_sample"));
+  }
+  // The setting needs a model whose samples a proposal places.
+  const std::string marched = tmp.file("marched.vknerf");
+  TrainConfig marching = smallFast();
+  marching.fastModel().sampler = Sampler::March;
+  Trainer(sharedContext(), train, marching).save(marched);
+  EXPECT_THROW(Model::load(sharedContext(), marched, half), Error);
 
   // A render recorded into one command buffer draws what a waited one does, in blocks of rays
   // whose every candidate fits the march's capacity (a trainer's: a few blocks for 2048 rays).

@@ -414,8 +414,8 @@ void DenseMlp::recordBackward(gpu::Recorder& rec, const DenseRows& rows, const g
     Mat y = Mat{out, outputStride()}.rows(first, n), dy = Mat{dOut, outputStride()}.rows(first, n);
     Mat cur = Mat{ws.dzOut_, outputStride()}.rows(0, n);
     SigmoidBackwardPush sp{n, dy.stride / 4, y.stride / 4, cur.stride / 4};
-    rec.dispatch(*sigmoidBackward_, {dy.range, y.range, cur.range}, sp, gpu::groupsFor(uint64_t(n) * (outputStride() / 4), 64),
-                 1, 1, "mlp output backward");
+    rec.dispatchFlat(*sigmoidBackward_, {dy.range, y.range, cur.range}, sp, uint64_t(n) * (outputStride() / 4), 64,
+                     "mlp output backward");
     int next = 0;
     for (uint32_t l = L; l-- > 0;) {
       Mat a = l ? H(l - 1) : x;

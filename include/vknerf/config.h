@@ -103,6 +103,7 @@ struct FastModel {
   // and a network 16 wide.
   Sampler sampler = Sampler::Auto;
   uint32_t proposalSamples = 24;
+  static constexpr uint32_t kMaxProposalSamples = 1024;  // a ray's most (the configuration's and a render's)
   uint32_t proposalLevels = 5;
   // The proposal's candidates: with cascades, one stands for up to this many march steps through
   // occupied cells (1: every step), evaluated at its middle.

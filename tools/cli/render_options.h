@@ -73,7 +73,7 @@ inline void addProposalSamplesOption(CLI::App& app, uint32_t& samples) {
   app.add_option("--proposal-samples", samples,
                  "fast, sampled by a proposal: the field samples a ray its proposal places (default: as trained; "
                  "fewer render faster, each standing for more of the ray's weight)")
-      ->check(CLI::Range(1u, 1024u));
+      ->check(CLI::Range(1u, FastModel::kMaxProposalSamples));
 }
 
 }  // namespace vknerf::cli

@@ -258,9 +258,9 @@ std::vector<ConfigField> table() {
       fastTop("distortion_far_field", &FastModel::distortionFarField).addedLater(false)
           .flag("--distortion-far-field", "fast, with --distortion-loss: the weight a ray leaves to the far field counts in the loss, as an interval at its far end"),
       // Models saved before it had none: 0, read as the march.
-      fastTop("proposal_samples", &FastModel::proposalSamples).addedLater(0u).range(0, 1024)
+      fastTop("proposal_samples", &FastModel::proposalSamples).addedLater(0u).range(0, FastModel::kMaxProposalSamples)
           .flag("--proposal-samples", "fast: each ray's field samples, placed by a small proposal density field trained to bound the field's weights (nerfacto's proposal estimator; 0: the march's, every marched sample; default: 24 where the photos have no alpha, the march where they have)")
-          .flagRange(0, 1024)
+          .flagRange(0, FastModel::kMaxProposalSamples)
           .flagApplies([](TrainConfig& c, const ConfigValue& v) {
             FastModel& m = c.fastModel();
             m.proposalSamples = std::get<uint32_t>(v);

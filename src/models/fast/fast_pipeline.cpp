@@ -31,7 +31,12 @@ constexpr double kSegmentsBelowKept = 0.5;
 // count of samples by the proposal.
 FastModel withOverrides(FastModel m, const RenderSettings& overrides) {
   if (overrides.marchSteps) m.maxSamplesPerRay = std::max(m.maxSamplesPerRay, overrides.marchSteps);
-  if (overrides.proposalSamples) m.proposalSamples = overrides.proposalSamples;  // makeFieldPipeline checked it
+  // makeFieldPipeline checked that a proposal places the samples; the range is checked before any
+  // capacity follows from it.
+  if (overrides.proposalSamples > FastModel::kMaxProposalSamples)
+    throw Error("render settings: proposalSamples must be at most " + std::to_string(FastModel::kMaxProposalSamples) +
+                ", got " + std::to_string(overrides.proposalSamples));
+  if (overrides.proposalSamples) m.proposalSamples = overrides.proposalSamples;
   return m;
 }
 

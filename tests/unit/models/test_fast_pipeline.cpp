@@ -404,6 +404,14 @@ TEST_F(FastPipelineTest, RenderSettingsOutOfRangeAreErrors) {
     s.minTransmittance = t;
     EXPECT_THROW(models::FastPipeline(test::context(), smallFast(), box, 64, false, s), Error) << t;
   }
+  // More samples a ray than a configuration may hold, refused before anything is sized for them.
+  TrainConfig proposal = smallFast();
+  proposal.fastModel().sampler = Sampler::Proposal;
+  RenderSettings tooMany;
+  tooMany.proposalSamples = FastModel::kMaxProposalSamples + 1;
+  EXPECT_THROW(models::FastPipeline(test::context(), proposal, box, 64, false, tooMany), Error);
+  tooMany.proposalSamples = UINT32_MAX;
+  EXPECT_THROW(models::FastPipeline(test::context(), proposal, box, 64, false, tooMany), Error);
 }
 
 TEST_F(FastPipelineTest, UnknownConfigurationIsAnError) {

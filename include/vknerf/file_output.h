@@ -4,6 +4,7 @@
 // target then holds either its previous content or all of the new bytes, never a truncated file;
 // every failure (full disk, missing folder, no permission) is an error rather than a silent 0-byte
 // file; and no temporary file outlives the process, whether it ends by an error or by a signal.
+#include <signal.h>
 #include <sys/types.h>
 
 #include <cstddef>
@@ -55,7 +56,25 @@ class TemporaryFile {
 
 // Removes every TemporaryFile of this process not yet committed, stopping (SIGKILL) and reaping
 // the programs filling them first. Async-signal-safe: for a signal handler about to end the process.
+// It first waits for every TemporaryFilesBusy to end, and no new one begins after it is called.
 void removeTemporaryFiles() noexcept;
+
+// A step that a signal must not cut in two: between creating a file and listing it for removal, or
+// between starting the program that fills a TemporaryFile and naming it (setWriter), a signal
+// handled on another thread would remove the file and leave that program to create it again. While
+// one lives, removeTemporaryFiles() waits, and SIGINT and SIGTERM are held in this thread (so that
+// no handler waits on the thread it interrupted). A program started meanwhile inherits that mask:
+// give it an empty one (POSIX_SPAWN_SETSIGMASK).
+class TemporaryFilesBusy {
+ public:
+  TemporaryFilesBusy();
+  ~TemporaryFilesBusy();
+  TemporaryFilesBusy(const TemporaryFilesBusy&) = delete;
+  TemporaryFilesBusy& operator=(const TemporaryFilesBusy&) = delete;
+
+ private:
+  sigset_t before_;  // this thread's mask before
+};
 
 // SIGINT and SIGTERM remove the temporary files (removeTemporaryFiles), then end the process as the
 // signal would have (exit status 128 + signal in a shell). A command with handlers of its own

@@ -2,7 +2,10 @@
 // colour map survives depths and ranges that are not finite.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <spawn.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -16,6 +19,8 @@
 #include "lib/render_output.h"
 #include "vknerf/error.h"
 #include "vknerf/file_output.h"
+
+extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -143,7 +148,12 @@ TEST(FileOutput, TemporaryFileIsCommittedOrRemoved) {
     vknerf::TemporaryFile tmp(target);
     kept = tmp.path();
     ASSERT_EQ(::write(tmp.fd(), "frames", 6), 6);
-    vknerf::removeTemporaryFiles();  // what a signal handler does
+    // What a signal handler does, in a process that then ends (no file is made after it).
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) vknerf::removeTemporaryFiles(), ::_exit(0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
     EXPECT_FALSE(fs::exists(kept));
   }
   {
@@ -169,6 +179,53 @@ TEST(FileOutput, TemporaryFileIsCommittedOrRemoved) {
   ASSERT_EQ(::stat(pipe.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode));
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);  // video.mp4 and the pipe
+}
+
+// A signal while the program filling a temporary file is being started: the file's removal waits
+// until the program is named its writer, so the program is stopped first and cannot make the file
+// again after the process has ended. The signal is handled on another thread, as on Vulkan's.
+TEST(FileOutput, SignalWhileAWriterStartsLeavesNoFile) {
+  const ScratchDir scratch("writer_starting");
+  const std::string target = (scratch.path / "video.mp4").string();
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    vknerf::removeTemporaryFilesOnSignals();
+    std::thread([] {
+      for (;;) ::pause();
+    }).detach();
+    vknerf::TemporaryFile tmp(target);
+    {
+      vknerf::TemporaryFilesBusy starting;
+      // The writer makes the file again after a while, as ffmpeg opens its output.
+      const std::string script = "sleep 0.5; echo late > \"$0\"";
+      const char* argv[] = {"sh", "-c", script.c_str(), tmp.path().c_str(), nullptr};
+      posix_spawnattr_t attributes;
+      posix_spawnattr_init(&attributes);
+      sigset_t none;
+      sigemptyset(&none);
+      posix_spawnattr_setsigmask(&attributes, &none);
+      posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+      pid_t writer = -1;
+      if (posix_spawnp(&writer, "sh", nullptr, &attributes, const_cast<char**>(argv), environ) != 0) ::_exit(3);
+      if (::write(ready[1], "s", 1) != 1) ::_exit(4);
+      ::usleep(300000);  // the signal comes meanwhile
+      tmp.setWriter(writer);
+    }
+    for (;;) ::pause();  // the signal ends the process
+  }
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  ::close(ready[0]);
+  ::close(ready[1]);
+  ASSERT_EQ(::kill(child, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status;
+  ::usleep(1000000);  // past the time an orphaned writer would make the file again
+  EXPECT_EQ(std::distance(fs::directory_iterator(scratch.path), fs::directory_iterator{}), 0);
 }
 
 // Up front: a folder files go into exists and takes them, or can be made under the nearest folder

@@ -1,6 +1,8 @@
 #include "vknerf/file_output.h"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -121,6 +123,12 @@ void unregisterTemporary(int slot) {
   if (slot >= 0) slots[slot].state.store(kFree, std::memory_order_release);
 }
 
+// TemporaryFilesBusy sections in progress, and whether removeTemporaryFiles() has begun (then no
+// section begins any more). Sequentially consistent: a section counts itself before it reads
+// `removing`, the removal sets `removing` before it reads the count, so one of them sees the other.
+std::atomic<int> busySections{0};
+std::atomic<bool> removing{false};
+
 extern "C" void removeTemporaryFilesAndDie(int sig) {
   removeTemporaryFiles();
   ::signal(sig, SIG_DFL);
@@ -138,7 +146,9 @@ TemporaryFile::TemporaryFile(const std::string& target, const std::string& suffi
                                : target;
   for (int attempt = 0; fd_ < 0 && attempt < 100; ++attempt) {
     path_ = stem + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++) + suffix;
+    TemporaryFilesBusy created;  // the file is listed before a signal can remove the others
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);  // mode as the umask allows
+    if (fd_ >= 0) slot_ = registerTemporary(path_);
     if (fd_ < 0 && errno != EEXIST) break;
   }
   if (fd_ < 0) {
@@ -151,7 +161,6 @@ TemporaryFile::TemporaryFile(const std::string& target, const std::string& suffi
                                            : " (folder " + folder.string() + " does not exist)";
     throw Error(target + ": cannot write: " + reason(err) + where);
   }
-  slot_ = registerTemporary(path_);
 }
 
 TemporaryFile::~TemporaryFile() { discard(); }
@@ -193,8 +202,30 @@ void TemporaryFile::commit() {
   discard();  // after a rename: the name is gone already
 }
 
+TemporaryFilesBusy::TemporaryFilesBusy() {
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  ::pthread_sigmask(SIG_BLOCK, &stop, &before_);
+  busySections.fetch_add(1);
+  if (!removing.load()) return;
+  // A signal is ending the process and its files are being removed: start nothing more (the
+  // signal stays held here, so this thread waits for the one handling it to end the process).
+  busySections.fetch_sub(1);
+  for (;;) ::pause();
+}
+
+TemporaryFilesBusy::~TemporaryFilesBusy() {
+  busySections.fetch_sub(1);
+  ::pthread_sigmask(SIG_SETMASK, &before_, nullptr);  // a signal held meanwhile is handled now
+}
+
 void removeTemporaryFiles() noexcept {
   const int saved = errno;
+  removing.store(true);
+  // The sections are a few system calls long. sched_yield is a bare system call that takes no lock.
+  while (busySections.load() > 0) ::sched_yield();
   for (Slot& s : slots) {
     if (s.state.load(std::memory_order_acquire) != kActive) continue;
     if (const pid_t pid = s.writer.load(); pid > 0) {

@@ -42,7 +42,21 @@ VideoEncoder::VideoEncoder(const std::string& path, uint32_t width, uint32_t hei
   posix_spawn_file_actions_adddup2(&actions, fds[0], 0);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, log_->fd(), 2);
-  const int err = posix_spawnp(&pid_, "ffmpeg", &actions, nullptr, argv.data(), environ);
+  // ffmpeg is named as the file's writer before a signal can remove the file: otherwise it would
+  // outlive vknerf and create the file again. It starts with no signal held.
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t none;
+  sigemptyset(&none);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+  int err = 0;
+  {
+    TemporaryFilesBusy starting;
+    err = posix_spawnp(&pid_, "ffmpeg", &actions, &attributes, argv.data(), environ);
+    if (err == 0) video_->setWriter(pid_), log_->setWriter(pid_);
+  }
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   ::close(fds[0]);
   if (err != 0) {
@@ -53,8 +67,6 @@ VideoEncoder::VideoEncoder(const std::string& path, uint32_t width, uint32_t hei
     throw Error(path + ": cannot start ffmpeg: " + std::strerror(err));
   }
   pipe_ = fds[1];
-  video_->setWriter(pid_);
-  log_->setWriter(pid_);
 }
 
 VideoEncoder::~VideoEncoder() { abandon(); }

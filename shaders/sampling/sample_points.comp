@@ -12,9 +12,10 @@ layout(std430, binding = 3) writeonly buffer Directions { vec4 directions[]; };
 
 #include "sampling/sample_points_shared.h"
 #include "sampling/box_position.glsl"
+#include "common/flat_index.glsl"
 
 void main() {
-  uint s = gl_GlobalInvocationID.x;
+  uint s = flatIndex(64u);  // Recorder::dispatchFlat: a batch past 65,535 groups along x
   if (s >= pc.count) return;
   uint r = s / pc.samplesPerRay;
   vec3 o = rays[2 * r].xyz;

@@ -23,8 +23,7 @@ void SamplePoints::record(gpu::Recorder& rec, const RaySpan& rays, const gpu::Bu
   if (count > UINT32_MAX) throw Error("SamplePoints: " + std::to_string(count) + " samples exceed 2^32");
   requireBoxNotEmpty("SamplePoints", box);
   Push p{{box.min[0], box.min[1], box.min[2], 0}, {box.max[0], box.max[1], box.max[2], 0}, uint32_t(count), samplesPerRay};
-  rec.dispatch(kernel_, {rays.range, samples, out.positions, out.directions}, p, gpu::groupsFor(count, kLocal), 1, 1,
-               "sample_points");
+  rec.dispatchFlat(kernel_, {rays.range, samples, out.positions, out.directions}, p, count, kLocal, "sample_points");
 }
 
 }  // namespace vknerf::nerf

@@ -200,13 +200,18 @@ TEST_F(Encoding, EmptyBatchAndBadLayouts) {
   EXPECT_THROW(nerf::FrequencyEncoding(ctx(), 5, 4, true), Error);
 }
 
-TEST_F(Encoding, SamplePointsMatchReference) {
-  // Random rays (unit directions, as rays.comp writes them) with N samples each in a non-cubic box.
-  const uint32_t numRays = 45, n = 7;  // 315 samples: not a multiple of the workgroup
-  Aabb box{{-1.5f, -0.5f, -2.0f}, {1.5f, 2.5f, 1.0f}};
+namespace {
+
+const Aabb kSampleBox{{-1.5f, -0.5f, -2.0f}, {1.5f, 2.5f, 1.0f}};  // not a cube
+
+// SamplePoints on `numRays` random rays (unit directions, as rays.comp writes them) with `n` samples
+// each in kSampleBox, against the double reference; returns how many values differ, and
+// prints the first.
+size_t samplePointsMismatches(Context& ctx, uint32_t numRays, uint32_t n) {
+  const Aabb& box = kSampleBox;
   std::mt19937 gen(3);
   std::uniform_real_distribution<float> u(-1, 1);
-  std::vector<float> rays(8 * numRays), samples(2 * numRays * n);
+  std::vector<float> rays(8 * size_t(numRays)), samples(2 * size_t(numRays) * n);
   for (uint32_t r = 0; r < numRays; ++r) {
     float d[3] = {u(gen), u(gen), u(gen)};
     float len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -217,37 +222,54 @@ TEST_F(Encoding, SamplePointsMatchReference) {
     rays[8 * r + 3] = 0.5f;
     rays[8 * r + 7] = 4.5f;
     for (uint32_t s = 0; s < n; ++s) {
-      samples[2 * (r * n + s)] = 0.5f + 4.0f * (s + 0.5f * (u(gen) + 1)) / n;
-      samples[2 * (r * n + s) + 1] = 4.0f / n;
+      samples[2 * (size_t(r) * n + s)] = 0.5f + 4.0f * (s + 0.5f * (u(gen) + 1)) / n;
+      samples[2 * (size_t(r) * n + s) + 1] = 4.0f / n;
     }
   }
-  auto rb = gpu::Buffer::of(ctx(), rays), sb = gpu::Buffer::of(ctx(), samples);
-  gpu::Buffer pos(ctx(), numRays * n * nerf::kPointBytes), dir(ctx(), numRays * n * nerf::kPointBytes);
-  nerf::SamplePoints sp(ctx());
-  test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+  const size_t count = size_t(numRays) * n;
+  auto rb = gpu::Buffer::of(ctx, rays), sb = gpu::Buffer::of(ctx, samples);
+  gpu::Buffer pos(ctx, count * nerf::kPointBytes), dir(ctx, count * nerf::kPointBytes);
+  nerf::SamplePoints sp(ctx);
+  test::submitOnce(ctx, [&](gpu::Recorder& rec) {
     sp.record(rec, {rb, numRays}, sb, n, box, {pos, dir});
     sp.record(rec, {rb, 0}, sb, n, box, {pos, dir});  // empty batch: records nothing
   });
   auto p = pos.download<float>(), d = dir.download<float>();
   // |o| <= 3 and t <= 4.5 give |x| < 8: o + t d rounds to ~1 ulp of 8 (1e-6); the map onto [-1, 1]
   // multiplies by 2 / extent (<= 2/3) and adds a few ulp of 1, so 2e-6 absolute.
-  for (uint32_t s = 0; s < numRays * n; ++s) {
-    uint32_t r = s / n;
+  size_t bad = 0;
+  auto check = [&](bool ok, size_t s, const char* what) {
+    if (!ok && bad++ == 0) ADD_FAILURE() << "sample " << s << ": " << what;
+  };
+  for (size_t s = 0; s < count; ++s) {
+    size_t r = s / n;
     std::array<double, 3> o{rays[8 * r], rays[8 * r + 1], rays[8 * r + 2]};
     std::array<double, 3> dd{rays[8 * r + 4], rays[8 * r + 5], rays[8 * r + 6]};
     auto want = ref::samplePosition<double>(o, dd, samples[2 * s], box);
     for (int k = 0; k < 3; ++k) {
-      EXPECT_TRUE(test::near(p[4 * s + k], want[k], 0, 2e-6));
-      EXPECT_EQ(d[4 * s + k], rays[8 * r + 4 + k]);
+      check(test::near(p[4 * s + k], want[k], 0, 2e-6), s, "position");
+      check(d[4 * s + k] == rays[8 * r + 4 + k], s, "direction");
     }
-    EXPECT_EQ(p[4 * s + 3], 0.0f);
-    EXPECT_EQ(d[4 * s + 3], 0.0f);
+    check(p[4 * s + 3] == 0.0f && d[4 * s + 3] == 0.0f, s, "fourth component");
   }
+  return bad;
+}
+
+}  // namespace
+
+TEST_F(Encoding, SamplePointsMatchReference) {
+  EXPECT_EQ(samplePointsMismatches(ctx(), 45, 7), 0u);  // 315 samples: not a multiple of the workgroup
   // The box corners map onto -1 and +1.
-  auto lo = ref::samplePosition<double>({-1.5, -0.5, -2.0}, {1, 1, 1}, 0.0, box);
-  auto hi = ref::samplePosition<double>({-1.5, -0.5, -2.0}, {1, 1, 1}, 3.0, box);
+  auto lo = ref::samplePosition<double>({-1.5, -0.5, -2.0}, {1, 1, 1}, 0.0, kSampleBox);
+  auto hi = ref::samplePosition<double>({-1.5, -0.5, -2.0}, {1, 1, 1}, 3.0, kSampleBox);
   for (int k = 0; k < 3; ++k) {
     EXPECT_DOUBLE_EQ(lo[k], -1.0);
     EXPECT_DOUBLE_EQ(hi[k], 1.0);
   }
+}
+
+// 65,537 rays of 64 samples: 65,537 workgroups of 64, one past what maxComputeWorkGroupCount[0]
+// holds on most devices (and under every 65,535 profile), dispatched over x and y.
+TEST_F(Encoding, SamplePointsPastTheGroupCountOfOneAxis) {
+  EXPECT_EQ(samplePointsMismatches(ctx(), 65537, 64), 0u);
 }

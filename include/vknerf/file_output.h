@@ -5,6 +5,7 @@
 // every failure (full disk, missing folder, no permission) is an error rather than a silent 0-byte
 // file; and no temporary file outlives the process, whether it ends by an error or by a signal.
 #include <signal.h>
+#include <spawn.h>
 #include <sys/types.h>
 
 #include <cstddef>
@@ -63,12 +64,14 @@ void removeTemporaryFiles() noexcept;
 // between starting the program that fills a TemporaryFile and naming it (setWriter), a signal
 // handled on another thread would remove the file and leave that program to create it again. While
 // one lives, removeTemporaryFiles() waits, and SIGINT and SIGTERM are held in this thread (so that
-// no handler waits on the thread it interrupted). A program started meanwhile inherits that mask:
-// give it an empty one (POSIX_SPAWN_SETSIGMASK).
+// no handler waits on the thread it interrupted). A program started meanwhile would inherit that
+// mask: start it with attributes given to withNoSignalHeld.
 class TemporaryFilesBusy {
  public:
   TemporaryFilesBusy();
   ~TemporaryFilesBusy();
+  // Sets an empty signal mask for the program started with these attributes.
+  static void withNoSignalHeld(posix_spawnattr_t& attributes);
   TemporaryFilesBusy(const TemporaryFilesBusy&) = delete;
   TemporaryFilesBusy& operator=(const TemporaryFilesBusy&) = delete;
 

@@ -204,10 +204,7 @@ TEST(FileOutput, SignalWhileAWriterStartsLeavesNoFile) {
       const char* argv[] = {"sh", "-c", script.c_str(), tmp.path().c_str(), nullptr};
       posix_spawnattr_t attributes;
       posix_spawnattr_init(&attributes);
-      sigset_t none;
-      sigemptyset(&none);
-      posix_spawnattr_setsigmask(&attributes, &none);
-      posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+      vknerf::TemporaryFilesBusy::withNoSignalHeld(attributes);
       pid_t writer = -1;
       if (posix_spawnp(&writer, "sh", nullptr, &attributes, const_cast<char**>(argv), environ) != 0) ::_exit(3);
       if (::write(ready[1], "s", 1) != 1) ::_exit(4);

@@ -216,6 +216,15 @@ TemporaryFilesBusy::TemporaryFilesBusy() {
   for (;;) ::pause();
 }
 
+void TemporaryFilesBusy::withNoSignalHeld(posix_spawnattr_t& attributes) {
+  sigset_t none;
+  sigemptyset(&none);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  short flags = 0;
+  posix_spawnattr_getflags(&attributes, &flags);
+  posix_spawnattr_setflags(&attributes, short(flags | POSIX_SPAWN_SETSIGMASK));
+}
+
 TemporaryFilesBusy::~TemporaryFilesBusy() {
   busySections.fetch_sub(1);
   ::pthread_sigmask(SIG_SETMASK, &before_, nullptr);  // a signal held meanwhile is handled now

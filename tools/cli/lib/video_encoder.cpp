@@ -46,10 +46,7 @@ VideoEncoder::VideoEncoder(const std::string& path, uint32_t width, uint32_t hei
   // outlive vknerf and create the file again. It starts with no signal held.
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
-  sigset_t none;
-  sigemptyset(&none);
-  posix_spawnattr_setsigmask(&attributes, &none);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+  TemporaryFilesBusy::withNoSignalHeld(attributes);
   int err = 0;
   {
     TemporaryFilesBusy starting;

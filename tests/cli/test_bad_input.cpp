@@ -2,10 +2,12 @@
 // crafted checkpoint or an output that cannot be written, with the exit code and a fragment of the
 // one-line message it must give (0 ok, 1 runtime error, 2 usage error). Nothing may crash, hang,
 // train before failing, or report success after a failed write.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -626,11 +628,24 @@ TEST(BadInput, FlagsAndChildrenSayWhatIsWrong) {
 }
 
 // Whether a process whose command line holds `part` is running (read from /proc).
+// The command line of the process /proc/PID names; "" once it has ended. A process that ends while
+// it is read fails the read with ESRCH (which an ifstream throws on): tests run beside others.
+static std::string commandLineOf(const fs::path& proc) {
+  const int fd = ::open((proc / "cmdline").c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";
+  std::string out;
+  char buf[4096];
+  ssize_t n;
+  while ((n = ::read(fd, buf, sizeof buf)) > 0) out.append(buf, size_t(n));
+  ::close(fd);
+  return n < 0 ? "" : out;
+}
+
 static bool running(const std::string& part) {
   for (const auto& e : fs::directory_iterator("/proc")) {
     const std::string pid = e.path().filename().string();
     if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::string cmdline = bytesOf((e.path() / "cmdline").string());
+    std::string cmdline = commandLineOf(e.path());
     for (char& c : cmdline)
       if (c == '\0') c = ' ';
     if (cmdline.find(part) != std::string::npos && cmdline.find("vknerf") != std::string::npos &&

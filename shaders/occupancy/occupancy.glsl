@@ -30,6 +30,14 @@ float emaDensity(float old, float decay, float fresh) {
   return old < 0.0 ? old : max(decayed, fresh);
 }
 
+// Four cells' share of the grid's mean density (occupancy_mean.comp, and occupancy_ema.comp's word
+// sums): a non-finite density, and the -1 of a cell no camera sees, count as 0.
+float occupancyMeanTerm(vec4 d) {
+  bvec4 finite = not(bvec4(uvec4(isnan(d)) | uvec4(isinf(d))));
+  vec4 c = mix(vec4(0.0), max(d, vec4(0.0)), finite);
+  return (c.x + c.y) + (c.z + c.w);
+}
+
 // Lattice point k of a ray: t_k = t_near + (u + k) dt, computed from k (never accumulated) so that
 // a skip of n points lands exactly where n single steps would.
 float latticeT(float tNear, float u, float dt, uint k) {

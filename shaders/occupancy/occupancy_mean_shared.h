@@ -8,8 +8,9 @@
 
 PUSH_CONSTANTS_BEGIN(OccupancyMeanPush)
   uint numCells;
-  uint chunk;  // cells a workgroup of pass 0 sums: ceil(numCells / kOccupancyMeanGroups)
-  uint pass;   // 0: partial sums, 1: their sum over numCells
+  uint chunk;         // terms a workgroup of pass 0 sums: ceil(terms / kOccupancyMeanGroups)
+  uint pass;          // 0: partial sums, 1: their sum over numCells
+  uint fromWordSums;  // 1: a term is a word's sum (occupancy_ema.comp), 0: a vec4 of cells
 PUSH_CONSTANTS_END
 
 #endif

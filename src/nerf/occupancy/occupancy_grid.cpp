@@ -49,23 +49,27 @@ OccupancyGrid::OccupancyGrid(Context& ctx, uint32_t resolution, uint32_t cascade
       resolution_(resolution),
       cascades_(cascades),
       numCells_(checkedCells(resolution, cascades)),
-      density_(ctx, VkDeviceSize(numCells_) * 4),
+      // The densities and fresh measurements hold whole 32-cell words, the padding 0: occupancy_ema
+      // and occupancy_mean read and write them a vec4 at a time.
+      density_(ctx, VkDeviceSize(numWords()) * 32 * 4),
       bits_(ctx, VkDeviceSize(numWords()) * 4),
-      fresh_(ctx, VkDeviceSize(numCells_) * 4),
+      fresh_(ctx, VkDeviceSize(numWords()) * 32 * 4),
       counter_(ctx, 4),
       mean_(ctx, 4),
       meanPartials_(ctx, VkDeviceSize(kOccupancyMeanGroups) * 4),
+      wordSums_(ctx, VkDeviceSize(numWords()) * 4),
       points_(ctx, {gpu::shaders::occupancy_points, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(PointsPush), {}}),
       splat_(ctx, {gpu::shaders::occupancy_splat, {gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
                    sizeof(SplatPush), {}}),
-      ema_(ctx, {gpu::shaders::occupancy_ema, std::vector<gpu::Binding>(4, gpu::Binding::Storage), sizeof(EmaPush), {}}),
-      meanKernel_(ctx, {gpu::shaders::occupancy_mean, std::vector<gpu::Binding>(3, gpu::Binding::Storage), sizeof(MeanPush), {}}),
+      ema_(ctx, {gpu::shaders::occupancy_ema, std::vector<gpu::Binding>(5, gpu::Binding::Storage), sizeof(EmaPush), {}}),
+      meanKernel_(ctx, {gpu::shaders::occupancy_mean, std::vector<gpu::Binding>(4, gpu::Binding::Storage), sizeof(MeanPush), {}}),
       count_(ctx, {gpu::shaders::occupancy_count, {gpu::Binding::Storage, gpu::Binding::Storage}, sizeof(CountPush), {}}),
       unseen_(ctx, {gpu::shaders::occupancy_mark_unseen, {gpu::Binding::Storage, gpu::Binding::Storage},
                     sizeof(UnseenPush), {}}) {
   density_.zero();
   bits_.zero();
   mean_.zero();
+  wordSums_.zero();  // read only after an EMA wrote them; zeros should a recorded EMA never run
 }
 
 void OccupancyGrid::recordMarkAllOccupied(gpu::Recorder& rec) { rec.fill(bits_, 0xffffffffu); }
@@ -84,8 +88,7 @@ void OccupancyGrid::markUnseenEmpty(std::span<const Camera> cameras, const Aabb&
   // bits = d > -1/2: every cell a camera sees (d >= 0) occupied, the unseen ones (d = -1) empty;
   // decay 1 and no fresh measurement leave the densities as they are.
   rec.fill(fresh_, 0u);
-  EmaPush ep{numCells_, 1.0f, -0.5f, 0u};
-  rec.dispatchFlat(ema_, {density_, fresh_, bits_, mean_}, ep, numWords(), kEmaLocal, "occupancy_ema");
+  recordEma(rec, 1.0f, -0.5f, false);
   rec.end();
   rec.submitAndWait();
 }
@@ -129,15 +132,23 @@ void OccupancyGrid::recordUpdate(gpu::Recorder& rec, const Measured& measured, c
   rec.fill(fresh_, 0u);
   SplatPush sp{count, densityStride, densityComponent};
   rec.dispatchFlat(splat_, {cells, density, fresh_}, sp, count, kSplatLocal, "occupancy_splat");
-  EmaPush ep{numCells_, decay, threshold, capAtMeanDensity ? 1u : 0u};
-  rec.dispatchFlat(ema_, {density_, fresh_, bits_, mean_}, ep, numWords(), kEmaLocal, "occupancy_ema");
+  recordEma(rec, decay, threshold, capAtMeanDensity);
+}
+
+void OccupancyGrid::recordEma(gpu::Recorder& rec, float decay, float threshold, bool capAtMean) {
+  EmaPush ep{numCells_, decay, threshold, capAtMean ? 1u : 0u};
+  rec.dispatchFlat(ema_, {density_, fresh_, bits_, mean_, wordSums_}, ep, numWords(), kEmaLocal, "occupancy_ema");
+  wordSumsCurrent_ = true;
 }
 
 void OccupancyGrid::recordMeanDensity(gpu::Recorder& rec) {
-  const uint32_t chunk = (numCells_ + kOccupancyMeanGroups - 1) / kOccupancyMeanGroups;
-  rec.dispatch(meanKernel_, {density_, meanPartials_, mean_}, MeanPush{numCells_, chunk, 0}, kOccupancyMeanGroups, 1, 1,
-               "occupancy_mean_partials");
-  rec.dispatch(meanKernel_, {density_, meanPartials_, mean_}, MeanPush{numCells_, chunk, 1}, 1, 1, 1, "occupancy_mean");
+  const uint32_t fromWordSums = wordSumsCurrent_ ? 1 : 0;
+  const uint32_t terms = fromWordSums ? numWords() : (numCells_ + 3) / 4;  // sums of 32 cells, or vec4s of cells
+  const uint32_t chunk = (terms + kOccupancyMeanGroups - 1) / kOccupancyMeanGroups;
+  rec.dispatch(meanKernel_, {density_, meanPartials_, mean_, wordSums_}, MeanPush{numCells_, chunk, 0, fromWordSums},
+               kOccupancyMeanGroups, 1, 1, "occupancy_mean_partials");
+  rec.dispatch(meanKernel_, {density_, meanPartials_, mean_, wordSums_}, MeanPush{numCells_, chunk, 1, fromWordSums}, 1, 1,
+               1, "occupancy_mean");
 }
 
 void OccupancyGrid::recordCountOccupied(gpu::Recorder& rec, gpu::Buffer& counter) {

@@ -48,7 +48,12 @@ class OccupancyGrid {
   uint32_t numWords() const { return (numCells_ + 31u) / 32u; }
   const gpu::Buffer& density() const { return density_; }
   const gpu::Buffer& bits() const { return bits_; }
-  gpu::Buffer& density() { return density_; }
+  // The densities to write (a checkpoint's load, a test): the next mean reads every cell again,
+  // not the word sums of the last update (recordMeanDensity).
+  gpu::Buffer& density() {
+    wordSumsCurrent_ = false;
+    return density_;
+  }
   gpu::Buffer& bits() { return bits_; }
 
   static float densityThreshold(float opticalThickness, float dt) { return opticalThickness / dt; }
@@ -91,7 +96,9 @@ class OccupancyGrid {
   };
   // EMA and bits from `measured`. NaN and negative densities count as 0, +inf as FLT_MAX.
   void recordUpdate(gpu::Recorder& rec, const Measured& measured, const Update& update);
-  // The mean over all cells of the density (non-finite values as 0), one float into meanDensity().
+  // The mean over all cells of the density (non-finite values as 0), one float into meanDensity():
+  // from the sums of 32 cells the last update's EMA wrote, when no one has taken the densities to
+  // write since, else from every cell.
   void recordMeanDensity(gpu::Recorder& rec);
   const gpu::Buffer& meanDensity() const { return mean_; }
 
@@ -107,8 +114,10 @@ class OccupancyGrid {
  private:
   Context& ctx_;
   uint32_t resolution_, cascades_, numCells_;
-  gpu::Buffer density_, bits_, fresh_, counter_, mean_, meanPartials_;
+  gpu::Buffer density_, bits_, fresh_, counter_, mean_, meanPartials_, wordSums_;
   gpu::Kernel points_, splat_, ema_, meanKernel_, count_, unseen_;
+  bool wordSumsCurrent_ = false;  // wordSums_ holds the sums of the densities as they are
+  void recordEma(gpu::Recorder& rec, float decay, float threshold, bool capAtMean);
 };
 
 }  // namespace vknerf::nerf

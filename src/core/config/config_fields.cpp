@@ -215,7 +215,7 @@ std::vector<ConfigField> table() {
           .flagRange(0, 64),
       // 0: from the march steps (src/models/fast/fast_capacity.h)
       model("grid_resolution", &FastModel::gridResolution).addedLater().range(1, 256).zeroIsAuto()
-          .flag("--grid", "fast: occupancy grid cells per axis (default on a CPU: half the march steps, 64 to 128)").flagRange(1, 256),
+          .flag("--grid", "fast: occupancy grid cells per axis (default on a CPU: half the march steps, 64 to 128; 64 with the proposal sampler)").flagRange(1, 256),
       model("cascades", &FastModel::cascades).addedLater(1u).range(0, 8)  // models saved before cascades have one
           .flag("--cascades", "fast: nested occupancy cascades (default: from the scene's aabb_scale)").flagRange(1, 8),
       model("cone_angle", &FastModel::coneAngle).addedLater().range(0.0, 1.0)

@@ -297,10 +297,15 @@ TEST(FastChoices, TheSamplerFollowsThePhotosAlpha) {
 }
 
 // The occupancy grid, left open: half the march steps per axis (the steps resolved first, or as
-// configured), within 64..128 on a CPU and 64..256 elsewhere; a set value is kept.
+// configured), within 64..128 on a CPU (64 with the proposal sampler) and 64..256 elsewhere; a set
+// value is kept.
 TEST(FastCapacity, OccupancyGridFollowsTheMarchSteps) {
-  auto gridFor = [](uint32_t marchSteps, float fovX, bool cpu, uint32_t gridResolution = 0) {
-    const Resolved r = resolvedAt(marchSteps, fovX, cpu, [&](FastModel& m) { m.gridResolution = gridResolution; });
+  auto gridFor = [](uint32_t marchSteps, float fovX, bool cpu, uint32_t gridResolution = 0,
+                    Sampler sampler = Sampler::March) {
+    const Resolved r = resolvedAt(marchSteps, fovX, cpu, [&](FastModel& m) {
+      m.gridResolution = gridResolution;
+      m.sampler = sampler;
+    });
     if (gridResolution == 0)
       EXPECT_NE(r.note.find("occupancy grid: " + std::to_string(r.m.gridResolution) + "^3"), std::string::npos) << r.note;
     else
@@ -313,4 +318,10 @@ TEST(FastCapacity, OccupancyGridFollowsTheMarchSteps) {
   EXPECT_EQ(gridFor(0, 4.6f, false), std::pair(1024u, 256u));
   EXPECT_EQ(gridFor(64, 60, true), std::pair(64u, 64u));      // a coarser march: the floor
   EXPECT_EQ(gridFor(0, 17.5f, true, 32), std::pair(256u, 32u));
+  // With the proposal: 64^3 on a CPU whatever the march (flower's and the full-size cup's 256 steps),
+  // a GPU's rule unchanged; a set value kept.
+  EXPECT_EQ(gridFor(0, 17.5f, true, 0, Sampler::Proposal), std::pair(256u, 64u));
+  EXPECT_EQ(gridFor(0, 4.6f, true, 0, Sampler::Proposal), std::pair(512u, 64u));
+  EXPECT_EQ(gridFor(0, 4.6f, false, 0, Sampler::Proposal), std::pair(1024u, 256u));
+  EXPECT_EQ(gridFor(0, 17.5f, true, 128, Sampler::Proposal), std::pair(256u, 128u));
 }

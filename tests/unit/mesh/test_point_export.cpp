@@ -12,6 +12,7 @@
 #include "support/gpu_test.h"
 #include "support/ply_reader.h"
 #include "support/temp_dir.h"
+#include "support/tiny_config.h"
 #include "vknerf/error.h"
 #include "vknerf/point_cloud.h"
 #include "vknerf/trainer.h"
@@ -147,7 +148,7 @@ class PointExport : public test::GpuTest {};
 // from the camera's centre.
 TEST_F(PointExport, TinyModelGivesAPointPerOpaquePixel) {
   Dataset data = Dataset::load(test::scene(), {.downscale = 10});
-  Trainer trainer(test::sharedContext(), data, TrainConfig::vanilla(ctx()));
+  Trainer trainer(test::sharedContext(), data, test::tinyVanillaConfig());
   for (int i = 0; i < 2; ++i) trainer.step();
   const Camera& cam = data.cameras[0];
   const RenderedImage img = trainer.model().render(cam);

@@ -79,6 +79,15 @@ void expectSameImage(const std::vector<float>& a, const std::vector<float>& b, d
   EXPECT_LE(worst, tol);
 }
 
+// smallFast() at a quarter of its step: for tests of what the host does over many steps (waits,
+// descriptor sets, ray counts), not of what the field learns.
+TrainConfig cheapSteps() {
+  TrainConfig c = smallFast();
+  c.fastModel().samplesPerBatch = 1u << 12;
+  c.raysPerBatch = 1u << 10;
+  return c;
+}
+
 class FastPipelineTest : public test::GpuTest {};
 
 }  // namespace
@@ -141,8 +150,9 @@ TEST_F(FastPipelineTest, TheProposalPlacesTheSamplesItIsTrainedFor) {
   const std::string path = tmp.file("proposal.vknerf"), initial = tmp.file("initial.vknerf");
   trainer->save(initial);
   StepStats st;
-  for (int i = 0; i < 120; ++i) {
-    st = trainer->step(i == 0 || i == 119);
+  // 60 steps: 19.3 dB held-out against the bar of 17.1 below (measured; 21.3 dB at 120 steps).
+  for (int i = 0; i < 60; ++i) {
+    st = trainer->step(i == 0 || i == 59);
     if (!st.hasLoss) continue;
     EXPECT_TRUE(std::isfinite(st.loss));
     ASSERT_EQ(st.lossTerms.size(), 1u);
@@ -424,11 +434,11 @@ TEST_F(FastPipelineTest, UnknownConfigurationIsAnError) {
 
 // Each step binds ranges sized by its own ray and sample counts. The kernels' descriptor-set cache
 // must not grow with the number of steps (a GPU run of many thousand steps would keep adding sets
-// and texel views). Keyed by exact ranges it grew by about 4 sets a step here (205 sets after 40
-// steps, 935 after 240); with ranges rounded to powers of two it made 70 and then 75. A drift of the
+// and texel views). Keyed by exact ranges it grew by about 3 sets a step here (237 sets after 60
+// steps, 602 after 180); with ranges rounded to powers of two it made 77 and then 82. A drift of the
 // counts may still reach a new power of two, hence a margin of a quarter rather than none.
 TEST_F(FastPipelineTest, ALongRunKeepsItsDescriptorSetsBounded) {
-  Trainer trainer(sharedContext(), scene("train"), smallFast());
+  Trainer trainer(sharedContext(), scene("train"), cheapSteps());
   const auto& sets = gpu::device(*sharedContext()).cachedDescriptorSets();
   const auto run = [&](int steps) {
     for (int i = 0; i < steps; ++i) trainer.step(false);
@@ -452,7 +462,7 @@ TEST_F(FastPipelineTest, ATrainingStepWaitsOnceForTheDeviceOnADiscreteGpu) {
   DatasetOptions d;
   d.downscale = 4;
   const Dataset photos = Dataset::load(std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop", d);
-  Trainer trainer(discrete, photos, smallFast());
+  Trainer trainer(discrete, photos, cheapSteps());
   const auto& waits = gpu::device(*discrete).hostWaits();
   // Warm-up: the first steps and the first occupancy update allocate their scratch buffers (and
   // fill them, a one-time submission each).
@@ -476,7 +486,7 @@ TEST_F(FastPipelineTest, ASubmittedStepIsNotWaitedForUntilTheNextIsSubmitted) {
   DatasetOptions d;
   d.downscale = 4;
   const Dataset photos = Dataset::load(std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop", d);
-  Trainer trainer(discrete, photos, smallFast());
+  Trainer trainer(discrete, photos, cheapSteps());
   const auto& waits = gpu::device(*discrete).hostWaits();
   for (int i = 0; i < 20; ++i) trainer.step(false);  // warm-up, as above
   EXPECT_FALSE(trainer.submitStep(true).has_value()) << "no step was in flight before the first";
@@ -508,7 +518,7 @@ TEST_F(FastPipelineTest, SubmittedStepsTrainAsWaitedSteps) {
   DatasetOptions d;
   d.downscale = 4;
   const Dataset photos = Dataset::load(std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop", d);
-  TrainConfig cfg = smallFast();
+  TrainConfig cfg = cheapSteps();
   cfg.fastModel().gridUpdateInterval = 4;  // the occupancy updates and their threshold change too
   constexpr uint32_t kSteps = 40;
   std::vector<StepStats> waited, submitted;

@@ -675,10 +675,11 @@ TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
   }
   const std::string fifo = temp("summary_pipe"), model = temp("fifo.vknerf"), out = temp("fifo.out");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  // A watchdog ends the train if the signal does not, so that a failure cannot hang the test.
+  // A watchdog ends the train if the signal does not, so that a failure cannot hang the test; its
+  // output goes elsewhere, or its sleep would hold the test's pipe open for 30 s after it is killed.
   auto r = runCli("train " + scene() + " -o " + model + kTiny + " --steps 1 --summary " + fifo + " > " + out +
                   " 2>&1 & pid=$!; for i in $(seq 1200); do grep -q 'model saved to' " + out +
-                  " && break; sleep 0.1; done; sleep 0.5; kill -TERM $pid; (sleep 30; kill -KILL $pid) 2>/dev/null & dog=$!; "
+                  " && break; sleep 0.1; done; sleep 0.5; kill -TERM $pid; (sleep 30; kill -KILL $pid) >/dev/null 2>&1 & dog=$!; "
                   "wait $pid; s=$?; kill $dog; cat " + out + "; exit $s");
   EXPECT_EQ(r.code, 143) << r.output;
   EXPECT_NE(r.output.find("model saved to " + model), std::string::npos) << r.output;

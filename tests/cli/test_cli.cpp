@@ -48,14 +48,16 @@ TEST(Cli, UnknownDeviceIsARuntimeError) {
   EXPECT_NE(r.output.find("no-such-gpu"), std::string::npos) << r.output;
 }
 
-// SIGINT or SIGTERM after a few seconds: training stops at a step boundary, saves, exits 128 + signal.
-// A tiny vanilla model (--coarse/--fine are vanilla's flags): small steps, so one ends soon after the signal.
+// SIGINT or SIGTERM once training has logged a step: it stops at a step boundary, saves, exits
+// 128 + signal. A tiny vanilla model (--coarse/--fine are vanilla's flags): small steps, so one ends
+// soon after the signal.
 void interruptSavesALoadableCheckpoint(const std::string& signal, int expectedCode) {
   auto model = temp("interrupted_" + signal + ".vknerf"), out = temp("interrupted_render_" + signal);
+  const std::string log = temp("interrupted_" + signal + ".log");
   auto r = runCli("train " + scene() + " -o " + model +
                   " --config vanilla --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128 --steps 1000000"
-                  " --save-every 0 2>&1"
-                  " & pid=$!; sleep 6; kill -" + signal + " $pid; wait $pid");
+                  " --save-every 0 --log-every 1 > " + log + " 2>&1 & pid=$!; for i in $(seq 1200); do grep -q '^step ' " + log +
+                  " && break; sleep 0.1; done; kill -" + signal + " $pid; wait $pid; s=$?; cat " + log + "; exit $s");
   EXPECT_EQ(r.code, expectedCode) << r.output;
   EXPECT_NE(r.output.find("interrupted after"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(" s compiling ("), std::string::npos) << "the summary says how long the kernels took\n" << r.output;

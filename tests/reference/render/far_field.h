@@ -6,6 +6,7 @@
 // (FarFieldShape) is production's: src/core/layouts/far_field_shape.h.
 #include <array>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "core/layouts/far_field_shape.h"
@@ -21,13 +22,19 @@ template <class T> std::array<T, 3> unitDirection(const T* d) {
   return {d[0] / n, d[1] / n, d[2] / n};
 }
 
+// The table in the precision T the encoding runs in: the caller's own vector when it already is
+// (a finite-difference check calls this hundreds of times over the whole table), else a copy.
+template <class T, class P> decltype(auto) tableAs(const std::vector<P>& table) {
+  if constexpr (std::is_same_v<T, P>) return (table);
+  else return std::vector<T>(table.begin(), table.end());
+}
+
 // bg(d): rgb in (0, 1).
 template <class T, class P>
 std::array<T, 3> farFieldColor(const FarFieldShape& s, const std::vector<P>& table, const std::vector<P>& mlp,
                                const T* direction) {
   const auto u = unitDirection(direction);
-  const std::vector<T> tableT(table.begin(), table.end());
-  const auto features = hashEncoding(s.grid, tableT.data(), u.data());
+  const auto features = hashEncoding(s.grid, tableAs<T>(table).data(), u.data());
   const auto acts = denseMlpForward<T>(s.mlp, mlp, features.data());
   return {acts.back()[0], acts.back()[1], acts.back()[2]};
 }
@@ -38,8 +45,7 @@ template <class T, class P>
 void farFieldBackward(const FarFieldShape& s, const std::vector<P>& table, const std::vector<P>& mlp, const T* direction,
                       T opacity, const T* dColor, std::vector<T>& tableGrads, std::vector<T>& mlpGrads) {
   const auto u = unitDirection(direction);
-  const std::vector<T> tableT(table.begin(), table.end());
-  const auto features = hashEncoding(s.grid, tableT.data(), u.data());
+  const auto features = hashEncoding(s.grid, tableAs<T>(table).data(), u.data());
   const auto acts = denseMlpForward<T>(s.mlp, mlp, features.data());
   const T transmittance = T(1) - opacity;
   const T dBg[3] = {dColor[0] * transmittance, dColor[1] * transmittance, dColor[2] * transmittance};

@@ -28,6 +28,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using vknerf::test::runCli;
 using vknerf::test::scene;
+using vknerf::test::shellWaitUntil;
 using vknerf::test::temp;
 
 namespace {
@@ -665,8 +666,8 @@ TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
     SCOPED_TRACE(signal);
     const std::string dir = temp("bench_stopped_" + signal), log = dir + "/runs/tabletop.train.log";
     auto r = runCli("bench scenes " + scene() + " --steps 100000 --config vanilla --downscale 4 -o " + dir + tiny +
-                    " > " + dir + ".out 2>&1 & pid=$!; for i in $(seq 1200); do grep -q '^step ' " + log +
-                    " 2>/dev/null && break; sleep 0.1; done; kill -" + signal + " $pid; wait $pid; s=$?; cat " + dir + ".out; exit $s");
+                    " > " + dir + ".out 2>&1 & pid=$!; " + shellWaitUntil("grep -q '^step ' " + log + " 2>/dev/null") +
+                    "kill -" + signal + " $pid; wait $pid; s=$?; cat " + dir + ".out; exit $s");
     EXPECT_EQ(r.code, code) << r.output;
     EXPECT_NE(r.output.find("bench scenes: stopped by SIG" + signal), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("train failed (exit " + std::to_string(code) + ")"), std::string::npos) << r.output;
@@ -678,8 +679,7 @@ TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
   // A watchdog ends the train if the signal does not, so that a failure cannot hang the test; its
   // output goes elsewhere, or its sleep would hold the test's pipe open for 30 s after it is killed.
   auto r = runCli("train " + scene() + " -o " + model + kTiny + " --steps 1 --summary " + fifo + " > " + out +
-                  " 2>&1 & pid=$!; for i in $(seq 1200); do grep -q 'model saved to' " + out +
-                  " && break; sleep 0.1; done; sleep 0.5; kill -TERM $pid; (sleep 30; kill -KILL $pid) >/dev/null 2>&1 & dog=$!; "
+                  " 2>&1 & pid=$!; " + shellWaitUntil("grep -q 'model saved to' " + out) + "sleep 0.5; kill -TERM $pid; (sleep 30; kill -KILL $pid) >/dev/null 2>&1 & dog=$!; "
                   "wait $pid; s=$?; kill $dog; cat " + out + "; exit $s");
   EXPECT_EQ(r.code, 143) << r.output;
   EXPECT_NE(r.output.find("model saved to " + model), std::string::npos) << r.output;
@@ -694,8 +694,8 @@ TEST(BadInput, SignalsReachChildrenAndBlockedWrites) {
   std::ofstream(bin + "/colmap") << "#!/bin/sh\necho $$ > " + pidFile + "\nexec sleep 600\n";
   fs::permissions(bin + "/colmap", fs::perms::owner_all);
   const std::string photos = photoFolder("photos_for_stopped_colmap", 3), processed = temp("stopped_process");
-  r = runCli("process " + photos + " -o " + processed + " > " + said + " 2>&1 & pid=$!; for i in $(seq 1200); do test -s " +
-             pidFile + " && break; sleep 0.1; done; kill -TERM $pid; wait $pid; s=$?; cat " + said + "; exit $s",
+  r = runCli("process " + photos + " -o " + processed + " > " + said + " 2>&1 & pid=$!; " + shellWaitUntil("test -s " + pidFile) +
+             "kill -TERM $pid; wait $pid; s=$?; cat " + said + "; exit $s",
              "PATH=" + bin + ":$PATH");
   EXPECT_EQ(r.code, 143) << r.output;
   EXPECT_NE(r.output.find("vknerf: stopped by SIGTERM"), std::string::npos) << r.output;

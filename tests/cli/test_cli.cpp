@@ -12,6 +12,7 @@
 
 using vknerf::test::runCli;
 using vknerf::test::scene;
+using vknerf::test::shellWaitUntil;
 using vknerf::test::temp;
 
 TEST(Cli, HelpAndUsageErrors) {
@@ -56,8 +57,8 @@ void interruptSavesALoadableCheckpoint(const std::string& signal, int expectedCo
   const std::string log = temp("interrupted_" + signal + ".log");
   auto r = runCli("train " + scene() + " -o " + model +
                   " --config vanilla --downscale 4 --width 16 --depth 2 --coarse 8 --fine 8 --rays 128 --steps 1000000"
-                  " --save-every 0 --log-every 1 > " + log + " 2>&1 & pid=$!; for i in $(seq 1200); do grep -q '^step ' " + log +
-                  " && break; sleep 0.1; done; kill -" + signal + " $pid; wait $pid; s=$?; cat " + log + "; exit $s");
+                  " --save-every 0 --log-every 1 > " + log + " 2>&1 & pid=$!; " +
+                  shellWaitUntil("grep -q '^step ' " + log) + "kill -" + signal + " $pid; wait $pid; s=$?; cat " + log + "; exit $s");
   EXPECT_EQ(r.code, expectedCode) << r.output;
   EXPECT_NE(r.output.find("interrupted after"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(" s compiling ("), std::string::npos) << "the summary says how long the kernels took\n" << r.output;

@@ -35,6 +35,13 @@ inline CliResult runCli(const std::string& args, const std::string& env = "") {
   return r;
 }
 
+// A shell fragment that waits until `condition` (a shell command) succeeds, polling every 0.1 s
+// for at most 2 minutes: for a test that signals a command it started in the background once
+// that command has reached a given point.
+inline std::string shellWaitUntil(const std::string& condition) {
+  return "for i in $(seq 1200); do " + condition + " && break; sleep 0.1; done; ";
+}
+
 inline std::string scene() { return std::string(VKNERF_SOURCE_DIR) + "/assets/tabletop"; }
 
 // A path in a temporary folder of this test process, removed when it exits.

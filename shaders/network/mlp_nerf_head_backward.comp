@@ -3,6 +3,10 @@
 //   dZH = (dL/drgb * rgb (1 - rgb), 0)                      (pre-sigmoid; for the head's dW)
 //   dF[SIGMA_COL] = (dL/dsigma * density'(f[W]), 0, 0, 0)   (the feature layer's sigma column)
 //   dC = (dZH H^T) * [c > 0]                                 (the colour layer's dZ)
+// COLOUR = 0, after a density-only forward (NerfRows::densityOnly: a proposal's, trained on its
+// density alone): the rgb of dOut is not read and the colour branch has no gradient, so dF's row is
+// written whole, its feature columns 0 (what the colour layer's input gradient gives for a zero
+// dL/drgb), and neither dZH nor dC is written; Out and C are not read.
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
@@ -28,10 +32,16 @@ void main() {
   if (count == 0u) return;
   uint rc = gatheredRow(min(row, count - 1u), pc.gather);
   vec4 g = imageLoad(DOut, int(rc * pc.strideDOut4));
-  vec4 o = imageLoad(Out, int(rc * pc.strideOut4));
-  vec4 dzh = vec4(g.xyz * o.xyz * (1.0 - o.xyz), 0.0);
   float sigmaPre = imageLoad(F, int(rc * pc.strideF4 + SIGMA_COL / 4u)).x;
   float dsigma = g.w * mlpDensityGrad(DENSITY, sigmaPre);
+  if (COLOUR == 0u) {
+    if (row >= count) return;
+    [[unroll]] for (uint q = 0; q < SIGMA_COL / 4u; q++) df4[row * pc.strideDF4 + q] = vec4(0.0);
+    df4[row * pc.strideDF4 + SIGMA_COL / 4u] = vec4(dsigma, 0.0, 0.0, 0.0);
+    return;
+  }
+  vec4 o = imageLoad(Out, int(rc * pc.strideOut4));
+  vec4 dzh = vec4(g.xyz * o.xyz * (1.0 - o.xyz), 0.0);
   if (row >= count) return;
   dzh4[row] = dzh;
   df4[row * pc.strideDF4 + SIGMA_COL / 4u] = vec4(dsigma, 0.0, 0.0, 0.0);

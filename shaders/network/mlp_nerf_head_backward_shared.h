@@ -10,6 +10,7 @@ SPEC_CONSTANTS_BEGIN(MlpHeadBackwardSpec)
   SPEC_CONSTANT(2, uint, WOFF4, 0)
   SPEC_CONSTANT(3, uint, SIGMA_COL, 128)
   SPEC_CONSTANT(4, uint, DENSITY, 0)
+  SPEC_CONSTANT(5, uint, COLOUR, 1)  // 0: a density-only forward's backward (the head's comment)
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpHeadBackwardPush)

@@ -10,6 +10,7 @@ SPEC_CONSTANTS_BEGIN(MlpHeadSpec)
   SPEC_CONSTANT(2, uint, WOFF4, 0)
   SPEC_CONSTANT(3, uint, SIGMA_COL, 128)  // multiple of 4
   SPEC_CONSTANT(4, uint, DENSITY, 0)      // MLP_DENSITY_*
+  SPEC_CONSTANT(5, uint, COLOUR, 1)       // 0: the density alone, rgb written 0 (C unread)
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpHeadPush)

@@ -100,7 +100,7 @@ void FastField::recordForward(gpu::Recorder& rec, const FieldRows& rows, bool ke
   mlpRows.rowGather = rows.gather;
   mlpRows.densityOnly = rows.densityOnly;
   // The direction's encoding only where the network reads it.
-  if (!mlp_.computesDensityAlone(mlpRows, keep))
+  if (!rows.densityOnly)
     sh_.recordForward(rec, {rows.count, f.directions, f.dirFeatures, mlp_.dirStride(), 0, rows.limit, rows.gather});
   mlp_.recordForward(rec, mlpRows, network_.params(), keep ? f.workspace.get() : nullptr);
 }
@@ -119,6 +119,7 @@ void FastField::recordBackward(gpu::Recorder& rec, const FieldBackwardRows& rows
   gradients.dColour = targets.dColour;
   nerf::NerfRows mlpRows = f.mlpRows(rows.count);
   mlpRows.rowLimit = rows.limit;
+  mlpRows.densityOnly = rows.densityOnly;
   mlp_.recordBackward(rec, mlpRows, network_.params(), gradients, *f.workspace);
   // The encoding's backward also gives dL/dp where it is asked for, from its parameters before
   // their optimizer step.

@@ -39,7 +39,8 @@ PositionEncoding hashGridPosition(Context& ctx, const TrainConfig& config, bool 
 // The rows a forward runs over: `count` rows of the batch, cut on the device to `limit` (a uint)
 // or gathered through `gather` (uint per row, the rows a training segment computes); colourBias:
 // added to the colour layer's pre-activation; densityOnly: only the density of batch().field is
-// read (nerf::NerfRows::densityOnly), so the colour may be skipped.
+// read and trained (nerf::NerfRows::densityOnly): the colour branch and the direction's encoding
+// are skipped, and a backward of these rows says densityOnly too.
 struct FieldRows {
   uint32_t count = 0;
   std::optional<gpu::BufferRange> limit, gather;
@@ -48,11 +49,13 @@ struct FieldRows {
 };
 
 // The rows a backward runs over: `count` rows below `limit`, their positions (vec4 per row) and,
-// for a packed batch (the kept samples), row i the forward's row gather[i].
+// for a packed batch (the kept samples), row i the forward's row gather[i]; densityOnly: the
+// forward's was (only dField's sigma is read).
 struct FieldBackwardRows {
   uint32_t count = 0;
   gpu::BufferRange positions, limit;
   std::optional<gpu::BufferRange> gather;
+  bool densityOnly = false;
 };
 
 class FastField {

@@ -399,8 +399,9 @@ void FastPipeline::recordProposal(gpu::Recorder& rec, const nerf::RaySpan& rays,
   FieldBatch& p = proposal_->batch();
   const nerf::PackedSamples candidates = estimator_.samples();
   points_.record(rec, sampleCapacity_, rays.range, candidates, box_, {p.positions, p.directions}, true);
-  // A render reads the proposal's densities alone; a training step keeps its activations whole.
-  proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt, !training}, training);
+  // The proposal's densities alone are read and trained (nerfacto's proposal has no colour): its
+  // colour layer and head take no gradient, and are neither run nor differentiated.
+  proposal_->recordForward(rec, {sampleCapacity_, candidates.total(), std::nullopt, std::nullopt, true}, training);
   // The placement's jitter draws from its own stream: the march's draws are keyed by the same seed.
   const nerf::ProposalSampler::Draws draws{model_.proposalSamples, {seed ^ 0x9e3779b9u, training}, kProposalPadding,
                                            training ? step->anneal : 1.0f,
@@ -419,7 +420,8 @@ void FastPipeline::recordProposalBackward(gpu::Recorder& rec, uint32_t R) {
   interlevel_->record(rec, R, {candidates.offsets, candidates.samples, p.field}, fieldSamples(), weights_, terms,
                       {proposalWeightGrads_, p.dField, interlevelValues_});
   report().recordTerm(rec, *interlevelTerm_, {interlevelValues_, R, 1, 0});
-  proposal_->recordBackward(rec, {sampleCapacity_, gpu::BufferRange(p.positions), candidates.total(), std::nullopt}, {});
+  proposal_->recordBackward(rec, {sampleCapacity_, gpu::BufferRange(p.positions), candidates.total(), std::nullopt, true},
+                            {});
 }
 
 void FastPipeline::recordProposalRender(gpu::Recorder& rec, uint32_t count, bool mayWait) {

@@ -113,16 +113,20 @@ void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu:
   if (keep && keep->capacity_ < count)
     throw Error("NeRF MLP: workspace holds " + std::to_string(keep->capacity_) + " rows, batch has " + std::to_string(count));
   const gpu::BufferRange* rowGather = rows.rowGather ? &*rows.rowGather : nullptr;
-  // The fused kernel has no row index: a gathered forward goes layer by layer.
-  if (!rowGather && fusedForward(keep != nullptr)) return recordFusedForward(rec, rows, params, keep);
+  // The fused kernel has no row index, and its density-only variant keeps nothing: a gathered forward
+  // and a kept density-only one go layer by layer.
+  if (!rowGather && fusedForward(keep != nullptr) && !(keep && rows.densityOnly))
+    return recordFusedForward(rec, rows, params, keep);
   Workspace& ws = keep ? *keep : inferenceScratch();
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
   const uint32_t chunk = keep ? chunkRows_ : std::min(chunkRows_, ws.capacity_);
   if (rowGather && !keep) throw Error("NeRF MLP: a forward read through a row index keeps its activations");
   if (rowGather) gpu::requireGatherInOneChunk("NeRF MLP forward", *rowGather, count, chunk);
-  if (!head_) {
+  const uint32_t colour = rows.densityOnly ? 0u : 1u;
+  std::unique_ptr<gpu::Kernel>& headKernel = head_[colour];
+  if (!headKernel) {
     const auto& h = shape_.head();
-    head_ = std::make_unique<gpu::Kernel>(
+    headKernel = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head,
                               {gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f, gpu::Binding::TexelRgba32f,
                                gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
@@ -131,7 +135,8 @@ void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu:
                                {HeadSpec::K4, h.ka4()},
                                {HeadSpec::WOFF4, uint32_t(h.offset / 4)},
                                {HeadSpec::SIGMA_COL, V},
-                               {HeadSpec::DENSITY, uint32_t(config_.density)}}});
+                               {HeadSpec::DENSITY, uint32_t(config_.density)},
+                               {HeadSpec::COLOUR, colour}}});
   }
   // Every dense layer has the same rows per workgroup (one tuning); the head has its own.
   limited_.begin(rec, rowLimit, count, chunk, {layers_[0].rowsPerGroup(), kHeadLocal});
@@ -145,9 +150,11 @@ void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu:
     if (rowGather) layerRows.gather = *rowGather;  // one chunk: the gathered rows index the whole batch
     const Mat h = recordTrunk(rec, layerRows, params, p, ws, row);
     layers_[D].recordForward(rec, layerRows.as("nerf feature+sigma"), params, h, h, F);
-    const std::optional<RowBias> bias = rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
-    layers_[D + 1].recordForward(rec, layerRows.as("nerf colour"), params, F, d, C, bias ? &*bias : nullptr);
-    gpu::dispatchLimited(rec, *head_, {C.range, F.range, params, o.range, rowGather ? *rowGather : o.range},
+    if (!rows.densityOnly) {
+      const std::optional<RowBias> bias = rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
+      layers_[D + 1].recordForward(rec, layerRows.as("nerf colour"), params, F, d, C, bias ? &*bias : nullptr);
+    }
+    gpu::dispatchLimited(rec, *headKernel, {C.range, F.range, params, o.range, rowGather ? *rowGather : o.range},
                          HeadPush{n, C.stride / 4, F.stride / 4, 1, 0, rowGather ? 1u : 0u}, head,
                          gpu::groupsFor(n, kHeadLocal), "nerf head");
   });
@@ -208,7 +215,7 @@ void NerfMlp::recordFusedForward(gpu::Recorder& rec, const NerfRows& rows, const
   const gpu::BufferRange &pos = rows.pos, &dir = rows.dir, &out = rows.out;
   const gpu::BufferRange* rowLimit = rows.rowLimit ? &*rows.rowLimit : nullptr;
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
-  const bool densityOnly = computesDensityAlone(rows, keep != nullptr);
+  const bool densityOnly = rows.densityOnly;  // recordForward sent a kept density-only forward layer by layer
   const uint32_t mode = rowBiasMode(rows.colourBias && !densityOnly ? &*rows.colourBias : nullptr);
   auto& kernel = densityOnly ? fusedDensity_ : fused_[keep ? 1 : 0][mode];
   if (!kernel) {
@@ -275,18 +282,23 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
   if (dColour) gpu::requireBytes("NeRF MLP backward", "dColour", *dColour, uint64_t(count) * (config_.width / 2) * 4);
   if (!ws.keep_ || ws.capacity_ < count)
     throw Error("NeRF MLP: backward needs the workspace of a forward pass over at least " + std::to_string(count) + " rows");
+  if (rows.densityOnly && (dDir || dColour))
+    throw Error("NeRF MLP: a density-only backward gives no direction or colour-layer gradient");
   const uint32_t W = config_.width, D = config_.depth, V = shape_.featureWidth;
-  if (!headBackward_) {
+  const uint32_t colour = rows.densityOnly ? 0u : 1u;
+  std::unique_ptr<gpu::Kernel>& headKernel = headBackward_[colour];
+  if (!headKernel) {
     const auto& h = shape_.head();
     std::vector<gpu::Binding> b(5, gpu::Binding::TexelRgba32f);
     b.insert(b.end(), 5, gpu::Binding::Storage);
-    headBackward_ = std::make_unique<gpu::Kernel>(
+    headKernel = std::make_unique<gpu::Kernel>(
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_nerf_head_backward, b, sizeof(HeadBackwardPush),
                               {{HeadBackwardSpec::LOCAL_SIZE_X, kHeadLocal},
                                {HeadBackwardSpec::K4, h.ka4()},
                                {HeadBackwardSpec::WOFF4, uint32_t(h.offset / 4)},
                                {HeadBackwardSpec::SIGMA_COL, V},
-                               {HeadBackwardSpec::DENSITY, uint32_t(config_.density)}}});
+                               {HeadBackwardSpec::DENSITY, uint32_t(config_.density)},
+                               {HeadBackwardSpec::COLOUR, colour}}});
   }
   const uint32_t chunk = std::min(chunkRows_, ws.scratchRows_);
   if (rowGather) gpu::requireGatherInOneChunk("NeRF MLP backward", *rowGather, count, chunk);
@@ -306,17 +318,20 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
 
     const gpu::BufferRange* gather = rowGather;  // one chunk: the gathered rows index the whole batch
     HeadBackwardPush hp{n, 1, 1, C.stride / 4, F.stride / 4, dF.stride / 4, dC.stride / 4, gather ? 1u : 0u, 0};
-    gpu::dispatchLimited(rec, *headBackward_,
+    gpu::dispatchLimited(rec, *headKernel,
                          {dO.range, o.range, C.range, F.range, params, dzh.range, dF.range, dC.range,
                           gather ? *gather : dzh.range},
                          hp, head, gpu::groupsFor(n, kHeadLocal), "nerf head backward");
     LayerRows layerRows{n, L};
     if (gather) layerRows.gather = *gather;
-    layers_[D + 2].recordBackwardWeights(rec, layerRows.as("nerf head dW"), C, C, dzh, grads);
-    layers_[D + 1].recordBackwardWeights(rec, layerRows.as("nerf colour dW"), F, d, dC, grads);
-    layers_[D + 1].recordBackwardInput(
-        rec, layerRows.as("nerf colour dX"), params, dC, F,
-        {GradMode::Store, dF, dDir ? GradMode::Store : GradMode::Skip, dD, gradients.dDirFirst});
+    // After a density-only forward the head wrote dF whole: the colour branch has no gradient.
+    if (!rows.densityOnly) {
+      layers_[D + 2].recordBackwardWeights(rec, layerRows.as("nerf head dW"), C, C, dzh, grads);
+      layers_[D + 1].recordBackwardWeights(rec, layerRows.as("nerf colour dW"), F, d, dC, grads);
+      layers_[D + 1].recordBackwardInput(
+          rec, layerRows.as("nerf colour dX"), params, dC, F,
+          {GradMode::Store, dF, dDir ? GradMode::Store : GradMode::Skip, dD, gradients.dDirFirst});
+    }
     layers_[D].recordBackwardWeights(rec, layerRows.as("nerf feature+sigma dW"), H(D - 1), H(D - 1), dF, grads);
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
     layers_[D].recordBackwardInput(rec, layerRows.as("nerf feature+sigma dX"), params, dF, H(D - 1),

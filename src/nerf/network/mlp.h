@@ -49,9 +49,11 @@ struct NerfRows {
   // The forward alone, with kept activations, in one chunk: row i of the batch is row rowGather[i]
   // of pos, dir, out, the activations and the colour bias (a uint per row); the other rows are left.
   std::optional<gpu::BufferRange> rowGather;
-  // Only the density is read (a proposal's weights): out's rgb may be left 0 and the colour branch
-  // skipped, as the fused forward without kept activations does; dir and colourBias are then unread
-  // there.
+  // Only the density is read and trained (a proposal's weights): the colour branch is skipped and
+  // out's rgb written 0; dir and colourBias are not read. A forward that keeps its activations keeps
+  // the trunk's and the feature layer's only, and its backward must be given densityOnly too: it
+  // reads dOut's sigma alone (rgb taken as 0, unread), leaves the colour layer's and the head's
+  // gradients as they are (they would be exactly 0) and takes no dDir or dColour.
   bool densityOnly = false;
 };
 
@@ -131,11 +133,6 @@ class NerfMlp {
   // Larger networks run layer by layer.
   static constexpr uint32_t kMaxFusedDepth = 2, kMaxFusedWidth = 64, kMaxFusedMultiplyAdds = 32768;
   bool fusedForward(bool keep) const;
-  // Whether a forward of `rows` computes the density alone (rows.densityOnly without kept
-  // activations or a gather, where the fused kernel runs): it then reads no direction.
-  bool computesDensityAlone(const NerfRows& rows, bool keep) const {
-    return rows.densityOnly && !keep && !rows.rowGather && fusedForward(false);
-  }
 
  private:
   Workspace& inferenceScratch();  // the activations of a forward without a workspace
@@ -150,7 +147,9 @@ class NerfMlp {
   core::NerfShape shape_;
   MlpTuning tuning_;
   std::vector<DenseLayer> layers_;  // trunk, feature, colour (the head has its own kernels)
-  std::unique_ptr<gpu::Kernel> head_, headBackward_, density_;
+  // The head's kernels, by COLOUR: [0] the density alone (NerfRows::densityOnly), [1] the whole head.
+  std::unique_ptr<gpu::Kernel> head_[2], headBackward_[2];
+  std::unique_ptr<gpu::Kernel> density_;
   std::unique_ptr<gpu::Kernel> fused_[2][3];  // the fused forward without / with the activations kept, by ROW_BIAS_*
   std::unique_ptr<gpu::Kernel> fusedDensity_;  // the fused forward of the density alone (NerfRows::densityOnly)
   gpu::LimitedDispatch limited_;          // the forward's workgroup counts under a row limit

@@ -49,6 +49,7 @@ struct NerfCase {
   uint32_t chunkRows = 0;  // 0: device default
   bool backward = true;
   uint32_t dDirFirst = 0;  // dDir's columns before it are not to be written
+  bool densityOnly = false;  // NerfRows::densityOnly: trained on sigma alone (dOut's rgb taken as 0)
 };
 
 constexpr float kUnwritten = -7.0f;  // what the kernels find in their outputs, where nothing is to be written
@@ -79,11 +80,26 @@ NerfRun runNerf(Context& ctx, nerf::NerfMlp& mlp, const NerfCase& c, const NerfD
   out.upload(sentinel);
   grads.zero();
   nerf::NerfMlp::Workspace ws(ctx, mlp, c.count);
+  if (c.densityOnly) {
+    // The whole network's step first, on the same workspace: its colour activations and gradients
+    // are left there (not zero), so a density-only pass that read them would show it.
+    auto finite = gpu::Buffer::of(ctx, features(c.count, 4, 4, 400));
+    auto dirs = gpu::Buffer::of(ctx, features(c.count, c.cfg.dirDims, mlp.dirStride(), 500));
+    gpu::Buffer scratch(ctx, d.params.size() * 4);
+    scratch.zero();
+    test::submitOnce(ctx, [&](gpu::Recorder& rec) {
+      const nerf::NerfRows rows{c.count, pos, dirs, out};
+      mlp.recordForward(rec, rows, params, &ws);
+      mlp.recordBackward(rec, rows, params, {finite, scratch}, ws);
+    });
+    out.upload(std::vector<float>(outFloats, kUnwritten));
+  }
   test::submitOnce(ctx, [&](gpu::Recorder& rec) {
-    const nerf::NerfRows rows{c.count, pos, dir, out};
+    nerf::NerfRows rows{c.count, pos, dir, out};
+    rows.densityOnly = c.densityOnly;
     mlp.recordForward(rec, rows, params, &ws);
     nerf::NerfGradients gradients{dOut, grads, gpu::BufferRange(dPos)};
-    gradients.dDir = gpu::BufferRange(dDir), gradients.dDirFirst = c.dDirFirst;
+    if (!c.densityOnly) gradients.dDir = gpu::BufferRange(dDir), gradients.dDirFirst = c.dDirFirst;
     if (c.backward) mlp.recordBackward(rec, rows, params, gradients, ws);
   });
   return {out.download<float>(outFloats), grads.download<float>(d.params.size()), dPos.download<float>(d.pos.size()),
@@ -115,6 +131,7 @@ NerfRef referenceNerf(const nerf::NerfMlp& mlp, const NerfCase& c, const NerfDat
     for (int k = 0; k < 4; ++k) r.out[4 * i + k] = fw.out[k];
     if (!c.backward) continue;
     std::array<double, 4> g{d.dOut[4 * i], d.dOut[4 * i + 1], d.dOut[4 * i + 2], d.dOut[4 * i + 3]};
+    if (c.densityOnly) g[0] = g[1] = g[2] = 0.0;
     ref::nerfBackward(s, d.params, pos.data(), dir.data(), fw, g, r.grads, &r.dPos[size_t(i) * mlp.posStride()],
                       &r.dDir[size_t(i) * mlp.dirStride()]);
   }
@@ -414,7 +431,7 @@ TEST_F(MlpNerf, DensityAloneMatchesTheForward) {
 // bias. Rows past the batch keep their sentinel. Shapes: the fast model's (64 wide, a 16-wide
 // feature) and the proposal's (16 wide, the whole layer as its feature, one direction coefficient),
 // under the device's tuning (fused on lavapipe) and with the fused kernel off, where the layered
-// forward computes the whole network and the density must come out the same.
+// forward skips the colour layer and writes the density from the feature layer's sigma column.
 TEST_F(MlpNerf, DensityOnlyForwardMatchesTheFullOne) {
   nerf::MlpConfig fast;
   fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
@@ -437,7 +454,7 @@ TEST_F(MlpNerf, DensityOnlyForwardMatchesTheFullOne) {
       const NerfData data = makeData(mlp, c);
       const std::vector<float> full = inferNerf(ctx(), mlp, c.count, data);
       NerfData noDirection = data;
-      if (fusedOn) std::fill(noDirection.dir.begin(), noDirection.dir.end(), std::nanf(""));
+      std::fill(noDirection.dir.begin(), noDirection.dir.end(), std::nanf(""));
       auto params = gpu::Buffer::of(ctx(), noDirection.params);
       auto pos = gpu::Buffer::of(ctx(), noDirection.pos), dir = gpu::Buffer::of(ctx(), noDirection.dir);
       auto out = gpu::Buffer::of(ctx(), std::vector<float>(size_t(c.count + 2) * 4, -7.0f));
@@ -456,11 +473,56 @@ TEST_F(MlpNerf, DensityOnlyForwardMatchesTheFullOne) {
       expectNear(gotSigma, fullSigma, kRounding, kRounding * maxAbs(fullSigma), "density against the full forward");
       expectNear(gotSigma, refSigma, kFwdRel, kFwdAbs, "density against the reference");
       EXPECT_GT(maxAbs(refSigma), 0.0);  // not a field of zeros
-      if (fusedOn)
-        for (uint32_t i = 0; i < c.count; ++i)
-          for (int k = 0; k < 3; ++k) ASSERT_EQ(got[4 * i + k], 0.0f) << "row " << i << ", channel " << k;
+      for (uint32_t i = 0; i < c.count; ++i)
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(got[4 * i + k], 0.0f) << "row " << i << ", channel " << k;
       for (size_t i = size_t(c.count) * 4; i < got.size(); ++i) EXPECT_EQ(got[i], -7.0f) << i;
     }
+}
+
+// Training on the density alone (NerfRows::densityOnly in the forward with kept activations and in
+// the backward: the proposal's, whose loss reads its sigma only): against the reference's forward
+// and its backward from dL/d(r, g, b, sigma) = (0, 0, 0, dSigma), the forward and gradient
+// tolerances above (the same sums as the whole network's, which FusedForwardMatchesTheLayeredOne and
+// ForwardAndBackwardMatchReference hold to them). dOut's rgb is NaN (never read); out's rgb is
+// exactly 0; the colour layer's and the head's gradients stay exactly 0 (not written: the buffer
+// starts zeroed); dPos holds the gradient through sigma. Shapes: the fast model's (a 16-wide
+// feature of 64) and the proposal's (16 wide, the whole layer its feature), over 128-row chunks.
+TEST_F(MlpNerf, DensityOnlyTrainingMatchesTheReferenceOnASigmaGradient) {
+  nerf::MlpConfig fast;
+  fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
+  fast.density = DensityActivation::TruncExp, fast.seed = 5;
+  nerf::MlpConfig proposal = fast;
+  proposal.width = 16, proposal.posDims = 10, proposal.dirDims = 1, proposal.featureWidth = 0;
+  for (const nerf::MlpConfig& cfg : {fast, proposal}) {
+    SCOPED_TRACE(testing::Message() << "width " << cfg.width);
+    nerf::NerfMlp mlp(ctx(), cfg);
+    mlp.setChunkRows(128);
+    NerfCase c{cfg, 301, 1.0f, 1.0f, 128};
+    c.densityOnly = true;
+    const NerfData data = makeData(mlp, c);
+    NerfData unread = data;
+    for (uint32_t i = 0; i < c.count; ++i)
+      for (int k = 0; k < 3; ++k) unread.dOut[4 * i + k] = std::nanf("");
+    std::fill(unread.dir.begin(), unread.dir.end(), std::nanf(""));
+    const NerfRun got = runNerf(ctx(), mlp, c, unread);
+    const NerfRef ref = referenceNerf(mlp, c, data);
+
+    std::vector<float> gotSigma(c.count);
+    std::vector<double> refSigma(c.count);
+    for (uint32_t i = 0; i < c.count; ++i) {
+      gotSigma[i] = got.out[4 * i + 3], refSigma[i] = ref.out[4 * i + 3];
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(got.out[4 * i + k], 0.0f) << "row " << i << ", channel " << k;
+    }
+    expectNear(gotSigma, refSigma, kFwdRel, kFwdAbs, "sigma");
+    expectNear(got.grads, ref.grads, kGradRel, kGradAbsScale * maxAbs(ref.grads), "grads");
+    expectNear(got.dPos, ref.dPos, kGradRel, kGradAbsScale * maxAbs(ref.dPos), "dPos");
+    const core::NerfShape& s = mlp.shape();
+    const size_t colourFirst = s.colour().offset, colourEnd = s.head().offset + s.head().floats();
+    ASSERT_LT(colourFirst, colourEnd);
+    for (size_t i = colourFirst; i < colourEnd; ++i) ASSERT_EQ(got.grads[i], 0.0f) << "colour/head parameter " << i;
+    EXPECT_GT(maxAbs(ref.grads), 0.0);  // sigma's gradient reaches the trunk and the feature layer
+    EXPECT_GT(maxAbs(ref.dPos), 0.0);
+  }
 }
 
 // The fused forward (mlp_nerf_fused.comp) sums each layer in the layered kernels' order
@@ -632,6 +694,7 @@ TEST_F(MlpNerf, ColourBiasIsTheVectorAsInputColumns) {
       auto fw = ref::nerfForward<double>(wide, wideParams, pos.data(), dir.data());
       for (int k = 0; k < 4; ++k) r.out[4 * i + k] = fw.out[k];
       std::array<double, 4> g{d.dOut[4 * i], d.dOut[4 * i + 1], d.dOut[4 * i + 2], d.dOut[4 * i + 3]};
+    if (c.densityOnly) g[0] = g[1] = g[2] = 0.0;
       ref::nerfBackward(wide, wideParams, pos.data(), dir.data(), fw, g, r.grads, (double*)nullptr, dDir.data(),
                         &dColour[size_t(i) * W2]);
     }

@@ -30,8 +30,11 @@ TEST_F(EndToEnd, TrainsSampleSceneAboveConstantBaseline) {
   m.width = 32;
   m.depth = 3;
   m.skipLayer = 2;
-  m.coarseSamples = 16;
-  m.fineSamples = 32;
+  // 8 + 16 samples a ray: on 50x50 views of this box the held-out PSNR after 80 steps is that of
+  // 16 + 32 within 0.1 dB (the CLI, seeds 1 and 2: 16.64/16.11 against 16.68/16.19 dB over the
+  // first 5 test views) at half the time.
+  m.coarseSamples = 8;
+  m.fineSamples = 16;
   Trainer trainer(test::sharedContext(), train, cfg);
   for (int i = 0; i < 80; ++i) trainer.step();
 
@@ -41,7 +44,7 @@ TEST_F(EndToEnd, TrainsSampleSceneAboveConstantBaseline) {
   const double psnr = score.psnr, baseline = score.constantPsnr, ssim = score.ssim;
   std::printf("held-out PSNR %.2f dB (best constant %.2f dB), SSIM %.3f after %u steps\n", psnr, baseline, ssim,
               trainer.steps());
-  // Measured: ~18.5-19 dB after 80 steps. 3 dB over the constant is a quarter of the squared error
+  // Measured: 18.24 dB after 80 steps (18.33 at 16 + 32 samples a ray). 3 dB over the constant is a quarter of the squared error
   // a constant leaves: only a model that placed the objects in 3-D gets there.
   EXPECT_GT(psnr, baseline + 3.0);
   EXPECT_GT(psnr, 16.5);

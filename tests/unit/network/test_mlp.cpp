@@ -423,6 +423,17 @@ TEST_F(MlpNerf, DensityAloneMatchesTheForward) {
   }
 }
 
+// The shapes a density-only pass is for: the fast model's network (64 wide, a 16-wide feature) and
+// the proposal's (16 wide, the whole layer its feature, one direction coefficient).
+static std::vector<nerf::MlpConfig> densityOnlyShapes(uint32_t seed) {
+  nerf::MlpConfig fast;
+  fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
+  fast.density = DensityActivation::TruncExp, fast.seed = seed;
+  nerf::MlpConfig proposal = fast;
+  proposal.width = 16, proposal.posDims = 10, proposal.dirDims = 1, proposal.featureWidth = 0;
+  return {fast, proposal};
+}
+
 // A forward that reads the density alone (NerfRows::densityOnly, the proposal's at render time):
 // the fused kernel computes the trunk and sigma's column only, so its density is the full fused
 // forward's to the rounding of one operation (the same sums, another specialization; as in
@@ -433,12 +444,7 @@ TEST_F(MlpNerf, DensityAloneMatchesTheForward) {
 // under the device's tuning (fused on lavapipe) and with the fused kernel off, where the layered
 // forward skips the colour layer and writes the density from the feature layer's sigma column.
 TEST_F(MlpNerf, DensityOnlyForwardMatchesTheFullOne) {
-  nerf::MlpConfig fast;
-  fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
-  fast.density = DensityActivation::TruncExp, fast.seed = 9;
-  nerf::MlpConfig proposal = fast;
-  proposal.width = 16, proposal.posDims = 10, proposal.dirDims = 1, proposal.featureWidth = 0;
-  for (const nerf::MlpConfig& cfg : {fast, proposal})
+  for (const nerf::MlpConfig& cfg : densityOnlyShapes(9))
     for (const bool fusedOn : {true, false}) {
       SCOPED_TRACE(testing::Message() << "width " << cfg.width << (fusedOn ? ", fused" : ", layered"));
       auto tuning = nerf::MlpTuning::forDevice(ctx());
@@ -488,12 +494,7 @@ TEST_F(MlpNerf, DensityOnlyForwardMatchesTheFullOne) {
 // starts zeroed); dPos holds the gradient through sigma. Shapes: the fast model's (a 16-wide
 // feature of 64) and the proposal's (16 wide, the whole layer its feature), over 128-row chunks.
 TEST_F(MlpNerf, DensityOnlyTrainingMatchesTheReferenceOnASigmaGradient) {
-  nerf::MlpConfig fast;
-  fast.depth = 1, fast.width = 64, fast.skipLayer = 0, fast.posDims = 16, fast.dirDims = 16, fast.featureWidth = 16;
-  fast.density = DensityActivation::TruncExp, fast.seed = 5;
-  nerf::MlpConfig proposal = fast;
-  proposal.width = 16, proposal.posDims = 10, proposal.dirDims = 1, proposal.featureWidth = 0;
-  for (const nerf::MlpConfig& cfg : {fast, proposal}) {
+  for (const nerf::MlpConfig& cfg : densityOnlyShapes(5)) {
     SCOPED_TRACE(testing::Message() << "width " << cfg.width);
     nerf::NerfMlp mlp(ctx(), cfg);
     mlp.setChunkRows(128);

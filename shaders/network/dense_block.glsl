@@ -47,8 +47,11 @@
   [[unroll]] for (uint r_ = 0; r_ < R; r_++) DENSE_LOAD_ROW(X, r_, IMG, K4, stride4, min((row0) + r_ * (G), (count) - 1u))
 
 // X[r][0 .. K4) = row `row` of IMG (stride4 vec4s a row).
-#define DENSE_LOAD_ROW(X, r, IMG, K4, stride4, row)                                              \
-  [[unroll]] for (uint q_ = 0; q_ < (K4) / 4u; q_++) {                                           \
+#define DENSE_LOAD_ROW(X, r, IMG, K4, stride4, row) DENSE_LOAD_ROW_FROM(X, r, IMG, 0u, K4, stride4, row)
+
+// X[r][K0 .. K4) = those columns of row `row` of IMG (K0 a multiple of 4); X's columns before K0 are left.
+#define DENSE_LOAD_ROW_FROM(X, r, IMG, K0, K4, stride4, row)                                     \
+  [[unroll]] for (uint q_ = (K0) / 4u; q_ < (K4) / 4u; q_++) {                                   \
     vec4 v_ = imageLoad(IMG, int((row) * (stride4) + q_));                                       \
     X[r][4u * q_] = v_.x; X[r][4u * q_ + 1u] = v_.y; X[r][4u * q_ + 2u] = v_.z; X[r][4u * q_ + 3u] = v_.w; \
   }

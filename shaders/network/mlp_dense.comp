@@ -8,9 +8,11 @@
 // uniform imageLoad (one branch-free broadcast reused by R rows); the loop over output blocks of NB
 // columns stays dynamic: unrolling it as well (every weight coordinate a constant) measured no faster
 // once 4 columns are summed per accumulator update (DENSE_K4), and it cost ~9 s of JIT per 64x64
-// layer. A tail of 4-wide blocks covers N4 % NB. Rows past `count` read the last row and store
+// layer. A tail of 4-wide blocks covers (N4 - N_FIRST) % NB. Rows past `count` read the last row and store
 // nothing. With pc.gather, row i of the batch is row rowGather[i] of A, B, Y and the row bias (a
 // training forward over the samples in front of early termination, src/nerf/sampling/segment_rows.h).
+// N_FIRST: only the columns from it on are computed and stored (a proposal's feature layer, whose
+// sigma column alone is read: the columns before keep what they held).
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
@@ -29,7 +31,7 @@ layout(std430, binding = 3) writeonly buffer Y { vec4 y4[]; };
 #define ROW_LIMIT_BINDING 8
 #include "gpu/row_limit.glsl"
 
-const uint NMAIN = N4 - N4 % NB;
+const uint NMAIN = N4 - (N4 - N_FIRST) % NB;
 
 // acc[r][j] = bias + sum_k x[r][k] W[k][n0 + j] for j < BLK, then activation and store.
 #define DENSE_BLOCK(BLK, n0)                                                                       \
@@ -64,6 +66,6 @@ void main() {
     DENSE_LOAD_ROW(xb, r, B, KB4, pc.strideB4, rows[r])
     biasRow[r] = ROW_BIAS != ROW_BIAS_NONE ? rowBiasRow(rows[r]) : 0u;
   }
-  [[dont_unroll]] for (uint n0 = 0; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
+  [[dont_unroll]] for (uint n0 = N_FIRST; n0 < NMAIN; n0 += NB) DENSE_BLOCK(NB, n0)
   [[dont_unroll]] for (uint n0 = NMAIN; n0 < N4; n0 += 4u) DENSE_BLOCK(4u, n0)
 }

@@ -5,6 +5,8 @@
 //   produced A, so the result is already the previous layer's dZ), 3 add to what is there.
 //   KB_FIRST: the B part's columns before it are neither computed nor written (an appearance
 //   vector beside SH(d) needs its own columns' gradient, not the direction's).
+//   N_FIRST: dZ's columns before it are not read, as if 0 (a proposal's feature layer, whose sigma
+//   column alone has a gradient).
 // Same shape as mlp_dense.comp: lanes are rows, R rows per invocation with dZ in registers, the n
 // loop unrolled with uniform weight reads, a dynamic loop over blocks of KBLK input columns.
 #extension GL_EXT_control_flow_attributes : require
@@ -28,7 +30,7 @@ layout(std430, binding = 4) buffer DB { vec4 db4[]; };
   float acc[R][BLK];                                                                             \
   [[unroll]] for (uint kk = 0; kk < BLK; kk++)                                                   \
     [[unroll]] for (uint r = 0; r < R; r++) acc[r][kk] = 0.0;                                    \
-  [[unroll]] for (uint n = 0; n < N4; n += 4)                                                    \
+  [[unroll]] for (uint n = N_FIRST; n < N4; n += 4)                                              \
     [[unroll]] for (uint kk = 0; kk < BLK; kk++) {                                               \
       vec4 w4 = imageLoad(P, int(WOFF4 + ((ROW0 + (k0) + kk) * N4 + n) / 4u));                   \
       [[unroll]] for (uint r = 0; r < R; r++)                                                    \
@@ -42,7 +44,8 @@ void main() {
   uint G = denseRowStride(count, pc.count);
   if (row0 >= G || count == 0u) return;
   float dz[R][N4];
-  DENSE_LOAD_ROWS(dz, DZ, N4, pc.strideZ4, row0, G, count)
+  [[unroll]] for (uint r = 0; r < R; r++)
+    DENSE_LOAD_ROW_FROM(dz, r, DZ, N_FIRST, N4, pc.strideZ4, min(row0 + r * G, count - 1u))
   if (MODE_A != 0u) {
     uint arow[R];  // the rows of A (read for the ReLU mask only)
     [[unroll]] for (uint r = 0; r < R; r++)

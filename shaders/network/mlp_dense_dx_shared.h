@@ -15,6 +15,7 @@ SPEC_CONSTANTS_BEGIN(MlpDenseDxSpec)
   SPEC_CONSTANT(7, uint, MODE_A, 2)
   SPEC_CONSTANT(8, uint, MODE_B, 0)
   SPEC_CONSTANT(9, uint, KB_FIRST, 0)  // the B part's first column computed (a multiple of 4): those before are left
+  SPEC_CONSTANT(10, uint, N_FIRST, 0)  // dZ's first column read (a multiple of 4): those before are taken as 0
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpDenseDxPush)

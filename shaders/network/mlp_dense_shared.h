@@ -15,6 +15,7 @@ SPEC_CONSTANTS_BEGIN(MlpDenseSpec)
   SPEC_CONSTANT(7, uint, R, 4)        // rows per invocation
   SPEC_CONSTANT(8, uint, NB, 8)       // output columns per block (multiple of 4)
   SPEC_CONSTANT(9, uint, ROW_BIAS, 0) // ROW_BIAS_* (network/row_bias_shared.h)
+  SPEC_CONSTANT(10, uint, N_FIRST, 0) // output columns before it (a multiple of 4) are neither computed nor stored
 SPEC_CONSTANTS_END
 
 PUSH_CONSTANTS_BEGIN(MlpDensePush)

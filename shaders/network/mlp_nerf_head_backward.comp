@@ -4,9 +4,10 @@
 //   dF[SIGMA_COL] = (dL/dsigma * density'(f[W]), 0, 0, 0)   (the feature layer's sigma column)
 //   dC = (dZH H^T) * [c > 0]                                 (the colour layer's dZ)
 // COLOUR = 0, after a density-only forward (NerfRows::densityOnly: a proposal's, trained on its
-// density alone): the rgb of dOut is not read and the colour branch has no gradient, so dF's row is
-// written whole, its feature columns 0 (what the colour layer's input gradient gives for a zero
-// dL/drgb), and neither dZH nor dC is written; Out and C are not read.
+// density alone): the rgb of dOut is not read and the colour branch has no gradient, so only dF's
+// block of 4 from SIGMA_COL is written (the feature layer's backward reads dF from that column on,
+// its columns before taken as 0: what the colour layer's input gradient gives for a zero dL/drgb),
+// and neither dZH nor dC is written; Out and C are not read.
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 #include "network/mlp_common.glsl"
@@ -36,7 +37,6 @@ void main() {
   float dsigma = g.w * mlpDensityGrad(DENSITY, sigmaPre);
   if (COLOUR == 0u) {
     if (row >= count) return;
-    [[unroll]] for (uint q = 0; q < SIGMA_COL / 4u; q++) df4[row * pc.strideDF4 + q] = vec4(0.0);
     df4[row * pc.strideDF4 + SIGMA_COL / 4u] = vec4(dsigma, 0.0, 0.0, 0.0);
     return;
   }

@@ -117,19 +117,26 @@ DenseLayer::DenseLayer(Context& ctx, const core::DenseShape& shape, const MlpTun
     throw Error("MLP: the weight gradient's workgroup reduction needs 1..4096 invocations a workgroup");
 }
 
+void DenseLayer::checkFirstColumn(uint32_t firstColumn) const {
+  if (firstColumn % 4 || firstColumn >= shape_.n4())
+    throw Error("MLP: the first output column to compute, " + std::to_string(firstColumn) +
+                ", is not a multiple of 4 below " + std::to_string(shape_.n4()));
+}
+
 void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
-                               const Mat& b, const Mat& y, const RowBias* rowBias) {
+                               const Mat& b, const Mat& y, const RowBias* rowBias, uint32_t firstColumn) {
   const uint32_t count = rows.count;
   if (count == 0) return;
   const auto& s = shape_;
+  checkFirstColumn(firstColumn);
   const uint32_t mode = rowBiasMode(rowBias);
-  auto kernel = forward_.find(mode);
+  auto kernel = forward_.find({mode, firstColumn});
   if (kernel == forward_.end()) {
     uint32_t act = uint32_t(s.act);
     std::vector<gpu::Binding> bindings(3, gpu::Binding::TexelRgba32f);
     bindings.insert(bindings.end(), {gpu::Binding::Storage, gpu::Binding::TexelRgba32f, gpu::Binding::Storage,
                                      gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage});
-    kernel = forward_.try_emplace(mode,
+    kernel = forward_.try_emplace({mode, firstColumn},
         ctx_, gpu::KernelDesc{gpu::shaders::mlp_dense, bindings,
                               sizeof(RowPush),
                               {{RowSpec::LOCAL_SIZE_X, t_.local},
@@ -140,8 +147,9 @@ void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const 
                                {RowSpec::ACT, act},
                                {RowSpec::WOFF4, u32(s.offset / 4, "weight offset")},
                                {RowSpec::R, t_.rows},
-                               {RowSpec::NB, std::min(t_.block, s.n4())},
-                               {RowSpec::ROW_BIAS, mode}}}).first;
+                               {RowSpec::NB, std::min(t_.block, s.n4() - firstColumn)},
+                               {RowSpec::ROW_BIAS, mode},
+                               {RowSpec::N_FIRST, firstColumn}}}).first;
   }
   if (rowBias) gpu::requireBytes("MLP", "the bias table", rowBias->table, uint64_t(s.n4()) * 4);
   const Mat& bb = s.kb ? b : a;
@@ -154,7 +162,7 @@ void DenseLayer::recordForward(gpu::Recorder& rec, const LayerRows& rows, const 
 }
 
 void DenseLayer::recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params,
-                                     const Mat& dz, const Mat& a, const InputGradients& grads) {
+                                     const Mat& dz, const Mat& a, const InputGradients& grads, uint32_t firstColumn) {
   const uint32_t count = rows.count;
   const gpu::BufferRange* gather = rows.gather ? &*rows.gather : nullptr;
   const GradMode modeA = grads.modeA;
@@ -168,7 +176,8 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, 
   if (firstB % 4 || firstB > s.kb4())
     throw Error("MLP: the first B column to compute, " + std::to_string(firstB) + ", is not a multiple of 4 within " +
                 std::to_string(s.kb4()));
-  auto key = std::make_tuple(modeA, modeB, firstB);
+  checkFirstColumn(firstColumn);
+  auto key = std::make_tuple(modeA, modeB, firstB, firstColumn);
   auto it = dx_.find(key);
   if (it == dx_.end()) {
     gpu::KernelDesc d{gpu::shaders::mlp_dense_dx,
@@ -184,7 +193,8 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, 
                        {DxSpec::KBLK, blockFor(s.ka4(), t_.dxBlock)},
                        {DxSpec::MODE_A, uint32_t(modeA)},
                        {DxSpec::MODE_B, uint32_t(modeB)},
-                       {DxSpec::KB_FIRST, firstB}}};
+                       {DxSpec::KB_FIRST, firstB},
+                       {DxSpec::N_FIRST, firstColumn}}};
     it = dx_.emplace(key, gpu::Kernel(ctx_, std::move(d))).first;
   }
   const Mat& aa = modeA == GradMode::StoreReluMasked ? a : dz;
@@ -196,11 +206,11 @@ void DenseLayer::recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, 
 }
 
 // The columns split into a main part (tiles of NT) and a 4-wide tail, each its own pipeline.
-void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_t k4, uint64_t goff, bool ones) {
+void DenseLayer::addDwParts(DwParts& parts, uint32_t k4, uint64_t goff, bool ones, uint32_t firstColumn) {
   const auto& s = shape_;
   uint32_t kt = ones ? 1 : blockFor(k4, t_.dwKT);
-  uint32_t nt = std::min(t_.dwNT, s.n4());
-  uint32_t nMain = s.n4() / nt * nt;
+  uint32_t nt = std::min(t_.dwNT, s.n4() - firstColumn);
+  uint32_t nMain = firstColumn + (s.n4() - firstColumn) / nt * nt;
   auto add = [&](uint32_t n0, uint32_t nw, uint32_t ntile) {
     if (nw == 0) return;
     gpu::KernelDesc d{weightGradientShader(t_),
@@ -219,36 +229,38 @@ void DenseLayer::addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_
                        {DwSpec::ONES, ones ? 1u : 0u}}};
     parts.push_back(std::make_unique<DwPart>(DwPart{gpu::Kernel(ctx_, std::move(d)), (k4 / kt) * (nw / ntile)}));
   };
-  add(0, nMain, nt);
+  add(firstColumn, nMain - firstColumn, nt);
   add(nMain, s.n4() - nMain, 4);
 }
 
 void DenseLayer::recordBackwardWeights(gpu::Recorder& rec, const LayerRows& rows, const Mat& a, const Mat& b,
-                                       const Mat& dz, const gpu::BufferRange& grads) {
+                                       const Mat& dz, const gpu::BufferRange& grads, uint32_t firstColumn) {
   const uint32_t count = rows.count;
   const gpu::LimitedRows& limited = rows.limited;
   const gpu::BufferRange* gather = rows.gather ? &*rows.gather : nullptr;
   if (count == 0) return;
   const auto& s = shape_;
-  if (dwA_.empty()) {
-    addDwParts(dwA_, s.ka4(), s.offset, false);
-    if (s.kb) addDwParts(dwB_, s.kb4(), s.offset + uint64_t(s.ka4()) * s.n4(), false);
-    addDwParts(dwBias_, 1, s.biasOffset(), true);
+  checkFirstColumn(firstColumn);
+  DwKernels& dw = dw_[firstColumn];
+  if (dw.a.empty()) {
+    addDwParts(dw.a, s.ka4(), s.offset, false, firstColumn);
+    if (s.kb) addDwParts(dw.b, s.kb4(), s.offset + uint64_t(s.ka4()) * s.n4(), false, firstColumn);
+    addDwParts(dw.bias, 1, s.biasOffset(), true, firstColumn);
   }
   // Each invocation sums dwRows rows (iters * U); enough workgroups to cover the batch.
   uint32_t iters = std::max(1u, t_.dwRows / t_.dwU);
   uint32_t groups = gpu::groupsFor(count, uint64_t(t_.dwLocal) * t_.dwU * iters);
   iters = gpu::groupsFor(count, uint64_t(groups) * t_.dwLocal * t_.dwU);  // rebalance the last partial sweep
-  auto run = [&](std::vector<std::unique_ptr<DwPart>>& parts, const Mat& x) {
+  auto run = [&](DwParts& parts, const Mat& x) {
     for (auto& part : parts) {
       DwPush p{count, x.stride / 4, dz.stride / 4, iters, gather ? 1u : 0u, limited.base};
       rec.dispatch(part->kernel, {x.range, dz.range, grads, gather ? *gather : dz.range, limited.limit}, p, groups,
                    part->tiles, 1, rows.label);
     }
   };
-  run(dwA_, a);
-  if (s.kb) run(dwB_, b);
-  run(dwBias_, dz);
+  run(dw.a, a);
+  if (s.kb) run(dw.b, b);
+  run(dw.bias, dz);
 }
 
 }  // namespace vknerf::nerf

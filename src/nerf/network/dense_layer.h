@@ -5,6 +5,7 @@
 // pays the JIT time of the backward pipelines.
 #include <array>
 #include <map>
+#include <utility>
 #include <memory>
 #include <optional>
 #include <tuple>
@@ -112,34 +113,47 @@ class DenseLayer {
   // y[rows][n4] = act(concat(a, b) W + bias (+ rowBias)); columns >= n are stored as 0. `b` is ignored
   // when kb == 0. rows.limited: arguments recorded for rowsPerGroup() rows per workgroup; rows.gather:
   // row i is row gather[i] of a, b, y and the row bias.
+  // firstColumn (below n4, a multiple of 4; also in the two backwards): only y's columns from it on
+  // are computed and stored, those before are left as they were (a layer of which a few columns are
+  // read: a proposal's feature layer, whose sigma column alone is).
   void recordForward(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& a,
-                     const Mat& b, const Mat& y, const RowBias* rowBias = nullptr);
+                     const Mat& b, const Mat& y, const RowBias* rowBias = nullptr, uint32_t firstColumn = 0);
   uint32_t rowsPerGroup() const { return t_.local * t_.rows; }
   // From dz = dL/d(pre-activation): grads.da and grads.db per their GradModes; StoreReluMasked
   // multiplies by [a > 0]. rows.limited: arguments recorded for dxRowsPerGroup() rows per workgroup;
   // rows past the limit are untouched. With rows.gather, a is read through it; dz, da and db stay packed.
+  // firstColumn: dz's columns before it are not read, as if 0.
   void recordBackwardInput(gpu::Recorder& rec, const LayerRows& rows, const gpu::BufferRange& params, const Mat& dz,
-                           const Mat& a, const InputGradients& grads);
+                           const Mat& a, const InputGradients& grads, uint32_t firstColumn = 0);
   uint32_t dxRowsPerGroup() const { return t_.local * t_.dxRows; }
   // grads[W, bias] += concat(a, b)^T dz, sum(dz) (accumulates, in any order). rows.limited: only its
   // limit and base are used (the reduction is dispatched for rows.count rows, the rows at and past the
   // limit add nothing and the sweep stops there). With rows.gather, a and b are read through it.
+  // firstColumn: only the gradients of the weights and biases of the columns from it on are added
+  // (dz's columns before it are not read, as if 0).
   void recordBackwardWeights(gpu::Recorder& rec, const LayerRows& rows, const Mat& a, const Mat& b, const Mat& dz,
-                             const gpu::BufferRange& grads);
+                             const gpu::BufferRange& grads, uint32_t firstColumn = 0);
 
  private:
   struct DwPart {
     gpu::Kernel kernel;
     uint32_t tiles;
   };
-  void addDwParts(std::vector<std::unique_ptr<DwPart>>& parts, uint32_t k4, uint64_t goff, bool ones);
+  using DwParts = std::vector<std::unique_ptr<DwPart>>;
+  // The weight gradient's dispatches for the columns from firstColumn on: input A's, B's, the bias's.
+  struct DwKernels {
+    DwParts a, b, bias;
+  };
+  void addDwParts(DwParts& parts, uint32_t k4, uint64_t goff, bool ones, uint32_t firstColumn);
+  // Throws unless firstColumn is a multiple of 4 below the layer's n4.
+  void checkFirstColumn(uint32_t firstColumn) const;
 
   Context& ctx_;
   core::DenseShape shape_;
   MlpTuning t_;
-  std::map<uint32_t, gpu::Kernel> forward_;  // by ROW_BIAS_* mode
-  std::map<std::tuple<GradMode, GradMode, uint32_t>, gpu::Kernel> dx_;  // by (modeA, modeB, firstB)
-  std::vector<std::unique_ptr<DwPart>> dwA_, dwB_, dwBias_;
+  std::map<std::pair<uint32_t, uint32_t>, gpu::Kernel> forward_;  // by (ROW_BIAS_* mode, firstColumn)
+  std::map<std::tuple<GradMode, GradMode, uint32_t, uint32_t>, gpu::Kernel> dx_;  // by (modeA, modeB, firstB, firstColumn)
+  std::map<uint32_t, DwKernels> dw_;  // by firstColumn
 };
 
 }  // namespace vknerf::nerf

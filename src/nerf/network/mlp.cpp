@@ -149,7 +149,8 @@ void NerfMlp::recordForward(gpu::Recorder& rec, const NerfRows& rows, const gpu:
     LayerRows layerRows{n, L};
     if (rowGather) layerRows.gather = *rowGather;  // one chunk: the gathered rows index the whole batch
     const Mat h = recordTrunk(rec, layerRows, params, p, ws, row);
-    layers_[D].recordForward(rec, layerRows.as("nerf feature+sigma"), params, h, h, F);
+    // The density alone needs sigma's column of the feature layer: its block of 4 from V.
+    layers_[D].recordForward(rec, layerRows.as("nerf feature+sigma"), params, h, h, F, nullptr, rows.densityOnly ? V : 0);
     if (!rows.densityOnly) {
       const std::optional<RowBias> bias = rows.colourBias ? std::optional(rows.colourBias->rows(first, n)) : std::nullopt;
       layers_[D + 1].recordForward(rec, layerRows.as("nerf colour"), params, F, d, C, bias ? &*bias : nullptr);
@@ -324,7 +325,9 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
                          hp, head, gpu::groupsFor(n, kHeadLocal), "nerf head backward");
     LayerRows layerRows{n, L};
     if (gather) layerRows.gather = *gather;
-    // After a density-only forward the head wrote dF whole: the colour branch has no gradient.
+    // After a density-only forward the head wrote sigma's block of dF alone: the colour branch has no
+    // gradient, and the feature layer's backward reads dF from column V on (the rest is 0).
+    const uint32_t firstF = rows.densityOnly ? V : 0;
     if (!rows.densityOnly) {
       layers_[D + 2].recordBackwardWeights(rec, layerRows.as("nerf head dW"), C, C, dzh, grads);
       layers_[D + 1].recordBackwardWeights(rec, layerRows.as("nerf colour dW"), F, d, dC, grads);
@@ -332,10 +335,10 @@ void NerfMlp::recordBackward(gpu::Recorder& rec, const NerfRows& rows, const gpu
           rec, layerRows.as("nerf colour dX"), params, dC, F,
           {GradMode::Store, dF, dDir ? GradMode::Store : GradMode::Skip, dD, gradients.dDirFirst});
     }
-    layers_[D].recordBackwardWeights(rec, layerRows.as("nerf feature+sigma dW"), H(D - 1), H(D - 1), dF, grads);
+    layers_[D].recordBackwardWeights(rec, layerRows.as("nerf feature+sigma dW"), H(D - 1), H(D - 1), dF, grads, firstF);
     Mat cur = Mat{ws.dz_[1], W}.rows(0, n), other = Mat{ws.dz_[0], W}.rows(0, n);
     layers_[D].recordBackwardInput(rec, layerRows.as("nerf feature+sigma dX"), params, dF, H(D - 1),
-                                   {GradMode::StoreReluMasked, cur});
+                                   {GradMode::StoreReluMasked, cur}, firstF);
     for (uint32_t l = D; l-- > 0;) {
       Mat a = l ? H(l - 1) : p;
       layers_[l].recordBackwardWeights(rec, layerRows.as("nerf trunk dW"), a, p, cur, grads);

@@ -51,9 +51,10 @@ struct NerfRows {
   std::optional<gpu::BufferRange> rowGather;
   // Only the density is read and trained (a proposal's weights): the colour branch is skipped and
   // out's rgb written 0; dir and colourBias are not read. A forward that keeps its activations keeps
-  // the trunk's and the feature layer's only, and its backward must be given densityOnly too: it
-  // reads dOut's sigma alone (rgb taken as 0, unread), leaves the colour layer's and the head's
-  // gradients as they are (they would be exactly 0) and takes no dDir or dColour.
+  // the trunk's and the feature layer's sigma block (its 4 columns from featureWidth; the feature
+  // columns are not computed), and its backward must be given densityOnly too: it reads dOut's sigma
+  // alone (rgb taken as 0, unread), leaves the gradients of the colour layer, the head and the
+  // feature layer's feature columns as they are (they would be exactly 0) and takes no dDir or dColour.
   bool densityOnly = false;
 };
 

@@ -5,10 +5,10 @@
 // pays the JIT time of the backward pipelines.
 #include <array>
 #include <map>
-#include <utility>
 #include <memory>
 #include <optional>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "gpu/kernels/kernel.h"

@@ -5,7 +5,9 @@
 // changes nothing, as if they were 0) and the weight gradient adds nothing to those columns'
 // weights and biases. Shapes: a 64-wide trunk into the fast model's feature layer (17 columns, the
 // block of 4 from 16) and a wider one of several 8-column blocks from column 8, with a ReLU, over a
-// row count that is no multiple of a workgroup's rows.
+// row count that is no multiple of a workgroup's rows; under the device's tuning and a GPU's shape
+// (MlpTuning::forDevice off the CPU: one row an invocation, 4 x 4 weight-gradient tiles, so that the
+// blocks after firstColumn split otherwise).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -43,84 +45,90 @@ struct Case {
 
 TEST_F(DenseColumns, FromAColumnOnTheLayerIsComputedAndNothingBeforeIt) {
   const Case cases[] = {{64, 17, 16, core::Activation::None}, {24, 30, 8, core::Activation::Relu}};
-  for (const Case& k : cases) {
-    SCOPED_TRACE(testing::Message() << k.ka << " inputs, " << k.n << " outputs from column " << k.firstColumn);
-    core::DenseShape shape{k.ka, 0, k.n, k.act};
-    std::vector<core::DenseShape> layers{shape};
-    const uint64_t total = core::layOut(layers);
-    shape = layers[0];
-    const std::vector<float> params = core::initialParameters(layers, total, 7);
-    const uint32_t ka4 = shape.ka4(), n4 = shape.n4(), first = k.firstColumn;
-    const std::vector<float> a = uniformFloats(size_t(kRows) * ka4, 11, -1.0f, 1.0f);
-    std::vector<float> dz = uniformFloats(size_t(kRows) * n4, 13, -1.0f, 1.0f);
-    for (uint32_t r = 0; r < kRows; ++r)
-      for (uint32_t c = 0; c < first; ++c) dz[size_t(r) * n4 + c] = std::numeric_limits<float>::quiet_NaN();
-    // The weight gradient adds into what the buffer holds: a sentinel everywhere, so that an entry it
-    // must not touch shows.
-    std::vector<float> gradsIn(total, kSentinel);
+  nerf::MlpTuning gpuShape = nerf::MlpTuning::forDevice(ctx());
+  gpuShape.local = gpuShape.dwLocal = 128, gpuShape.rows = gpuShape.dxRows = 1;
+  gpuShape.dwKT = gpuShape.dwNT = 4, gpuShape.dwU = 4, gpuShape.dwRows = 64;
+  for (const nerf::MlpTuning& tuning : {nerf::MlpTuning::forDevice(ctx()), gpuShape})
+    for (const Case& k : cases) {
+      SCOPED_TRACE(testing::Message() << k.ka << " inputs, " << k.n << " outputs from column " << k.firstColumn << ", "
+                                      << tuning.rows << " rows an invocation");
+      core::DenseShape shape{k.ka, 0, k.n, k.act};
+      std::vector<core::DenseShape> layers{shape};
+      const uint64_t total = core::layOut(layers);
+      shape = layers[0];
+      const std::vector<float> params = core::initialParameters(layers, total, 7);
+      const uint32_t ka4 = shape.ka4(), n4 = shape.n4(), first = k.firstColumn;
+      const std::vector<float> a = uniformFloats(size_t(kRows) * ka4, 11, -1.0f, 1.0f);
+      std::vector<float> dz = uniformFloats(size_t(kRows) * n4, 13, -1.0f, 1.0f);
+      for (uint32_t r = 0; r < kRows; ++r)
+        for (uint32_t c = 0; c < first; ++c) dz[size_t(r) * n4 + c] = std::numeric_limits<float>::quiet_NaN();
+      // The weight gradient adds into what the buffer holds: a sentinel everywhere, so that an entry it
+      // must not touch shows.
+      std::vector<float> gradsIn(total, kSentinel);
 
-    nerf::DenseLayer layer(ctx(), shape, nerf::MlpTuning::forDevice(ctx()));
-    auto P = gpu::Buffer::of(ctx(), params), A = gpu::Buffer::of(ctx(), a), DZ = gpu::Buffer::of(ctx(), dz);
-    auto Y = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * n4, kSentinel));
-    auto DA = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * ka4, kSentinel));
-    auto G = gpu::Buffer::of(ctx(), gradsIn);
-    const nerf::Mat a4{A, ka4}, y4{Y, n4}, dz4{DZ, n4}, da4{DA, ka4};
-    const gpu::LimitedDispatch uncut(ctx());
-    test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
-      const nerf::LayerRows rows{kRows, uncut.uncut()};
-      layer.recordForward(rec, rows, P, a4, a4, y4, nullptr, first);
-      layer.recordBackwardInput(rec, rows, P, dz4, a4, {nerf::GradMode::Store, da4}, first);
-      layer.recordBackwardWeights(rec, rows, a4, a4, dz4, G, first);
-    });
-    const std::vector<float> y = Y.download<float>(), da = DA.download<float>(), grads = G.download<float>();
+      nerf::DenseLayer layer(ctx(), shape, tuning);
+      auto P = gpu::Buffer::of(ctx(), params), A = gpu::Buffer::of(ctx(), a), DZ = gpu::Buffer::of(ctx(), dz);
+      auto Y = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * n4, kSentinel));
+      auto DA = gpu::Buffer::of(ctx(), std::vector<float>(size_t(kRows) * ka4, kSentinel));
+      auto G = gpu::Buffer::of(ctx(), gradsIn);
+      const nerf::Mat a4{A, ka4}, y4{Y, n4}, dz4{DZ, n4}, da4{DA, ka4};
+      const gpu::LimitedDispatch uncut(ctx());
+      test::submitOnce(ctx(), [&](gpu::Recorder& rec) {
+        const nerf::LayerRows rows{kRows, uncut.uncut()};
+        layer.recordForward(rec, rows, P, a4, a4, y4, nullptr, first);
+        layer.recordBackwardInput(rec, rows, P, dz4, a4, {nerf::GradMode::Store, da4}, first);
+        layer.recordBackwardWeights(rec, rows, a4, a4, dz4, G, first);
+      });
+      const std::vector<float> y = Y.download<float>(), da = DA.download<float>(), grads = G.download<float>();
 
-    auto w = [&](uint32_t kk, uint32_t c) { return double(params[shape.offset + uint64_t(kk) * n4 + c]); };
-    auto bias = [&](uint32_t c) { return double(params[shape.biasOffset() + c]); };
-    for (uint32_t r = 0; r < kRows; ++r) {
-      for (uint32_t c = 0; c < n4; ++c) {
-        const float got = y[size_t(r) * n4 + c];
-        if (c < first) {
-          ASSERT_EQ(got, kSentinel) << "row " << r << ", column " << c << " before the block";
-          continue;
-        }
-        double z = bias(c), absSum = std::abs(bias(c));
-        for (uint32_t kk = 0; kk < k.ka; ++kk) {
-          z += double(a[size_t(r) * ka4 + kk]) * w(kk, c);
-          absSum += std::abs(double(a[size_t(r) * ka4 + kk]) * w(kk, c));
-        }
-        const double want = c >= k.n ? 0.0 : (k.act == core::Activation::Relu ? std::max(z, 0.0) : z);
-        ASSERT_NEAR(got, want, tolerance(absSum, k.ka)) << "y, row " << r << ", column " << c;
-      }
-      for (uint32_t kk = 0; kk < ka4; ++kk) {
-        double want = 0, absSum = 0;
-        for (uint32_t c = first; c < n4; ++c) {
-          want += double(dz[size_t(r) * n4 + c]) * w(kk, c);
-          absSum += std::abs(double(dz[size_t(r) * n4 + c]) * w(kk, c));
-        }
-        ASSERT_NEAR(da[size_t(r) * ka4 + kk], want, tolerance(absSum, n4 - first)) << "da, row " << r << ", input " << kk;
-      }
-    }
-    // dW[k][c] and dBias[c] from the block on, the sentinel added to; the columns before untouched.
-    auto expectGradient = [&](uint64_t at, uint32_t c, const std::vector<double>& x) {
-      if (c < first) {
-        ASSERT_EQ(grads[at], kSentinel) << "gradient entry " << at << ", column " << c << " before the block";
-        return;
-      }
-      double want = kSentinel, absSum = std::abs(double(kSentinel));
+      auto w = [&](uint32_t kk, uint32_t c) { return double(params[shape.offset + uint64_t(kk) * n4 + c]); };
+      auto bias = [&](uint32_t c) { return double(params[shape.biasOffset() + c]); };
       for (uint32_t r = 0; r < kRows; ++r) {
-        want += x[r] * double(dz[size_t(r) * n4 + c]);
-        absSum += std::abs(x[r] * double(dz[size_t(r) * n4 + c]));
+        for (uint32_t c = 0; c < n4; ++c) {
+          const float got = y[size_t(r) * n4 + c];
+          if (c < first) {
+            ASSERT_EQ(got, kSentinel) << "row " << r << ", column " << c << " before the block";
+            continue;
+          }
+          double z = bias(c), absSum = std::abs(bias(c));
+          for (uint32_t kk = 0; kk < k.ka; ++kk) {
+            z += double(a[size_t(r) * ka4 + kk]) * w(kk, c);
+            absSum += std::abs(double(a[size_t(r) * ka4 + kk]) * w(kk, c));
+          }
+          const double want = c >= k.n ? 0.0 : (k.act == core::Activation::Relu ? std::max(z, 0.0) : z);
+          ASSERT_NEAR(got, want, tolerance(absSum, k.ka)) << "y, row " << r << ", column " << c;
+        }
+        for (uint32_t kk = 0; kk < ka4; ++kk) {
+          double want = 0, absSum = 0;
+          for (uint32_t c = first; c < n4; ++c) {
+            want += double(dz[size_t(r) * n4 + c]) * w(kk, c);
+            absSum += std::abs(double(dz[size_t(r) * n4 + c]) * w(kk, c));
+          }
+          ASSERT_NEAR(da[size_t(r) * ka4 + kk], want, tolerance(absSum, n4 - first))
+              << "da, row " << r << ", input " << kk;
+        }
       }
-      ASSERT_NEAR(grads[at], want, tolerance(absSum, kRows)) << "gradient entry " << at << ", column " << c;
-    };
-    std::vector<double> x(kRows);
-    for (uint32_t kk = 0; kk < ka4; ++kk) {
-      for (uint32_t r = 0; r < kRows; ++r) x[r] = a[size_t(r) * ka4 + kk];
-      for (uint32_t c = 0; c < n4; ++c) expectGradient(shape.offset + uint64_t(kk) * n4 + c, c, x);
+      // dW[k][c] and dBias[c] from the block on, the sentinel added to; the columns before untouched.
+      auto expectGradient = [&](uint64_t at, uint32_t c, const std::vector<double>& x) {
+        if (c < first) {
+          ASSERT_EQ(grads[at], kSentinel) << "gradient entry " << at << ", column " << c << " before the block";
+          return;
+        }
+        double want = kSentinel, absSum = std::abs(double(kSentinel));
+        for (uint32_t r = 0; r < kRows; ++r) {
+          want += x[r] * double(dz[size_t(r) * n4 + c]);
+          absSum += std::abs(x[r] * double(dz[size_t(r) * n4 + c]));
+        }
+        ASSERT_NEAR(grads[at], want, tolerance(absSum, kRows)) << "gradient entry " << at << ", column " << c;
+      };
+      std::vector<double> x(kRows);
+      for (uint32_t kk = 0; kk < ka4; ++kk) {
+        for (uint32_t r = 0; r < kRows; ++r) x[r] = a[size_t(r) * ka4 + kk];
+        for (uint32_t c = 0; c < n4; ++c) expectGradient(shape.offset + uint64_t(kk) * n4 + c, c, x);
+      }
+      std::fill(x.begin(), x.end(), 1.0);
+      for (uint32_t c = 0; c < n4; ++c) expectGradient(shape.biasOffset() + c, c, x);
     }
-    std::fill(x.begin(), x.end(), 1.0);
-    for (uint32_t c = 0; c < n4; ++c) expectGradient(shape.biasOffset() + c, c, x);
-  }
 }
 
 // A block must start on a vec4 and hold a column.

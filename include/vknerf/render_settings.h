@@ -17,6 +17,11 @@ struct RenderSettings {
   // fast, trained with an appearance embedding: the training photo (its index in the training
   // split) whose appearance vector renders use; none: the mean of the photos' vectors.
   std::optional<uint32_t> appearancePhoto;
+  // The pixels a batch of Model::render renders (one submission each) and the pipeline's buffers
+  // are sized for; 0: the model's own (16384 for the fast model, 4096 for the vanilla one). Fewer
+  // need less device memory, more fewer submissions; the pixels are the same either way (up to a
+  // marched ray's light behind minTransmittance, which segments of other lengths may stop apart).
+  uint32_t raysPerBatch = 0;
   // Time each kernel of Model::render on the device (timestamp queries): RenderedImage::kernelMs
   // then says where a view's time went. Off by default: the queries cost a little.
   bool profile = false;

@@ -172,7 +172,8 @@ Model Model::load(std::shared_ptr<Context> ctx, const std::string& path, const R
   impl->profile = settings.profile;
   // State kept per training photo (the fast model's appearance vectors) is sized by their count.
   const models::TrainingPhotos photos{record.trainingPhotoCount().value_or(0)};
-  impl->own = models::makeFieldPipeline(*ctx, impl->config, impl->box, models::kRenderRays, false, settings, photos);
+  const uint32_t rays = settings.raysPerBatch ? settings.raysPerBatch : models::renderRaysOf(impl->config);
+  impl->own = models::makeFieldPipeline(*ctx, impl->config, impl->box, rays, false, settings, photos);
   impl->pipe = impl->own.get();
   uploadState(ck, *impl->pipe, impl->box);
   return Model(std::move(impl));

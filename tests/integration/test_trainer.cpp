@@ -367,6 +367,47 @@ TEST_F(TrainerTest, FastModelSamplesOpaquePhotosWithTheProposal) {
   EXPECT_EQ(Trainer::configOf(tmp.file("alpha.vknerf")).fastModel().proposalSamples, 0u);
 }
 
+// A render's batch of rays (RenderSettings::raysPerBatch) is a matter of memory and submissions,
+// never of the image: 200 rays a batch split the 25x25 view into four (the last of 25), against
+// the model's own batch holding it whole. The proposal marches and places each ray's samples alone,
+// so its pixels are the same bits. The march renders in segments sized by the batch's sample
+// capacity (FastPipeline::doRecordRender): as for LoadedModelRendersLikeTrainer, the over
+// operator's roundings (1e-6) and, for a ray that turns opaque inside a segment in one and at its
+// end in the other, the light behind T < 1e-4 (at most 1e-4 of a colour <= 1) may differ.
+TEST_F(TrainerTest, ARenderIsTheSameWhateverItsBatchOfRays) {
+  const test::TempDir tmp("trainer");
+  struct Case {
+    const char* name;
+    Dataset photos;
+    float tolerance;
+  };
+  const Case cases[] = {{"proposal", opaqueScene(), 0.0f}, {"march", scene(), 1e-4f + 1e-5f}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.name);
+    Trainer t(sharedContext(), k.photos, smallFast());
+    ASSERT_EQ(t.model().config().fastModel().sampler == Sampler::Proposal, k.tolerance == 0.0f);
+    for (int i = 0; i < 24; ++i) t.step();
+    const std::string path = tmp.file(std::string(k.name) + ".vknerf");
+    t.save(path);
+    RenderSettings small;
+    small.raysPerBatch = 200;
+    const Camera cam = k.photos.cameras[2];
+    ASSERT_GT(cam.width * cam.height, 3 * small.raysPerBatch);
+    const RenderedImage whole = Model::load(sharedContext(), path).render(cam);
+    const RenderedImage split = Model::load(sharedContext(), path, small).render(cam);
+    ASSERT_EQ(whole.rgb.size(), split.rgb.size());
+    for (size_t i = 0; i < whole.rgb.size(); ++i) ASSERT_NEAR(whole.rgb[i], split.rgb[i], k.tolerance) << "value " << i;
+    for (size_t i = 0; i < whole.opacity.size(); ++i)
+      ASSERT_NEAR(whole.opacity[i], split.opacity[i], k.tolerance) << "pixel " << i;
+    if (k.tolerance == 0.0f) EXPECT_EQ(whole.samples, split.samples);
+  }
+  RenderSettings tooMany;
+  tooMany.raysPerBatch = (1u << 20) + 1;
+  Trainer t(sharedContext(), scene(), smallFast());
+  t.save(tmp.file("any.vknerf"));
+  EXPECT_THROW(Model::load(sharedContext(), tmp.file("any.vknerf"), tooMany), Error);
+}
+
 // Photos without alpha get the learned far field, photos with alpha the constant (random in
 // training) background; the learned one is saved with the model and renders the same after loading.
 TEST_F(TrainerTest, FastModelLearnsTheFarFieldOfOpaquePhotos) {

@@ -97,8 +97,15 @@ void NerfMlp::setChunkRows(uint32_t rows) {
 }
 
 bool NerfMlp::fusedForward(bool keep) const {
+  // The multiply-adds an invocation's code spells out: a layer's K times its N when its output
+  // blocks are unrolled, times one block's columns in the block loop (FUSED_BLOCK_FOR in
+  // mlp_nerf_fused.comp: the tuning's block where it divides N, else 8 or 4).
+  const bool unrolled = variantBit(tuning_.fusedUnroll, keep) != 0;
   uint64_t multiplyAdds = 0;
-  for (const auto& l : shape_.layers) multiplyAdds += uint64_t(l.k4()) * l.n4();
+  for (const auto& l : shape_.layers) {
+    const uint32_t n = l.n4(), block = n % tuning_.fusedBlock == 0 ? tuning_.fusedBlock : (n % 8 == 0 ? 8 : 4);
+    multiplyAdds += uint64_t(l.k4()) * (unrolled ? n : block);
+  }
   return variantBit(tuning_.fused, keep) && config_.skipLayer == 0 && config_.depth <= kMaxFusedDepth &&
          config_.width <= kMaxFusedWidth && multiplyAdds * tuning_.fusedRows <= kMaxFusedMultiplyAdds;
 }

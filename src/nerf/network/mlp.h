@@ -127,11 +127,11 @@ class NerfMlp {
   // a network without a skip connection (the fast model's) of at most kMaxFusedDepth trunk layers of
   // at most kMaxFusedWidth, where the tuning asks for it (MlpTuning::fused). Its activations live
   // in registers, which bounds the widths, and its layers may be unrolled (MlpTuning::fusedUnroll):
-  // an invocation's multiply-adds (rows x the padded layers' K x N) are held to
-  // kMaxFusedMultiplyAdds, since the driver's compile time grows faster than the code (on lavapipe
-  // the fast model's 8 x 3456, unrolled, take ~45 s once, then come from Mesa's disk cache; 8 x
-  // 8064, its network with a 64-wide feature, took minutes).
-  // Larger networks run layer by layer.
+  // the multiply-adds an invocation's code spells out (rows x the padded layers' K x N unrolled,
+  // K x one block of columns in the block loop) are held to kMaxFusedMultiplyAdds, since the
+  // driver's compile time grows faster than the code (on lavapipe the fast model's 8 x 3456,
+  // unrolled, take ~45 s once, then come from Mesa's disk cache; 8 x 8064, its network with a
+  // 64-wide feature, took minutes). Larger networks run layer by layer.
   static constexpr uint32_t kMaxFusedDepth = 2, kMaxFusedWidth = 64, kMaxFusedMultiplyAdds = 32768;
   bool fusedForward(bool keep) const;
 

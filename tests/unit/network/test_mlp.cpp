@@ -535,7 +535,7 @@ TEST_F(MlpNerf, DensityOnlyTrainingMatchesTheReferenceOnASigmaGradient) {
 // gradients sum with float atomics in any order and get the reference tolerance. Cases, over
 // 128-row chunks: the fast model's shape with the CPU's tuning (8 rows an invocation) and a GPU's
 // (1); two trunk layers with padded inputs and 3 rows an invocation (not a divisor of the
-// workgroup's); a width of 8.
+// workgroup's); a width of 8; 26 inputs (13 hash levels) at 8 rows, fused in the block loop alone.
 TEST_F(MlpNerf, FusedForwardMatchesTheLayeredOne) {
   struct Case {
     uint32_t depth, width, posDims, dirDims, featureWidth;
@@ -544,6 +544,8 @@ TEST_F(MlpNerf, FusedForwardMatchesTheLayeredOne) {
   };
   const Case cases[] = {{1, 64, 16, 16, 16, DensityActivation::TruncExp, 8, 4},
                         {1, 64, 16, 16, 16, DensityActivation::TruncExp, 1, 8},
+                        // 13 hash levels (fruit's 6 cascades): unrolled past the compile bound, fused in the block loop
+                        {1, 64, 26, 16, 16, DensityActivation::TruncExp, 8, 4},
                         {2, 32, 21, 9, 8, DensityActivation::Softplus, 3, 4},
                         {1, 8, 5, 3, 0, DensityActivation::Relu, 8, 4}};
   for (const Case& k : cases) {
@@ -579,6 +581,15 @@ TEST_F(MlpNerf, FusedForwardMatchesTheLayeredOne) {
   }
   // The paper's network (8 x 256, a skip connection) runs layer by layer.
   EXPECT_FALSE(nerf::NerfMlp(ctx(), nerf::MlpConfig{}).fusedForward(false));
+  // The compile bound counts the code an invocation spells out: the 13-level network above at 8
+  // rows is 8 x 4224 multiply-adds unrolled, over kMaxFusedMultiplyAdds, and 8 x 624 in the block loop.
+  nerf::MlpConfig wide;
+  wide.depth = 1, wide.width = 64, wide.skipLayer = 0, wide.posDims = 26, wide.dirDims = 16, wide.featureWidth = 16;
+  auto tuning = nerf::MlpTuning::forDevice(ctx());
+  tuning.fused = 3, tuning.fusedRows = 8, tuning.fusedBlock = 4, tuning.fusedUnroll = 3;
+  EXPECT_FALSE(nerf::NerfMlp(ctx(), wide, tuning).fusedForward(false));
+  tuning.fusedUnroll = 0;
+  EXPECT_TRUE(nerf::NerfMlp(ctx(), wide, tuning).fusedForward(false));
 }
 
 // The dense MLP forward and backward over `count` rows against the double reference; `gradRel`

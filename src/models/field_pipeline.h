@@ -165,8 +165,8 @@ class FieldPipeline {
 };
 
 // Rays per render batch of a loaded model (RenderSettings::raysPerBatch 0). A batch is one
-// submission: the fast model's 16384 (about 11 KB of device memory a ray) spend 7% of a view's wall
-// outside the kernels on lavapipe where 4096 spent 12%, and its small per-ray kernels get 4 times
+// submission: the fast model's 16384 (about 11 KB of device memory a ray) spend 8% of a view's wall
+// outside the kernels on lavapipe where 4096 spent 10 to 12%, and its per-ray kernels get 4 times
 // the workgroups (docs/real_captures.md, "Render batches"). The vanilla model's samples carry
 // wide activations, so it keeps 4096.
 uint32_t renderRaysOf(const TrainConfig& config);
